@@ -1,0 +1,86 @@
+"""The headless command line: ``iface-lsp COMMAND …``, and ``iface-lsp --stdio`` for the server.
+
+Each command lives in ``iface.commands.<name>`` with ``add_arguments(parser)``
+and ``run(args) -> int``; it is imported only when used, so a check never
+pays for the language server's imports.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+#: command name -> (module, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "check": ("iface.commands.check", "check .iface and .thrift files and print their diagnostics"),
+    "fmt": ("iface.commands.fmt", "format files in place (or --check that they are formatted)"),
+    "generate": ("iface.commands.generate", "generate platform files for a target"),
+    "targets": ("iface.commands.targets", "list the generation targets"),
+    "schema": ("iface.commands.schema", "print the JSON Schema of the json target's output"),
+    "import": ("iface.commands.import_", "import ROS 2, PX4 or JSON interfaces into .iface files"),
+    "roundtrip": ("iface.commands.roundtrip", "import, regenerate and compare: prints 'N of M identical'"),
+    "compat": ("iface.commands.compat", "decide whether NEW can replace OLD"),
+    "hash": ("iface.commands.hash", "print the canonical hash of an interface"),
+    "contract": ("iface.commands.contract", "print the assumptions and guarantees of a component"),
+    "graph": ("iface.commands.graph", "print the system graph of several components"),
+    "impact": ("iface.commands.impact", "show what replacing one component affects"),
+    "dump": ("iface.commands.dump", "print the model of a file as JSON (for debugging and goldens)"),
+}
+
+
+def _parser(available: dict[str, tuple[str, str]]) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="iface-lsp",
+        description="iface: one explicit interface file per robotic component; checks, generators, "
+                    "importers, compatibility and a language server.")
+    parser.add_argument("--stdio", action="store_true", help="run the language server on stdin/stdout")
+    parser.add_argument("--tcp", metavar="HOST:PORT", help="run the language server on a TCP socket")
+    parser.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, (module, help_text) in available.items():
+        cmd = sub.add_parser(name, help=help_text, description=help_text)
+        cmd.set_defaults(_module=module)
+        importlib.import_module(module).add_arguments(cmd)
+    return parser
+
+
+def _available() -> dict[str, tuple[str, str]]:
+    out = {}
+    for name, (module, help_text) in COMMANDS.items():
+        if importlib.util.find_spec(module) is not None:
+            out[name] = (module, help_text)
+    return out
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``iface-lsp`` console script."""
+    args_list = list(sys.argv[1:] if argv is None else argv)
+    available = _available()
+    # only build the one subcommand's arguments: keeps `check` fast
+    first = next((a for a in args_list if not a.startswith("-")), None)
+    chosen = {first: available[first]} if first in available else available
+    parser = _parser(chosen)
+    args = parser.parse_args(args_list)
+    if args.version:
+        from . import __version__
+        print(f"iface-lsp {__version__}")
+        return 0
+    if args.stdio or args.tcp:
+        from .lsp.server import serve
+        return serve(tcp=args.tcp)
+    if not args.command:
+        parser.print_help(sys.stderr)
+        return 2
+    module = importlib.import_module(args._module)
+    try:
+        return int(module.run(args))
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

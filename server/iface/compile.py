@@ -1,0 +1,307 @@
+"""compile: text → Compilation (model, includes, diagnostics). What every consumer uses."""
+
+from __future__ import annotations
+
+import gc
+import os
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from . import model as m
+from .diagnostics import Diagnostic, Related, Severity, make
+from .normalize import normalize_action, normalize_service
+from .parse import ChunkCache, ParseResult, parse_text
+from .resolve import build_symbols, resolve_references
+from .sets import derive
+from .source import Source, Span
+from .validate import validate
+
+#: Files larger than this are refused with a message (interface files are small).
+MAX_FILE_BYTES = 4 * 1024 * 1024
+SUFFIXES = (".iface", ".thrift")
+
+
+@dataclass(eq=False)
+class Compilation:
+    """One compiled file: its model, the compilations of its includes, its diagnostics."""
+
+    source: Source
+    interface: m.Interface
+    diagnostics: list[Diagnostic]
+    includes: dict[str, Compilation] = field(default_factory=dict)
+    parsed: ParseResult | None = None
+
+    @property
+    def path(self) -> str:
+        """The file's path."""
+        return self.source.path
+
+    @property
+    def has_errors(self) -> bool:
+        """True when the file itself has an error."""
+        return any(d.severity == Severity.ERROR for d in self.diagnostics)
+
+    def all_diagnostics(self) -> list[Diagnostic]:
+        """Diagnostics of this file and of every file it includes, each file once."""
+        out: list[Diagnostic] = []
+        seen: set[str] = set()
+        stack: list[Compilation] = [self]
+        while stack:
+            c = stack.pop()
+            if c.path in seen:
+                continue
+            seen.add(c.path)
+            out.extend(c.diagnostics)
+            stack.extend(reversed(list(c.includes.values())))
+        return out
+
+    def closure(self) -> list[Compilation]:
+        """This compilation and those of all files it includes, each once."""
+        out: list[Compilation] = []
+        seen: set[str] = set()
+        stack: list[Compilation] = [self]
+        while stack:
+            c = stack.pop()
+            if c.path in seen:
+                continue
+            seen.add(c.path)
+            out.append(c)
+            stack.extend(c.includes.values())
+        return out
+
+
+def decode(data: bytes, path: str) -> tuple[str, list[Diagnostic]]:
+    """Bytes → text; bad input gets a diagnostic instead of an exception."""
+    problems: list[Diagnostic] = []
+    if len(data) > MAX_FILE_BYTES:
+        src = Source(path, "")
+        size = len(data) / (1024 * 1024)
+        return "", [make("file-too-large", f"the file is {size:.1f} MB; iface reads interface files up to "
+                         f"{MAX_FILE_BYTES // (1024 * 1024)} MB", src, Span(0, 0))]
+    nul = data.find(b"\0")
+    if nul >= 0:
+        text = data[:nul].decode("utf-8", errors="replace")
+        src = Source(path, text)
+        return "", [make("binary-file", "the file holds NUL bytes: it is binary, not an interface file",
+                         src, Span(len(text), len(text)))]
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        good = data[:e.start].decode("utf-8")
+        text = data.decode("utf-8", errors="replace")
+        src = Source(path, text)
+        problems.append(make("invalid-encoding", f"byte 0x{data[e.start]:02x} is not valid UTF-8 "
+                             "(iface files are UTF-8); undecodable bytes are read as U+FFFD",
+                             src, Span(len(good), len(good) + 1)))
+    return text, problems
+
+
+class Workspace:
+    """Reads and compiles files, caching them; open editor buffers override the disk."""
+
+    def __init__(self, include_paths: Iterable[str] = ()) -> None:
+        self.include_paths = [str(p) for p in include_paths]
+        self.overlays: dict[str, str] = {}
+        self._cache: dict[str, tuple[object, Compilation]] = {}
+        self._chunks: dict[str, ChunkCache] = {}
+
+    # ---- reading ---------------------------------------------------------------
+    @staticmethod
+    def normpath(path: str) -> str:
+        """The absolute, normalised form of a path used as a key."""
+        return os.path.abspath(path)
+
+    def set_overlay(self, path: str, text: str | None) -> None:
+        """Use ``text`` for ``path`` instead of the disk (None: back to the disk)."""
+        key = self.normpath(path)
+        if text is None:
+            self.overlays.pop(key, None)
+            self._chunks.pop(key, None)
+        else:
+            self.overlays[key] = text
+
+    def _stamp(self, key: str) -> object:
+        if key in self.overlays:
+            return ("overlay", self.overlays[key])
+        try:
+            st = os.stat(key)
+        except OSError:
+            return None
+        return (st.st_mtime_ns, st.st_size)
+
+    def read(self, path: str) -> tuple[str | None, list[Diagnostic]]:
+        """The text of a file (None if it cannot be read) and any decoding problems."""
+        key = self.normpath(path)
+        if key in self.overlays:
+            return self.overlays[key], []
+        try:
+            data = Path(key).read_bytes()
+        except OSError:
+            return None, []
+        return decode(data, path)
+
+    def find_include(self, including: str, name: str) -> str | None:
+        """The file an include names: beside the including file, then on the include paths."""
+        if os.path.isabs(name):
+            return name if self._exists(name) else None
+        for base in [os.path.dirname(self.normpath(including)), *self.include_paths]:
+            candidate = self.normpath(os.path.join(base, name))
+            if self._exists(candidate):
+                return candidate
+        return None
+
+    def _exists(self, path: str) -> bool:
+        return self.normpath(path) in self.overlays or os.path.isfile(path)
+
+    # ---- compiling -------------------------------------------------------------------
+    def compile_path(self, path: str) -> Compilation:
+        """Compile a file from the overlay or the disk (a missing file gets a diagnostic)."""
+        return self._compile(self.normpath(path), None, ())
+
+    def compile_text(self, path: str, text: str) -> Compilation:
+        """Compile ``text`` as the content of ``path`` (an editor buffer)."""
+        key = self.normpath(path)
+        self.overlays[key] = text
+        return self._compile(key, text, ())
+
+    def _deps_fresh(self, comp: Compilation) -> bool:
+        for path, inc in comp.includes.items():
+            cached = self._cache.get(path)
+            if cached is None or cached[1] is not inc or cached[0] != self._stamp(path):
+                return False
+            if not self._deps_fresh(inc):
+                return False
+        return True
+
+    def _compile(self, key: str, text: str | None, stack: tuple[str, ...]) -> Compilation:
+        stamp = self._stamp(key)
+        cached = self._cache.get(key)
+        if cached is not None and cached[0] == stamp and stamp is not None and self._deps_fresh(cached[1]):
+            return cached[1]
+        problems: list[Diagnostic] = []
+        if text is None:
+            text, problems = self.read(key)
+            if text is None:
+                src = Source(key, "")
+                comp = Compilation(src, m.Interface(src, Path(key).stem),
+                                   [make("include-not-found", f"cannot read '{key}'", src, Span(0, 0))])
+                return comp
+        cache = self._chunks.setdefault(key, ChunkCache()) if key in self.overlays else None
+        comp = compile_source(Source(key, text), problems, cache=cache,
+                              includes=_Includes(self, (*stack, key)))
+        self._cache[key] = (stamp, comp)
+        return comp
+
+
+
+class _Includes:
+    """How a compilation finds and compiles the files it includes."""
+
+    def __init__(self, ws: Workspace, stack: tuple[str, ...]) -> None:
+        self.ws = ws
+        self.stack = stack
+
+    def find(self, including: str, name: str) -> str | None:
+        """The path an include names, or None."""
+        return self.ws.find_include(including, name)
+
+    def load(self, key: str) -> Compilation | None:
+        """The compilation of an included file; None when including it closes a cycle."""
+        if key in self.stack:
+            return None
+        return self.ws._compile(key, None, self.stack)
+
+
+def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
+                   cache: ChunkCache | None = None,
+                   includes: _Includes | None = None) -> Compilation:
+    """Parse, model, resolve and check one source; ``includes`` finds and compiles included files."""
+    diagnostics: list[Diagnostic] = list(problems or [])
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        parsed = parse_text(source.text, cache)
+        iface = build_interface(source, parsed.items)
+        for p in parsed.problems:
+            diagnostics.append(make(p.code, p.message, source, p.span))
+        included = _include(iface, diagnostics, includes)
+        diagnostics.extend(build_symbols(iface))
+        diagnostics.extend(resolve_references(iface))
+        diagnostics.extend(derive(iface))
+        diagnostics.extend(validate(iface))
+        if not iface.items and not diagnostics:
+            diagnostics.append(make("empty-file", "the file is empty: it defines no interface",
+                                    source, Span(0, 0)))
+    finally:
+        if enabled:
+            gc.enable()
+    diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
+    return Compilation(source, iface, diagnostics, included, parsed)
+
+
+def build_interface(source: Source, items: list[m.Item]) -> m.Interface:
+    """Sort parsed items into an Interface (before resolution)."""
+    iface = m.Interface(source, Path(source.path).stem)
+    iface.items = items
+    for item in items:
+        if isinstance(item, m.Wiring):
+            iface.wirings.append(item)
+        elif isinstance(item, m.Include):
+            iface.includes.append(item)
+        elif isinstance(item, m.Namespace):
+            iface.namespaces.append(item)
+        elif isinstance(item, m.External):
+            iface.externals.append(item)
+        elif isinstance(item, m.ComponentDecl):
+            if iface.component is None:
+                iface.component = item
+        else:
+            if isinstance(item, m.Service):
+                normalize_service(item)
+            elif isinstance(item, m.Action):
+                normalize_action(item)
+            iface.definitions.append(item)
+    if iface.component is not None:
+        iface.name = iface.component.name
+        iface.version = iface.component.version
+    return iface
+
+
+def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Includes | None) -> dict[str, Compilation]:
+    """Compile the included files and register them under their prefixes."""
+    src = iface.source
+    out: dict[str, Compilation] = {}
+    for inc in iface.includes:
+        if inc.cpp:
+            continue
+        found = includes.find(src.path, inc.path) if includes is not None else None
+        if found is None:
+            diagnostics.append(make("include-not-found", f"cannot find included file '{inc.path}'",
+                                    src, inc.path_span))
+            continue
+        inc.resolved = found
+        assert includes is not None
+        comp = includes.load(found)
+        if comp is None:
+            diagnostics.append(make("include-cycle", f"'{inc.path}' includes this file back: "
+                                    "includes must not form a cycle", src, inc.path_span))
+            continue
+        out[found] = comp
+        prefixes = {Path(found).stem}
+        ros = comp.interface.namespace("ros2")
+        if ros:
+            prefixes.add(ros)
+        for p in prefixes:
+            iface.included.setdefault(p, comp.interface)
+        errors = [d for d in comp.all_diagnostics() if d.severity == Severity.ERROR]
+        if errors:
+            first = errors[0]
+            line, col, _, _ = first.location()
+            diagnostics.append(make(
+                "include-error", f"'{inc.path}' has {len(errors)} error{'s' if len(errors) > 1 else ''}; "
+                f"first: {first.message}", src, inc.path_span,
+                related=[Related(first.source, first.span, first.message)]))
+    return out

@@ -1,0 +1,556 @@
+"""The interface model: what every consumer of a compiled `.iface` file reads.
+
+Nodes are plain slotted dataclasses; every node keeps its source ``span``
+(character offsets into its file) and named nodes a ``name_span``.
+Cross references (``NamedType.target``) are filled in by ``resolve``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal, Union
+
+from .source import Source, Span
+
+# ---------------------------------------------------------------------------
+# Types
+
+#: Canonical names of the base types, with their aliases.
+BASE_ALIASES: dict[str, str] = {
+    "bool": "bool",
+    "byte": "i8", "i8": "i8", "int8": "i8",
+    "i16": "i16", "int16": "i16",
+    "i32": "i32", "int32": "i32",
+    "i64": "i64", "int64": "i64",
+    "u8": "u8", "uint8": "u8",
+    "u16": "u16", "uint16": "u16",
+    "u32": "u32", "uint32": "u32",
+    "u64": "u64", "uint64": "u64",
+    "float": "float32", "float32": "float32",
+    "double": "float64", "float64": "float64",
+    "string": "string", "wstring": "wstring",
+    "binary": "binary", "uuid": "uuid",
+    "char": "char", "octet": "octet",
+}
+
+#: Inclusive ranges of the integer base types (char and octet are 8-bit unsigned).
+INT_RANGES: dict[str, tuple[int, int]] = {
+    "i8": (-(2**7), 2**7 - 1), "i16": (-(2**15), 2**15 - 1),
+    "i32": (-(2**31), 2**31 - 1), "i64": (-(2**63), 2**63 - 1),
+    "u8": (0, 2**8 - 1), "u16": (0, 2**16 - 1),
+    "u32": (0, 2**32 - 1), "u64": (0, 2**64 - 1),
+    "char": (0, 255), "octet": (0, 255),
+}
+FLOAT_TYPES = frozenset({"float32", "float64"})
+STRING_TYPES = frozenset({"string", "wstring"})
+
+
+@dataclass(slots=True, eq=False)
+class BaseType:
+    """A builtin type; ``bound`` is the maximum length of a bounded string."""
+
+    name: str
+    span: Span
+    spelling: str = ""
+    bound: int | None = None
+    annotations: list[Annotation] = field(default_factory=list)
+
+    kind: Literal["base"] = "base"
+
+
+@dataclass(slots=True, eq=False)
+class NamedType:
+    """A reference to a definition by name, possibly qualified (``pkg.Type``)."""
+
+    name: str
+    span: Span
+    annotations: list[Annotation] = field(default_factory=list)
+    #: The definition this resolves to, or None (unknown or external).
+    target: Definition | None = None
+    #: For a type from an external package: the package name.
+    external: str | None = None
+
+    kind: Literal["named"] = "named"
+
+    @property
+    def local_name(self) -> str:
+        """The name without its package or include prefix."""
+        return self.name.rpartition(".")[2]
+
+    @property
+    def qualifier(self) -> str:
+        """The package or include prefix, or ''."""
+        return self.name.rpartition(".")[0]
+
+
+ArrayKind = Literal["fixed", "bounded", "unbounded"]
+
+
+@dataclass(slots=True, eq=False)
+class ArrayType:
+    """A sequence: ``T[]``, ``T[N]`` (fixed), ``T[<=N]`` (bounded) or Thrift ``list<T>``."""
+
+    element: TypeRef
+    span: Span
+    array: ArrayKind = "unbounded"
+    size: int | None = None
+    spelled_list: bool = False
+    annotations: list[Annotation] = field(default_factory=list)
+
+    kind: Literal["array"] = "array"
+
+
+@dataclass(slots=True, eq=False)
+class SetType:
+    """Thrift ``set<T>``."""
+
+    element: TypeRef
+    span: Span
+    annotations: list[Annotation] = field(default_factory=list)
+
+    kind: Literal["set"] = "set"
+
+
+@dataclass(slots=True, eq=False)
+class MapType:
+    """Thrift ``map<K, V>``."""
+
+    key: TypeRef
+    element: TypeRef
+    span: Span
+    annotations: list[Annotation] = field(default_factory=list)
+
+    kind: Literal["map"] = "map"
+
+
+TypeRef = Union[BaseType, NamedType, ArrayType, SetType, MapType]
+
+
+# ---------------------------------------------------------------------------
+# Values and annotations
+
+ValueKind = Literal["int", "double", "string", "name", "list", "map"]
+
+
+@dataclass(slots=True, eq=False)
+class Value:
+    """A constant value as written: int, double, string, name, list or map.
+
+    ``value`` holds an int, a float, the decoded str, the name, a list of
+    Values, or a list of (key, value) pairs of Values. ``text`` is the
+    original spelling (numbers keep their form, e.g. ``0x10`` or ``1.50``).
+    """
+
+    kind: ValueKind
+    value: object
+    span: Span
+    text: str = ""
+
+
+@dataclass(slots=True, eq=False)
+class Annotation:
+    """A Thrift annotation ``key = value`` (value None for a bare flag)."""
+
+    key: str
+    value: Value | None
+    span: Span
+
+    @property
+    def text(self) -> str:
+        """The value as a string ('' for a bare flag)."""
+        if self.value is None:
+            return ""
+        v = self.value.value
+        return v if isinstance(v, str) else self.value.text
+
+
+def annotation(annotations: list[Annotation], key: str) -> Annotation | None:
+    """The last annotation with ``key``, if any."""
+    for a in reversed(annotations):
+        if a.key == key:
+            return a
+    return None
+
+
+# ---------------------------------------------------------------------------
+# Members
+
+Requiredness = Literal["required", "optional"]
+
+
+@dataclass(slots=True, eq=False)
+class Field:
+    """A field of a struct-like body, a section, a function's argument list or throws."""
+
+    name: str
+    type: TypeRef
+    span: Span
+    name_span: Span
+    id: int | None = None
+    id_span: Span | None = None
+    requiredness: Requiredness | None = None
+    default: Value | None = None
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+    reference: bool = False
+
+    @property
+    def unit(self) -> str | None:
+        """The ``unit`` annotation."""
+        a = annotation(self.annotations, "unit")
+        return a.text if a else None
+
+    @property
+    def range(self) -> tuple[float | None, float | None] | None:
+        """(min, max) from ``range = "lo..hi"`` or ``min``/``max`` annotations."""
+        lo = hi = None
+        a = annotation(self.annotations, "range")
+        if a is not None:
+            low, sep, high = a.text.partition("..")
+            if not sep:
+                return None
+            try:
+                lo = float(low) if low.strip() else None
+                hi = float(high) if high.strip() else None
+            except ValueError:
+                return None
+        for key in ("min", "max"):
+            b = annotation(self.annotations, key)
+            if b is not None:
+                try:
+                    number = float(b.text)
+                except ValueError:
+                    return None
+                if key == "min":
+                    lo = number
+                else:
+                    hi = number
+        return None if lo is None and hi is None else (lo, hi)
+
+
+@dataclass(slots=True, eq=False)
+class Const:
+    """A constant, at top level or inside a body (ROS 2 message constants)."""
+
+    name: str
+    type: TypeRef
+    value: Value
+    span: Span
+    name_span: Span
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+    kind: Literal["const"] = "const"
+
+
+@dataclass(slots=True, eq=False)
+class Section:
+    """A part of a service or action: request/response, goal/result/feedback."""
+
+    name: str
+    span: Span
+    name_span: Span
+    fields: list[Field] = field(default_factory=list)
+    consts: list[Const] = field(default_factory=list)
+    #: True when read from a flat body rather than written as a section.
+    implicit: bool = False
+
+
+@dataclass(slots=True, eq=False)
+class Function:
+    """A Thrift service function: one request/response pair."""
+
+    name: str
+    returns: TypeRef | None
+    span: Span
+    name_span: Span
+    params: list[Field] = field(default_factory=list)
+    throws: list[Field] = field(default_factory=list)
+    oneway: bool = False
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+
+# ---------------------------------------------------------------------------
+# Definitions
+
+StructKind = Literal["struct", "union", "exception", "message", "configuration", "state"]
+BodyForm = Literal["explicit", "flat", "functions", "empty"]
+
+
+@dataclass(slots=True, eq=False)
+class Struct:
+    """struct, union, exception (Thrift); message, configuration, state (iface)."""
+
+    kind: StructKind
+    name: str
+    span: Span
+    name_span: Span
+    fields: list[Field] = field(default_factory=list)
+    consts: list[Const] = field(default_factory=list)
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+
+@dataclass(slots=True, eq=False)
+class Service:
+    """A service: Thrift functions, or one request/response pair (flat or explicit)."""
+
+    name: str
+    span: Span
+    name_span: Span
+    form: BodyForm = "empty"
+    extends: NamedType | None = None
+    functions: list[Function] = field(default_factory=list)
+    request: Section | None = None
+    response: Section | None = None
+    #: Sections as written (explicit form), including unknown ones.
+    sections: list[Section] = field(default_factory=list)
+    #: Fields as written in a flat body.
+    flat_fields: list[Field] = field(default_factory=list)
+    consts: list[Const] = field(default_factory=list)
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+    kind: Literal["service"] = "service"
+
+    @property
+    def is_diagnostics(self) -> bool:
+        """True for the Δ service: named ``diagnostics`` or annotated ``(diagnostics)``."""
+        return self.name == "diagnostics" or annotation(self.annotations, "diagnostics") is not None or (
+            (a := annotation(self.annotations, "role")) is not None and a.text == "diagnostics")
+
+
+@dataclass(slots=True, eq=False)
+class Action:
+    """An action: goal, result and feedback."""
+
+    name: str
+    span: Span
+    name_span: Span
+    form: BodyForm = "empty"
+    goal: Section | None = None
+    result: Section | None = None
+    feedback: Section | None = None
+    sections: list[Section] = field(default_factory=list)
+    flat_fields: list[Field] = field(default_factory=list)
+    consts: list[Const] = field(default_factory=list)
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+    kind: Literal["action"] = "action"
+
+
+@dataclass(slots=True, eq=False)
+class EnumValue:
+    """One enumerator; ``value`` is explicit or counted on from the previous one."""
+
+    name: str
+    value: int
+    span: Span
+    name_span: Span
+    explicit: bool = False
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+
+@dataclass(slots=True, eq=False)
+class Enum:
+    """A Thrift enum."""
+
+    name: str
+    span: Span
+    name_span: Span
+    values: list[EnumValue] = field(default_factory=list)
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+    kind: Literal["enum"] = "enum"
+
+
+@dataclass(slots=True, eq=False)
+class Senum:
+    """A Thrift senum (deprecated string enum)."""
+
+    name: str
+    span: Span
+    name_span: Span
+    values: list[Value] = field(default_factory=list)
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+    kind: Literal["senum"] = "senum"
+
+
+@dataclass(slots=True, eq=False)
+class Typedef:
+    """``typedef T Name``."""
+
+    name: str
+    type: TypeRef
+    span: Span
+    name_span: Span
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+    kind: Literal["typedef"] = "typedef"
+
+
+Definition = Union[Struct, Service, Action, Enum, Senum, Typedef, Const]
+
+
+# ---------------------------------------------------------------------------
+# Headers and wiring
+
+
+@dataclass(slots=True, eq=False)
+class Include:
+    """``include "file"``; ``resolved`` is the absolute path once found."""
+
+    path: str
+    span: Span
+    path_span: Span
+    cpp: bool = False
+    resolved: str | None = None
+
+
+@dataclass(slots=True, eq=False)
+class Namespace:
+    """``namespace scope name`` (scope ``ros2``, ``px4``, ``cpp``, ``*`` …)."""
+
+    scope: str
+    name: str
+    span: Span
+    annotations: list[Annotation] = field(default_factory=list)
+
+
+@dataclass(slots=True, eq=False)
+class ComponentDecl:
+    """``component name version "x.y"``."""
+
+    name: str
+    span: Span
+    name_span: Span
+    version: str | None = None
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+
+@dataclass(slots=True, eq=False)
+class External:
+    """``external pkg`` or ``external pkg.Type``: types that live outside iface."""
+
+    name: str
+    span: Span
+
+
+Direction = Literal["publishes", "subscribes", "provides", "calls"]
+
+
+@dataclass(slots=True, eq=False)
+class Wiring:
+    """A direction statement: ``publishes T on "/topic"`` and the like."""
+
+    direction: Direction
+    type: NamedType
+    topic: str
+    span: Span
+    topic_span: Span
+    annotations: list[Annotation] = field(default_factory=list)
+    doc: str | None = None
+
+    @property
+    def qos(self) -> dict[str, str]:
+        """QoS settings from ``qos.*`` annotations."""
+        return {a.key[4:]: a.text for a in self.annotations if a.key.startswith("qos.")}
+
+
+Item = Union[Definition, Include, Namespace, ComponentDecl, External, Wiring]
+
+
+# ---------------------------------------------------------------------------
+# The seven sets
+
+
+@dataclass(slots=True, eq=False)
+class Endpoint:
+    """An element of M, N, S or A: a definition bound to a topic or name with a role."""
+
+    role: Direction
+    name: str
+    definition: Definition | None
+    wiring: Wiring | None = None
+
+    @property
+    def span(self) -> Span:
+        """Where the element is stated."""
+        if self.wiring is not None:
+            return self.wiring.span
+        assert self.definition is not None
+        return self.definition.span
+
+
+@dataclass(eq=False)
+class Interface:
+    """One compiled file: its items in order and the seven sets derived from them."""
+
+    source: Source
+    name: str
+    version: str | None = None
+    items: list[Item] = field(default_factory=list)
+    includes: list[Include] = field(default_factory=list)
+    namespaces: list[Namespace] = field(default_factory=list)
+    externals: list[External] = field(default_factory=list)
+    wirings: list[Wiring] = field(default_factory=list)
+    definitions: list[Definition] = field(default_factory=list)
+    component: ComponentDecl | None = None
+    #: Definitions of this file by name (first one wins on duplicates).
+    symbols: dict[str, Definition] = field(default_factory=dict)
+    #: Interfaces of included files, by the prefix used to refer to them.
+    included: dict[str, Interface] = field(default_factory=dict)
+
+    # the seven sets, filled by ``sets.derive``
+    subscribed: list[Endpoint] = field(default_factory=list)       # M
+    published: list[Endpoint] = field(default_factory=list)        # N
+    services: list[Endpoint] = field(default_factory=list)         # S (provides and calls)
+    actions: list[Endpoint] = field(default_factory=list)          # A (provides and calls)
+    parameters: list[Field] = field(default_factory=list)          # P
+    state: list[Field] = field(default_factory=list)               # Σ
+    diagnostics: list[Service] = field(default_factory=list)       # Δ
+
+    @property
+    def path(self) -> str:
+        """Path of the file."""
+        return self.source.path
+
+    def namespace(self, scope: str) -> str | None:
+        """The namespace for ``scope`` (``ros2``, ``px4``, …), falling back to ``*``."""
+        found = None
+        for ns in self.namespaces:
+            if ns.scope == scope:
+                return ns.name
+            if ns.scope == "*":
+                found = ns.name
+        return found
+
+    @property
+    def assumptions(self) -> list[Endpoint | Field]:
+        """What the component assumes of its environment: M, called S and A, P."""
+        called = [e for e in self.services + self.actions if e.role == "calls"]
+        return [*self.subscribed, *called, *self.parameters]
+
+    @property
+    def guarantees(self) -> list[Endpoint | Field | Service]:
+        """What it guarantees: N, provided S and A, Δ (Σ is both, see ``state``)."""
+        provided = [e for e in self.services + self.actions if e.role == "provides"]
+        return [*self.published, *provided, *self.diagnostics]
+
+    def lookup(self, name: str) -> Definition | None:
+        """A definition of this file or of an included one (``prefix.Name``)."""
+        found = self.symbols.get(name)
+        if found is not None:
+            return found
+        prefix, _, local = name.rpartition(".")
+        if prefix and prefix in self.included:
+            return self.included[prefix].symbols.get(local)
+        return None

@@ -1,0 +1,257 @@
+"""Text → model items, chunk by chunk, with syntax-error recovery.
+
+``parse_text`` reports every syntax error of independent chunks in one pass;
+inside a chunk the parser skips the offending token and goes on, and a chunk
+that ends inside an open body is closed so that what was written is still
+modelled. A ``ChunkCache`` keeps one document's parsed chunks so that an edit
+re-parses only the chunks whose text changed.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, field
+from typing import Any
+
+from lark import Token
+from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+
+from . import model as m
+from .chunks import Chunk, split
+from .grammar import build_parser, terminal_descriptions
+from .source import Span
+from .transform import ModelBuilder
+
+_CLOSERS = ("RBRACE", "RPAR", "RSQB", "MORETHAN")
+_MAX_ERRORS_PER_CHUNK = 20
+_MAX_MERGE = 16
+_TYPE_WORDS = frozenset({
+    "'bool'", "'byte'", "'i8'", "'i16'", "'i32'", "'i64'", "'double'", "'binary'", "'uuid'",
+    "'u8'", "'u16'", "'u32'", "'u64'", "'int8'", "'int16'", "'int32'", "'int64'", "'uint8'",
+    "'uint16'", "'uint32'", "'uint64'", "'float'", "'float32'", "'float64'", "'char'", "'octet'",
+    "'string'", "'wstring'", "'map'", "'set'", "'list'",
+})
+
+
+@dataclass(slots=True, eq=False)
+class Problem:
+    """A syntax-level finding, before it is tied to a source file."""
+
+    code: str
+    message: str
+    span: Span
+
+
+@dataclass(slots=True, eq=False)
+class ChunkResult:
+    """What one chunk of text parsed to; spans are absolute once placed at ``base``."""
+
+    text: str
+    items: list[Any]
+    spans: list[Span]
+    problems: list[Problem]
+    base: int = 0
+    open_at_end: bool = False
+
+    def move_to(self, base: int) -> None:
+        """Shift every span of the chunk so that it starts at ``base``."""
+        delta = base - self.base
+        if delta:
+            for s in self.spans:
+                s.start += delta
+                s.end += delta
+            self.base = base
+
+
+@dataclass(slots=True, eq=False)
+class ParseResult:
+    """All items of a text in order, and its syntax problems."""
+
+    items: list[Any]
+    problems: list[Problem]
+    chunks: list[ChunkResult] = field(default_factory=list)
+
+
+class _ChunkParser:
+    """The shared LALR parser with the model builder inline; one chunk at a time."""
+
+    def __init__(self) -> None:
+        self.builder = ModelBuilder()
+        self.parser = build_parser(self.builder)
+        self.lock = threading.Lock()
+
+    def parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
+        with self.lock:
+            return self._parse(text, docs)
+
+    def _parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
+        b = self.builder
+        b.reset(docs)
+        problems: list[Problem] = []
+        state = {"open": False, "last": -10**9}
+
+        def record(start: int, end: int, message: str) -> None:
+            # one report per line: what follows an error on its line is usually its echo
+            last = state["last"]
+            if last >= 0 and "\n" not in text[last:start]:
+                return
+            state["last"] = start
+            problems.append(Problem("syntax-error", message, b.span(start, max(end, start))))
+
+        def on_error(e: UnexpectedInput) -> bool:
+            if len(problems) >= _MAX_ERRORS_PER_CHUNK:
+                return False
+            if isinstance(e, UnexpectedToken) and e.token.type == "$END":
+                state["open"] = True
+                record(len(text), len(text), _describe_eof(e))
+                return _close(e, len(text))
+            if isinstance(e, UnexpectedCharacters):
+                record(e.pos_in_stream, e.pos_in_stream + 1, _describe_chars(text, e))
+                return True
+            assert isinstance(e, UnexpectedToken)
+            tok = e.token
+            record(tok.start_pos, tok.end_pos, _describe_token(e))
+            return True
+
+        try:
+            items = self.parser.parse(text, on_error=on_error)
+        except UnexpectedInput as e:
+            items = []
+            if not problems:
+                pos = getattr(e, "pos_in_stream", None) or len(text)
+                problems.append(Problem("syntax-error", "cannot parse this definition", b.span(pos, pos)))
+        except RecursionError:
+            items = []
+            problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.span(0, 0)))
+        for code, message, span in b.problems:
+            problems.append(Problem(code, message, span))
+        if not isinstance(items, list):
+            items = []
+        return ChunkResult(text, items, b.spans, problems, 0, state["open"])
+
+
+def _close(e: UnexpectedToken, end: int) -> bool:
+    """Feed closing tokens until the chunk can end; False when that is impossible."""
+    ip = e.interactive_parser
+    for _ in range(256):
+        accepts = ip.accepts()
+        if "$END" in accepts:
+            return True
+        for closer in _CLOSERS:
+            if closer in accepts:
+                ip.feed_token(Token(closer, "", start_pos=end, end_pos=end))
+                break
+        else:
+            return False
+    return False
+
+
+def _expected(names: set[str] | frozenset[str]) -> str:
+    desc = terminal_descriptions()
+    words = {desc.get(n, n.lower()) for n in names}
+    if words & _TYPE_WORDS:
+        words -= _TYPE_WORDS
+        words.add("a type")
+    ordered = sorted(words)
+    if len(ordered) > 8:
+        ordered = ordered[:8] + ["…"]
+    return ", ".join(ordered)
+
+
+def _describe_token(e: UnexpectedToken) -> str:
+    tok = e.token
+    desc = terminal_descriptions().get(tok.type, tok.type.lower())
+    shown = repr(str(tok)) if desc.startswith("a ") or desc.startswith("an ") else desc
+    return f"unexpected {shown}; expected {_expected(e.expected)}"
+
+
+def _describe_eof(e: UnexpectedToken) -> str:
+    closers = [terminal_descriptions()[c] for c in _CLOSERS if c in e.expected]
+    if closers:
+        return f"{closers[0]} expected: the body is still open here"
+    return f"unexpected end of definition; expected {_expected(e.expected)}"
+
+
+def _describe_chars(text: str, e: UnexpectedCharacters) -> str:
+    c = text[e.pos_in_stream]
+    if c in "\"'":
+        return "unterminated string: a string must close on the line it opens"
+    if text.startswith("/*", e.pos_in_stream):
+        return "unterminated comment: '/*' has no closing '*/'"
+    return f"unexpected character {c!r}"
+
+
+_parser: _ChunkParser | None = None
+
+
+def chunk_parser() -> _ChunkParser:
+    """The process-wide chunk parser, built on first use."""
+    global _parser
+    if _parser is None:
+        _parser = _ChunkParser()
+    return _parser
+
+
+class ChunkCache:
+    """Parsed chunks of one document, reused across its versions by their text."""
+
+    def __init__(self) -> None:
+        self._by_text: dict[str, list[ChunkResult]] = {}
+
+    def take(self, text: str) -> ChunkResult | None:
+        """A cached result for ``text``, removed so it is used once per version."""
+        found = self._by_text.get(text)
+        return found.pop() if found else None
+
+    def replace(self, results: list[ChunkResult]) -> None:
+        """Keep exactly the chunks of the newest version."""
+        fresh: dict[str, list[ChunkResult]] = {}
+        for r in results:
+            fresh.setdefault(r.text, []).append(r)
+        self._by_text = fresh
+
+
+def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
+    """Parse a whole text; with ``cache``, unchanged chunks are not parsed again."""
+    parser = chunk_parser()
+    chunks = split(text)
+    results: list[ChunkResult] = []
+    i = 0
+    n = len(chunks)
+    while i < n:
+        ch = chunks[i]
+        ctext = text[ch.start:ch.end]
+        r = cache.take(ctext) if cache is not None else None
+        if r is None:
+            r = parser.parse(ctext, ch.docs)
+            if r.open_at_end and i + 1 < n:
+                merged = _merge(parser, text, chunks, i)
+                if merged is not None:
+                    r, i = merged
+        r.move_to(ch.start)
+        results.append(r)
+        i += 1
+    if cache is not None:
+        cache.replace(results)
+    items: list[Any] = []
+    problems: list[Problem] = []
+    for r in results:
+        items.extend(r.items)
+        problems.extend(r.problems)
+    return ParseResult(items, problems, results)
+
+
+def _merge(parser: _ChunkParser, text: str, chunks: list[Chunk], i: int) -> tuple[ChunkResult, int] | None:
+    """Join chunk ``i`` with the following ones until the join parses cleanly."""
+    first = chunks[i]
+    docs = dict(first.docs)
+    for j in range(i + 1, min(len(chunks), i + 1 + _MAX_MERGE)):
+        nxt = chunks[j]
+        docs.update({k + nxt.start - first.start: v for k, v in nxt.docs.items()})
+        r = parser.parse(text[first.start:nxt.end], docs)
+        if not r.problems:
+            return r, j
+        if not r.open_at_end:
+            return None
+    return None
+

@@ -1,0 +1,88 @@
+"""Derive the seven sets I = M ∪ N ∪ S ∪ A ∪ P ∪ Σ ∪ Δ from a resolved interface."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from . import model as m
+from .diagnostics import Diagnostic, Related, make
+
+
+def derive(iface: m.Interface) -> Iterator[Diagnostic]:
+    """Fill the seven sets of ``iface``; report wiring that names the wrong kind of thing."""
+    src = iface.source
+    iface.subscribed, iface.published = [], []
+    iface.services, iface.actions = [], []
+    iface.parameters, iface.state, iface.diagnostics = [], [], []
+    wired_calls = False
+    for w in iface.wirings:
+        target = w.type.target
+        if w.direction in ("publishes", "subscribes"):
+            if target is not None and not isinstance(target, m.Struct):
+                yield make("wrong-kind", f"'{w.type.name}' is a {target.kind}, not a message: "
+                           f"only messages are {w.direction[:-1]}ed on topics", src, w.type.span)
+                continue
+            ep = m.Endpoint(w.direction, w.topic, target, w)
+            (iface.published if w.direction == "publishes" else iface.subscribed).append(ep)
+            continue
+        wired_calls = True
+        if isinstance(target, m.Action):
+            iface.actions.append(m.Endpoint(w.direction, w.topic, target, w))
+        elif isinstance(target, m.Service) or target is None:
+            iface.services.append(m.Endpoint(w.direction, w.topic, target, w))
+        else:
+            yield make("wrong-kind", f"'{w.type.name}' is a {getattr(target, 'kind', 'definition')}, "
+                       f"not a service or action: only those are {w.direction[:-1]}d",
+                       src, w.type.span)
+    implicit: list[m.Definition] = []
+    for d in iface.definitions:
+        if isinstance(d, m.Struct):
+            if d.kind == "configuration":
+                iface.parameters.extend(d.fields)
+            elif d.kind == "state":
+                iface.state.extend(d.fields)
+        elif isinstance(d, m.Service) and d.is_diagnostics:
+            iface.diagnostics.append(d)
+        elif not wired_calls and isinstance(d, (m.Service, m.Action)):
+            implicit.append(d)
+            ep = m.Endpoint("provides", d.name, d, None)
+            (iface.actions if isinstance(d, m.Action) else iface.services).append(ep)
+    if implicit and iface.source.path.endswith(".iface"):
+        names = ", ".join(d.name for d in implicit)
+        yield make("implicit-provides",
+                   f"nothing is wired with provides/calls, so the component provides {names} "
+                   "under their own names", src, implicit[0].name_span)
+    yield from _wiring_checks(iface)
+
+
+def _wiring_checks(iface: m.Interface) -> Iterator[Diagnostic]:
+    src = iface.source
+    by_topic: dict[tuple[str, str], m.Wiring] = {}
+    seen: dict[tuple[str, str, str], m.Wiring] = {}
+    for w in iface.wirings:
+        key3 = (w.direction, w.type.name, w.topic)
+        if key3 in seen:
+            yield make("duplicate-wiring", f"'{w.direction} {w.type.name} on \"{w.topic}\"' is stated twice",
+                       src, w.span, related=[Related(src, seen[key3].span, "first stated here")])
+            continue
+        seen[key3] = w
+        channel = "topic" if w.direction in ("publishes", "subscribes") else "service"
+        first = by_topic.get((channel, w.topic))
+        if first is None:
+            by_topic[(channel, w.topic)] = w
+            continue
+        a, b = first.type, w.type
+        same = (a.target is not None and a.target is b.target) or a.name == b.name
+        if not same:
+            yield make("topic-type-conflict",
+                       f"{channel} '{w.topic}' is used with '{b.name}' here and with '{a.name}' elsewhere",
+                       src, w.topic_span,
+                       related=[Related(src, first.topic_span, f"'{w.topic}' used with '{a.name}'")])
+    wired = {w.type.target for w in iface.wirings if w.direction in ("publishes", "subscribes")}
+    if src.path.endswith(".iface"):
+        for d in iface.definitions:
+            if isinstance(d, m.Struct) and d.kind == "message" and d not in wired:
+                yield make("message-no-direction",
+                           f"message '{d.name}' is neither published nor subscribed: it is a type "
+                           f"definition (add `publishes {d.name} on \"/topic\"` to wire it)",
+                           src, d.name_span, name=d.name)

@@ -1,0 +1,80 @@
+"""Source files and spans: offsets into a text, converted to lines only at the edges."""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+from dataclasses import dataclass, field
+
+
+class Span:
+    """A half-open range of character offsets [start, end) in one source text.
+
+    Spans are mutable so that a cached chunk can be moved when the text before
+    it changes length (see ``chunks.ChunkCache``).
+    """
+
+    __slots__ = ("start", "end")
+
+    def __init__(self, start: int, end: int) -> None:
+        self.start = start
+        self.end = end
+
+    def __repr__(self) -> str:
+        return f"Span({self.start}, {self.end})"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Span) and other.start == self.start and other.end == self.end
+
+    def __hash__(self) -> int:
+        return hash((self.start, self.end))
+
+    def contains(self, offset: int) -> bool:
+        """True when ``offset`` lies inside the span or touches its end."""
+        return self.start <= offset <= self.end
+
+
+@dataclass(eq=False)
+class Source:
+    """The text of one file with a lazily built line index."""
+
+    path: str
+    text: str
+    _lines: list[int] | None = field(default=None, repr=False)
+
+    @property
+    def line_starts(self) -> list[int]:
+        """Offsets at which each line starts."""
+        if self._lines is None:
+            starts = [0]
+            find = self.text.find
+            i = find("\n")
+            while i >= 0:
+                starts.append(i + 1)
+                i = find("\n", i + 1)
+            self._lines = starts
+        return self._lines
+
+    def position(self, offset: int) -> tuple[int, int]:
+        """0-based (line, column in code points) of ``offset``."""
+        offset = max(0, min(offset, len(self.text)))
+        starts = self.line_starts
+        line = bisect_right(starts, offset) - 1
+        return line, offset - starts[line]
+
+    def offset(self, line: int, column: int) -> int:
+        """Offset of a 0-based (line, column in code points), clamped to the text."""
+        starts = self.line_starts
+        if line < 0:
+            return 0
+        if line >= len(starts):
+            return len(self.text)
+        end = starts[line + 1] - 1 if line + 1 < len(starts) else len(self.text)
+        return min(starts[line] + max(column, 0), end)
+
+    def line_text(self, line: int) -> str:
+        """The text of a 0-based line without its newline."""
+        starts = self.line_starts
+        if not 0 <= line < len(starts):
+            return ""
+        end = starts[line + 1] - 1 if line + 1 < len(starts) else len(self.text)
+        return self.text[starts[line]:end]

@@ -1,0 +1,460 @@
+"""Parse tree → model, run inline by the LALR parser (no tree is built).
+
+Each method receives the children of one grammar rule (tokens and the model
+objects made for sub-rules) and returns a model object. Offsets come straight
+from the tokens; every Span made is recorded so that a cached chunk can be
+moved later.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from lark import Token
+
+from . import model as m
+from .source import Span
+
+#: Containers nested deeper than this are refused (and not modelled).
+MAX_TYPE_DEPTH = 64
+
+_ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "\\": "\\", '"': '"', "'": "'", "0": "\0"}
+
+
+def decode_literal(text: str) -> str:
+    """The value of a quoted Thrift literal, with backslash escapes decoded."""
+    body = text[1:-1]
+    if "\\" not in body:
+        return body
+    out: list[str] = []
+    i, n = 0, len(body)
+    while i < n:
+        c = body[i]
+        if c == "\\" and i + 1 < n:
+            e = body[i + 1]
+            if e in _ESCAPES:
+                out.append(_ESCAPES[e])
+                i += 2
+                continue
+            if e == "u" and i + 5 < n + 0 and all(h in "0123456789abcdefABCDEF" for h in body[i + 2:i + 6]):
+                out.append(chr(int(body[i + 2:i + 6], 16)))
+                i += 6
+                continue
+        out.append(c)
+        i += 1
+    return "".join(out)
+
+
+def parse_int(text: str) -> int:
+    """An INT token's value (decimal or hex, optionally signed)."""
+    sign = -1 if text.startswith("-") else 1
+    digits = text.lstrip("+-")
+    if digits[:2].lower() == "0x":
+        return sign * int(digits[2:], 16)
+    return sign * int(digits, 10)
+
+
+def _start(x: Any) -> int:
+    return x.start_pos if isinstance(x, Token) else x.span.start
+
+
+def _end(x: Any) -> int:
+    return x.end_pos if isinstance(x, Token) else x.span.end
+
+
+class _Tagged(tuple):
+    """A (tag, payload, span) triple passed up from helper rules."""
+
+
+class ModelBuilder:
+    """Callbacks for every rule of grammar.lark; see ``parse.ChunkParser``."""
+
+    def __init__(self) -> None:
+        self.spans: list[Span] = []
+        self.docs: dict[int, str] = {}
+        self.problems: list[tuple[str, str, Span]] = []
+        self._depth: dict[int, int] = {}
+
+    def reset(self, docs: dict[int, str]) -> None:
+        """Start a new chunk whose doc comments are ``docs`` (by the offset they document)."""
+        self.spans = []
+        self.docs = docs
+        self.problems = []
+        self._depth = {}
+
+    def span(self, start: int, end: int) -> Span:
+        """A new recorded span."""
+        s = Span(start, end)
+        self.spans.append(s)
+        return s
+
+    def tok_span(self, tok: Token) -> Span:
+        """The span of one token."""
+        return self.span(tok.start_pos, tok.end_pos)
+
+    # ---- document ----------------------------------------------------------
+    def start(self, children: list[Any]) -> list[Any]:
+        return children
+
+    # ---- headers ---------------------------------------------------------------
+    def include(self, c: list[Any]) -> m.Include:
+        lit = c[1]
+        return m.Include(m_decode(lit), self.span(c[0].start_pos, lit.end_pos), self.tok_span(lit))
+
+    def cpp_include(self, c: list[Any]) -> m.Include:
+        inc = self.include(c)
+        inc.cpp = True
+        return inc
+
+    def namespace(self, c: list[Any]) -> m.Namespace:
+        scope, name = c[1], c[2]
+        ann = c[3] if len(c) > 3 else []
+        value = m_decode(name) if name.type == "LITERAL" else str(name)
+        end = ann[-1].span.end if ann else name.end_pos
+        return m.Namespace(str(scope), value, self.span(c[0].start_pos, end), ann)
+
+    def component(self, c: list[Any]) -> m.ComponentDecl:
+        name = c[1]
+        version = None
+        ann: list[m.Annotation] = []
+        end = name.end_pos
+        for x in c[2:]:
+            if isinstance(x, Token) and x.type == "LITERAL":
+                version = m_decode(x)
+                end = x.end_pos
+            elif isinstance(x, list):
+                ann = x
+                end = self._ann_end
+        return m.ComponentDecl(str(name), self.span(c[0].start_pos, end), self.tok_span(name),
+                               version, ann, self.docs.get(c[0].start_pos))
+
+    def external(self, c: list[Any]) -> m.External:
+        return m.External(str(c[1]), self.span(c[0].start_pos, c[1].end_pos))
+
+    def direction(self, c: list[Any]) -> Token:
+        return c[0]
+
+    def wiring(self, c: list[Any]) -> m.Wiring:
+        d, name, topic = c[0], c[1], c[2]
+        ann = c[3] if len(c) > 3 else []
+        end = self._ann_end if ann else topic.end_pos
+        return m.Wiring(str(d), m.NamedType(str(name), self.tok_span(name)), m_decode(topic),
+                        self.span(d.start_pos, end), self.tok_span(topic), ann,
+                        self.docs.get(d.start_pos))
+
+    # ---- definitions -------------------------------------------------------------
+    def const(self, c: list[Any]) -> m.Const:
+        kw, ftype, name = c[0], c[1], c[2]
+        value = c[4]
+        return m.Const(str(name), ftype, value, self.span(kw.start_pos, value.span.end),
+                       self.tok_span(name), [], self.docs.get(kw.start_pos))
+
+    member_const = const
+
+    def typedef(self, c: list[Any]) -> m.Typedef:
+        kw, ftype, name = c[0], c[1], c[2]
+        ann = c[3] if len(c) > 3 and isinstance(c[3], list) else []
+        end = self._ann_end if ann else name.end_pos
+        return m.Typedef(str(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
+                         self.docs.get(kw.start_pos))
+
+    def enum_value(self, c: list[Any]) -> _Tagged:
+        name = c[0]
+        value = None
+        ann: list[m.Annotation] = []
+        end = name.end_pos
+        for x in c[1:]:
+            if isinstance(x, Token) and x.type == "INT":
+                value = parse_int(x)
+                end = x.end_pos
+            elif isinstance(x, list):
+                ann = x
+                end = self._ann_end
+        ev = m.EnumValue(str(name), value if value is not None else 0, self.span(name.start_pos, end),
+                         self.tok_span(name), value is not None, ann, self.docs.get(name.start_pos))
+        return ev  # type: ignore[return-value]
+
+    def enum(self, c: list[Any]) -> m.Enum:
+        kw, name = c[0], c[1]
+        values = [x for x in c if isinstance(x, m.EnumValue)]
+        nxt = 0
+        for v in values:
+            if not v.explicit:
+                v.value = nxt
+            nxt = v.value + 1
+        ann, end = self._body_tail(c)
+        return m.Enum(str(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
+                      self.docs.get(kw.start_pos))
+
+    def senum(self, c: list[Any]) -> m.Senum:
+        kw, name = c[0], c[1]
+        values = [m.Value("string", m_decode(t), self.tok_span(t), str(t))
+                  for t in c[3:] if isinstance(t, Token) and t.type == "LITERAL"]
+        ann, end = self._body_tail(c)
+        return m.Senum(str(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
+                       self.docs.get(kw.start_pos))
+
+    def struct_kw(self, c: list[Any]) -> Token:
+        return c[0]
+
+    def struct(self, c: list[Any]) -> m.Struct:
+        kw, name = c[0], c[1]
+        fields = [x for x in c if isinstance(x, m.Field)]
+        consts = [x for x in c if isinstance(x, m.Const)]
+        ann, end = self._body_tail(c)
+        return m.Struct(str(kw), str(name), self.span(kw.start_pos, end), self.tok_span(name),
+                        fields, consts, ann, self.docs.get(kw.start_pos))
+
+    def section(self, c: list[Any]) -> m.Section:
+        name = c[0]
+        fields = [x for x in c if isinstance(x, m.Field)]
+        consts = [x for x in c if isinstance(x, m.Const)]
+        end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "RBRACE")
+        return m.Section(str(name), self.span(name.start_pos, end), self.tok_span(name), fields, consts)
+
+    def service(self, c: list[Any]) -> m.Service:
+        kw, name = c[0], c[1]
+        svc = m.Service(str(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
+        if len(c) > 3 and isinstance(c[2], Token) and c[2].type == "EXTENDS":
+            svc.extends = m.NamedType(str(c[3]), self.tok_span(c[3]))
+        for x in c:
+            if isinstance(x, m.Function):
+                svc.functions.append(x)
+            elif isinstance(x, m.Field):
+                svc.flat_fields.append(x)
+            elif isinstance(x, m.Section):
+                svc.sections.append(x)
+            elif isinstance(x, m.Const):
+                svc.consts.append(x)
+        svc.annotations, end = self._body_tail(c)
+        svc.span.start, svc.span.end = kw.start_pos, end
+        return svc
+
+    def action(self, c: list[Any]) -> m.Action:
+        kw, name = c[0], c[1]
+        act = m.Action(str(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
+        for x in c:
+            if isinstance(x, m.Field):
+                act.flat_fields.append(x)
+            elif isinstance(x, m.Section):
+                act.sections.append(x)
+            elif isinstance(x, m.Const):
+                act.consts.append(x)
+        act.annotations, end = self._body_tail(c)
+        act.span.start, act.span.end = kw.start_pos, end
+        return act
+
+    def oneway(self, c: list[Any]) -> Token:
+        return c[0]
+
+    def void(self, c: list[Any]) -> Token:
+        return c[0]
+
+    def throws(self, c: list[Any]) -> _Tagged:
+        return _Tagged(("throws", [x for x in c if isinstance(x, m.Field)]))
+
+    def function(self, c: list[Any]) -> m.Function:
+        i = 0
+        oneway = False
+        first = c[0]
+        if isinstance(first, Token) and first.type == "ONEWAY":
+            oneway = True
+            i = 1
+        ret = c[i]
+        returns = None if isinstance(ret, Token) else ret
+        name = c[i + 1]
+        params: list[m.Field] = []
+        throws: list[m.Field] = []
+        ann: list[m.Annotation] = []
+        end = name.end_pos
+        for x in c[i + 2:]:
+            if isinstance(x, m.Field):
+                params.append(x)
+            elif isinstance(x, Token) and x.type == "RPAR":
+                end = x.end_pos
+            elif isinstance(x, _Tagged):
+                throws = x[1]
+            elif isinstance(x, list):
+                ann = x
+                end = self._ann_end
+        start = _start(first)
+        return m.Function(str(name), returns, self.span(start, end), self.tok_span(name), params,
+                          throws, oneway, ann, self.docs.get(start))
+
+    # ---- fields --------------------------------------------------------------------
+    def field_id(self, c: list[Any]) -> _Tagged:
+        tok = c[0]
+        return _Tagged(("id", parse_int(tok), self.tok_span(tok)))
+
+    def requiredness(self, c: list[Any]) -> Token:
+        return c[0]
+
+    def default(self, c: list[Any]) -> _Tagged:
+        return _Tagged(("default", c[0]))
+
+    def field(self, c: list[Any]) -> m.Field:
+        fid = None
+        fid_span = None
+        req = None
+        ftype = None
+        name = None
+        default = None
+        ann: list[m.Annotation] = []
+        reference = False
+        start = None
+        end = 0
+        for x in c:
+            if start is None:
+                start = _start(x) if not isinstance(x, _Tagged) else x[2].start
+            if isinstance(x, _Tagged):
+                if x[0] == "id":
+                    fid, fid_span = x[1], x[2]
+                else:
+                    default = x[1]
+                    end = default.span.end
+            elif isinstance(x, Token):
+                if x.type == "IDENTIFIER":
+                    name = x
+                    end = x.end_pos
+                elif x.type == "AMP":
+                    reference = True
+                else:
+                    req = str(x)
+            elif isinstance(x, list):
+                ann = x
+                end = self._ann_end
+            else:
+                ftype = x
+        assert name is not None and ftype is not None and start is not None
+        return m.Field(str(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
+                       req, default, ann, self.docs.get(start), reference)  # type: ignore[arg-type]
+
+    flat_field = field
+
+    # ---- types ---------------------------------------------------------------------
+    def string_kw(self, c: list[Any]) -> Token:
+        return c[0]
+
+    def base_type(self, c: list[Any]) -> m.BaseType:
+        tok = c[0]
+        return m.BaseType(m.BASE_ALIASES[str(tok)], self.tok_span(tok), str(tok))
+
+    def named_type(self, c: list[Any]) -> m.NamedType:
+        return m.NamedType(str(c[0]), self.tok_span(c[0]))
+
+    def bounded_string(self, c: list[Any]) -> m.BaseType:
+        kw, bound = c[0], c[1]
+        return m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), str(kw),
+                          parse_int(bound))
+
+    def cpp_type(self, c: list[Any]) -> None:
+        return None
+
+    def _container(self, t: Any, *elements: Any) -> Any:
+        depth = max(self._depth.get(id(e), 0) for e in elements) + 1
+        if depth > MAX_TYPE_DEPTH:
+            if depth == MAX_TYPE_DEPTH + 1:
+                self.problems.append(("nesting-too-deep",
+                                      f"containers are nested more than {MAX_TYPE_DEPTH} levels deep",
+                                      t.span))
+            # keep the model shallow: the too-deep type stands for its innermost part
+            inner = elements[0]
+            while getattr(inner, "element", None) is not None:
+                inner = inner.element
+            self._depth[id(inner)] = depth
+            return inner
+        self._depth[id(t)] = depth
+        return t
+
+    def map_type(self, c: list[Any]) -> Any:
+        types = [x for x in c if x is not None and not isinstance(x, Token)]
+        end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
+        t = m.MapType(types[0], types[1], self.span(c[0].start_pos, end))
+        return self._container(t, types[0], types[1])
+
+    def set_type(self, c: list[Any]) -> Any:
+        types = [x for x in c if x is not None and not isinstance(x, Token)]
+        end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
+        t = m.SetType(types[0], self.span(c[0].start_pos, end))
+        return self._container(t, types[0])
+
+    def list_type(self, c: list[Any]) -> Any:
+        types = [x for x in c if x is not None and not isinstance(x, Token)]
+        end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
+        t = m.ArrayType(types[0], self.span(c[0].start_pos, end), "unbounded", None, True)
+        return self._container(t, types[0])
+
+    def unbounded_array(self, c: list[Any]) -> _Tagged:
+        return _Tagged(("unbounded", None, c[-1].end_pos))
+
+    def fixed_array(self, c: list[Any]) -> _Tagged:
+        return _Tagged(("fixed", parse_int(c[1]), c[-1].end_pos))
+
+    def bounded_array(self, c: list[Any]) -> _Tagged:
+        return _Tagged(("bounded", parse_int(c[1]), c[-1].end_pos))
+
+    def field_type(self, c: list[Any]) -> Any:
+        t = c[0]
+        if len(c) == 1:
+            return t
+        for x in c[1:]:
+            if isinstance(x, list):
+                t.annotations = x
+            else:
+                kind, size, end = x
+                arr = m.ArrayType(t, self.span(t.span.start, end), kind, size)
+                t = self._container(arr, t)
+        return t
+
+    # ---- values --------------------------------------------------------------------
+    def int_value(self, c: list[Any]) -> m.Value:
+        tok = c[0]
+        return m.Value("int", parse_int(tok), self.tok_span(tok), str(tok))
+
+    def double_value(self, c: list[Any]) -> m.Value:
+        tok = c[0]
+        return m.Value("double", float(tok), self.tok_span(tok), str(tok))
+
+    def string_value(self, c: list[Any]) -> m.Value:
+        tok = c[0]
+        return m.Value("string", m_decode(tok), self.tok_span(tok), str(tok))
+
+    def name_value(self, c: list[Any]) -> m.Value:
+        tok = c[0]
+        return m.Value("name", str(tok), self.tok_span(tok), str(tok))
+
+    def list_value(self, c: list[Any]) -> m.Value:
+        items = [x for x in c if isinstance(x, m.Value)]
+        return m.Value("list", items, self.span(c[0].start_pos, c[-1].end_pos))
+
+    def map_value(self, c: list[Any]) -> m.Value:
+        items = [x for x in c if isinstance(x, m.Value)]
+        pairs = list(zip(items[0::2], items[1::2]))
+        return m.Value("map", pairs, self.span(c[0].start_pos, c[-1].end_pos))
+
+    # ---- annotations ---------------------------------------------------------------
+    _ann_end = 0
+
+    def annotation(self, c: list[Any]) -> m.Annotation:
+        key = c[0]
+        value = c[1] if len(c) > 1 else None
+        end = value.span.end if value is not None else key.end_pos
+        return m.Annotation(str(key), value, self.span(key.start_pos, end))
+
+    def annotations(self, c: list[Any]) -> list[m.Annotation]:
+        # the end of the last annotation list seen, read by the enclosing rule
+        self._ann_end = c[-1].end_pos
+        return [x for x in c if isinstance(x, m.Annotation)]
+
+    # ---- helpers ---------------------------------------------------------------------
+    def _body_tail(self, c: list[Any]) -> tuple[list[m.Annotation], int]:
+        """Annotations after a closing brace, and where the definition ends."""
+        last = c[-1]
+        if isinstance(last, list):
+            return last, self._ann_end
+        return [], _end(last)
+
+
+def m_decode(tok: Token) -> str:
+    """The decoded value of a LITERAL token."""
+    return decode_literal(str(tok))
