@@ -39,7 +39,7 @@ def terminal_descriptions() -> dict[str, str]:
     """A readable description for every terminal name the parser uses."""
     parser = build_parser()
     names = {"IDENTIFIER": "a name", "INT": "an integer", "DOUBLE": "a number",
-             "LITERAL": "a string", "$END": "end of file"}
+             "LITERAL": "a string", "BASE_TYPE": "a type", "$END": "end of file"}
     out: dict[str, str] = {}
     for term in parser.terminals:
         if term.name in names:

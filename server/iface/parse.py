@@ -80,13 +80,14 @@ class _ChunkParser:
         self.parser = build_parser(self.builder)
         self.lock = threading.Lock()
 
-    def parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
+    def parse(self, text: str, docs: dict[int, str], record: bool = True) -> ChunkResult:
+        """Parse one chunk; ``record`` keeps its spans so that it can be moved later."""
         with self.lock:
-            return self._parse(text, docs)
+            return self._parse(text, docs, record)
 
-    def _parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
+    def _parse(self, text: str, docs: dict[int, str], record: bool) -> ChunkResult:
         b = self.builder
-        b.reset(docs)
+        b.reset(docs, record)
         problems: list[Problem] = []
         state = {"open": False, "last": -10**9}
 
@@ -152,6 +153,10 @@ def _expected(names: set[str] | frozenset[str]) -> str:
     if words & _TYPE_WORDS:
         words -= _TYPE_WORDS
         words.add("a type")
+    if "a type" in words:
+        words.discard("a name")
+        words.discard("a type")
+        words.add("a type or name")
     ordered = sorted(words)
     if len(ordered) > 8:
         ordered = ordered[:8] + ["…"]
@@ -212,9 +217,21 @@ class ChunkCache:
 
 
 def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
-    """Parse a whole text; with ``cache``, unchanged chunks are not parsed again."""
+    """Parse a whole text; with ``cache``, unchanged chunks are not parsed again.
+
+    Without a cache the text is first parsed in one piece (the fast path for a
+    clean file); only if that finds a problem is it parsed chunk by chunk,
+    which keeps every independent syntax error and models the rest.
+    """
     parser = chunk_parser()
     chunks = split(text)
+    if cache is None:
+        docs: dict[int, str] = {}
+        for ch in chunks:
+            docs.update({k + ch.start: v for k, v in ch.docs.items()})
+        whole = parser.parse(text, docs, record=False)
+        if not whole.problems:
+            return ParseResult(whole.items, [], [whole])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)

@@ -75,22 +75,29 @@ class ModelBuilder:
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
 
-    def reset(self, docs: dict[int, str]) -> None:
+    def reset(self, docs: dict[int, str], record: bool = True) -> None:
         """Start a new chunk whose doc comments are ``docs`` (by the offset they document)."""
         self.spans = []
+        self._record = record
         self.docs = docs
         self.problems = []
         self._depth = {}
 
+    _record = True
+
     def span(self, start: int, end: int) -> Span:
-        """A new recorded span."""
+        """A new span, recorded when the chunk may be moved later."""
         s = Span(start, end)
-        self.spans.append(s)
+        if self._record:
+            self.spans.append(s)
         return s
 
     def tok_span(self, tok: Token) -> Span:
         """The span of one token."""
-        return self.span(tok.start_pos, tok.end_pos)
+        s = Span(tok.start_pos, tok.end_pos)
+        if self._record:
+            self.spans.append(s)
+        return s
 
     # ---- document ----------------------------------------------------------
     def start(self, children: list[Any]) -> list[Any]:
@@ -332,9 +339,6 @@ class ModelBuilder:
     flat_field = field
 
     # ---- types ---------------------------------------------------------------------
-    def string_kw(self, c: list[Any]) -> Token:
-        return c[0]
-
     def base_type(self, c: list[Any]) -> m.BaseType:
         tok = c[0]
         return m.BaseType(m.BASE_ALIASES[str(tok)], self.tok_span(tok), str(tok))
@@ -344,8 +348,11 @@ class ModelBuilder:
 
     def bounded_string(self, c: list[Any]) -> m.BaseType:
         kw, bound = c[0], c[1]
-        return m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), str(kw),
-                          parse_int(bound))
+        t = m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), str(kw),
+                       parse_int(bound))
+        if t.name not in m.STRING_TYPES:
+            self.problems.append(("bounds-misuse", f"only string and wstring take a bound, not {kw}", t.span))
+        return t
 
     def cpp_type(self, c: list[Any]) -> None:
         return None
