@@ -232,6 +232,10 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
         diagnostics.extend(resolve_references(iface))
         diagnostics.extend(derive(iface))
         diagnostics.extend(validate(iface))
+        broken = parsed.broken_ranges()
+        if broken:
+            diagnostics = [d for d in diagnostics if d.code == "syntax-error" or d.source is not source
+                           or not any(a <= d.span.start < b for a, b in broken)]
         if not iface.items and not diagnostics:
             diagnostics.append(make("empty-file", "the file is empty: it defines no interface",
                                     source, Span(0, 0)))
@@ -290,6 +294,10 @@ def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Inclu
                                     "includes must not form a cycle", src, inc.path_span))
             continue
         out[found] = comp
+        chain = _path_back(comp, src.path)
+        if chain:
+            names = " → ".join(Path(p).name for p in [src.path, *chain])
+            diagnostics.append(make("include-cycle", f"includes form a cycle: {names}", src, inc.path_span))
         prefixes = {Path(found).stem}
         ros = comp.interface.namespace("ros2")
         if ros:
@@ -297,7 +305,7 @@ def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Inclu
         for p in prefixes:
             iface.included.setdefault(p, comp.interface)
         errors = [d for d in comp.all_diagnostics() if d.severity == Severity.ERROR]
-        if errors:
+        if errors and not chain:
             first = errors[0]
             line, col, _, _ = first.location()
             diagnostics.append(make(
@@ -305,3 +313,20 @@ def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Inclu
                 f"first: {first.message}", src, inc.path_span,
                 related=[Related(first.source, first.span, first.message)]))
     return out
+
+
+def _path_back(comp: Compilation, target: str) -> list[str]:
+    """The include chain from ``comp`` back to ``target`` ([] when there is none)."""
+    stack: list[tuple[Compilation, list[str]]] = [(comp, [comp.path])]
+    seen: set[str] = set()
+    while stack:
+        c, path = stack.pop()
+        if c.path in seen:
+            continue
+        seen.add(c.path)
+        for inc in c.interface.includes:
+            if inc.resolved == target:
+                return [*path, target]
+        for key, sub in c.includes.items():
+            stack.append((sub, [*path, key]))
+    return []

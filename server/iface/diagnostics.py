@@ -67,7 +67,6 @@ CODES: dict[str, tuple[Severity, str]] = {
     "required-in-union": (Severity.WARNING, "A union field marked required."),
     "deprecated-syntax": (Severity.WARNING, "Syntax Thrift itself deprecates."),
     "duplicate-component": (Severity.ERROR, "More than one component declaration."),
-    "unknown-external": (Severity.WARNING, "A qualified name whose package is neither included nor external."),
     "param-range": (Severity.ERROR, "A configuration range that is malformed or excludes the default."),
 }
 

@@ -13,7 +13,7 @@ import threading
 from dataclasses import dataclass, field
 from typing import Any
 
-from lark import Token
+from lark import Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from . import model as m
@@ -71,6 +71,11 @@ class ParseResult:
     problems: list[Problem]
     chunks: list[ChunkResult] = field(default_factory=list)
 
+    def broken_ranges(self) -> list[tuple[int, int]]:
+        """(start, end) offsets of the chunks that have a syntax error."""
+        return [(c.base, c.base + len(c.text)) for c in self.chunks
+                if any(p.code == "syntax-error" for p in c.problems)]
+
 
 class _ChunkParser:
     """The shared LALR parser with the model builder inline; one chunk at a time."""
@@ -89,18 +94,16 @@ class _ChunkParser:
         b = self.builder
         b.reset(docs, record)
         problems: list[Problem] = []
-        state = {"open": False, "last": -10**9}
+        state = {"open": False, "errors": 0}
 
         def record(start: int, end: int, message: str) -> None:
-            # one report per line: what follows an error on its line is usually its echo
-            last = state["last"]
-            if last >= 0 and "\n" not in text[last:start]:
-                return
-            state["last"] = start
-            problems.append(Problem("syntax-error", message, b.span(start, max(end, start))))
+            # one report per chunk: what follows inside it is usually an echo of the first
+            if not problems:
+                problems.append(Problem("syntax-error", message, b.span(start, max(end, start))))
+            state["errors"] += 1
 
         def on_error(e: UnexpectedInput) -> bool:
-            if len(problems) >= _MAX_ERRORS_PER_CHUNK:
+            if state["errors"] >= _MAX_ERRORS_PER_CHUNK:
                 return False
             if isinstance(e, UnexpectedToken) and e.token.type == "$END":
                 state["open"] = True
@@ -112,6 +115,7 @@ class _ChunkParser:
             assert isinstance(e, UnexpectedToken)
             tok = e.token
             record(tok.start_pos, tok.end_pos, _describe_token(e))
+            _resync(e)
             return True
 
         try:
@@ -131,6 +135,45 @@ class _ChunkParser:
         return ChunkResult(text, items, b.spans, problems, 0, state["open"])
 
 
+def _unwind_to_body(ip: Any) -> bool:
+    """Pop the parser's stacks back to just after the innermost open ``{``.
+
+    The parser then expects the members of that body again, so what follows a
+    broken member is still modelled. False when no body is open.
+    """
+    ps = ip.parser_state
+    values = ps.value_stack
+    for i in range(len(values) - 1, -1, -1):
+        v = values[i]
+        if isinstance(v, Token) and v.type == "LBRACE":
+            keep = i + 1
+            if keep < len(values) and _is_members(values[keep]):
+                keep += 1  # the members parsed so far stay
+            del values[keep:]
+            del ps.state_stack[keep + 1:]
+            return True
+    return False
+
+
+_MEMBER_TYPES = (m.Field, m.Const, m.Function, m.Section, m.EnumValue)
+
+
+def _is_members(v: Any) -> bool:
+    """True for a finished member, or the list of members lark builds for ``_member*``."""
+    if isinstance(v, _MEMBER_TYPES):
+        return True
+    return isinstance(v, Tree) and str(v.data).startswith("__")
+
+
+def _resync(e: UnexpectedToken) -> None:
+    """Panic-mode recovery: drop the broken member; a ``}`` still closes its body."""
+    ip = e.interactive_parser
+    if not _unwind_to_body(ip):
+        return
+    if e.token.type == "RBRACE" and "RBRACE" in ip.accepts():
+        ip.feed_token(e.token)
+
+
 def _close(e: UnexpectedToken, end: int) -> bool:
     """Feed closing tokens until the chunk can end; False when that is impossible."""
     ip = e.interactive_parser
@@ -143,7 +186,8 @@ def _close(e: UnexpectedToken, end: int) -> bool:
                 ip.feed_token(Token(closer, "", start_pos=end, end_pos=end))
                 break
         else:
-            return False
+            if not _unwind_to_body(ip):
+                return False
     return False
 
 

@@ -379,7 +379,8 @@ def ros_names(iface: m.Interface) -> Iterator[Diagnostic]:
     src = iface.source
     for d in iface.definitions:
         if isinstance(d, (m.Struct, m.Service, m.Action)) and not (
-                isinstance(d, m.Struct) and d.kind in ("configuration", "state")):
+                isinstance(d, m.Struct) and d.kind in ("configuration", "state")) and not (
+                isinstance(d, m.Service) and d.is_diagnostics):
             if not is_ros_type(d.name):
                 yield _ros_name(src, d.name, ros_type_name(d.name), d.name_span, "type")
         if isinstance(d, m.Struct) and d.kind == "configuration":

@@ -1,0 +1,3 @@
+senum Colours { // expect: deprecated-syntax
+  "red", "green"
+}

@@ -1,0 +1,3 @@
+struct Big {
+  40000: i32 x // expect: invalid-field-id
+}

@@ -1,0 +1,3 @@
+service Pinger {
+  oneway i32 ping() // expect: oneway-not-void
+}

@@ -1,0 +1,5 @@
+namespace cpp included
+
+struct Shared {
+  1: string name
+}

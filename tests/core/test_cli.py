@@ -1,0 +1,70 @@
+"""The check command's contract: formats, exit codes, both entry points."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+
+from tests.conftest import run_cli
+
+from .helpers import DATA
+
+VALID = DATA / "valid"
+INVALID = DATA / "invalid"
+
+
+def test_text_format_lines() -> None:
+    r = run_cli("check", str(INVALID / "unknown-type_typo.iface"))
+    assert r.returncode == 1
+    lines = r.stdout.splitlines()
+    assert lines[0].endswith("unknown-type_typo.iface:5:8: error[unknown-type]: unknown type 'Pos'; did you mean 'Pose'?")
+
+
+def test_json_format() -> None:
+    r = run_cli("check", "--format", "json", str(INVALID / "unknown-type_typo.iface"), str(VALID / "listing1.iface"))
+    assert r.returncode == 1
+    data = json.loads(r.stdout)
+    keys = {"file", "line", "column", "end_line", "end_column", "severity", "code", "message"}
+    assert all(set(d) == keys for d in data["diagnostics"])
+    assert {d["severity"] for d in data["diagnostics"]} <= {"error", "warning", "information", "hint"}
+    first = data["diagnostics"][0]
+    assert (first["line"], first["column"], first["end_line"], first["end_column"]) == (5, 8, 5, 11)
+    assert any(d["file"].endswith("listing1.iface") for d in data["diagnostics"])
+
+
+def test_exit_zero_with_only_warnings() -> None:
+    assert run_cli("check", str(VALID / "listing1.iface")).returncode == 0
+
+
+def test_usage_errors_exit_two() -> None:
+    assert run_cli("check").returncode == 2
+    assert run_cli("check", "--format", "xml", str(VALID / "listing1.iface")).returncode == 2
+    assert run_cli().returncode == 2
+
+
+def test_console_script_matches_python_m() -> None:
+    exe = shutil.which("iface-lsp")
+    if exe is None:
+        return
+    a = subprocess.run([exe, "check", str(VALID / "listing1.iface")], capture_output=True, text=True)
+    b = run_cli("check", str(VALID / "listing1.iface"))
+    assert (a.returncode, a.stdout) == (b.returncode, b.stdout)
+
+
+def test_include_path_option(tmp_path) -> None:
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    (lib / "common.iface").write_text("struct Shared {\n    1: i32 x\n}\n")
+    main = tmp_path / "main.iface"
+    main.write_text('include "common.iface"\nstruct User {\n    1: common.Shared s\n}\n')
+    assert run_cli("check", str(main)).returncode == 1
+    r = run_cli("check", "-I", str(lib), str(main))
+    assert r.returncode == 0, r.stdout
+
+
+def test_dump_command() -> None:
+    r = run_cli("dump", str(VALID / "mini_robot.iface"))
+    assert r.returncode == 0
+    data = json.loads(r.stdout)
+    assert data["name"] == "drive" and data["sets"]["subscribed"][0]["name"] == "/cmd_vel"
