@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Install what the tests need and run every test. `.ci/run` runs exactly this.
+#   bash scripts/test.sh            all tests
+#   IFACE_E2E=1 bash scripts/test.sh   also the real-VS-Code end-to-end test
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Oracles and editors from Debian: thrift --audit, headless Neovim, graphviz.
+need=()
+command -v thrift >/dev/null || need+=(thrift-compiler)
+command -v nvim >/dev/null || need+=(neovim)
+command -v dot >/dev/null || need+=(graphviz)
+if [ "${IFACE_E2E:-0}" = 1 ] && ! command -v chromium >/dev/null; then need+=(chromium); fi
+if [ ${#need[@]} -gt 0 ]; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}" >/dev/null
+  else
+    echo "note: not root; tests needing ${need[*]} will be skipped" >&2
+  fi
+fi
+
+python3 -m pip install -q --disable-pip-version-check -e '.[test]'
+
+if command -v npm >/dev/null; then
+  (cd vscode-extension && { [ -d node_modules ] || npm ci --no-audit --no-fund --loglevel=error; })
+fi
+
+python3 -m pytest -q "$@"

@@ -1,0 +1,24 @@
+"""The grammar ships inside the package: a plain (non-editable) install finds it."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_wheel_contains_grammar_and_entry_points(tmp_path: Path) -> None:
+    r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q",
+                        "-w", str(tmp_path), str(ROOT)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    (wheel,) = tmp_path.glob("iface-*.whl")
+    with zipfile.ZipFile(wheel) as z:
+        names = set(z.namelist())
+        assert "iface/grammar.lark" in names
+        assert z.read("iface/grammar.lark").decode() == (ROOT / "grammar.lark").read_text()
+        ep = next(n for n in names if n.endswith("entry_points.txt"))
+        text = z.read(ep).decode()
+        assert "iface-lsp = iface.cli:main" in text and "[iface.targets]" in text
