@@ -15,7 +15,7 @@ from .parse import ChunkCache, ParseResult, parse_text
 from .resolve import build_symbols, resolve_references
 from .sets import derive
 from .source import Source, Span
-from .validate import validate
+from .validate import Memo, validate
 
 #: Files larger than this are refused with a message (interface files are small).
 MAX_FILE_BYTES = 4 * 1024 * 1024
@@ -107,6 +107,7 @@ class Workspace:
         self.overlays: dict[str, str] = {}
         self._cache: dict[str, tuple[object, Compilation]] = {}
         self._chunks: dict[str, ChunkCache] = {}
+        self._memos: dict[str, Memo] = {}
 
     # ---- reading ---------------------------------------------------------------
     @staticmethod
@@ -120,6 +121,7 @@ class Workspace:
         if text is None:
             self.overlays.pop(key, None)
             self._chunks.pop(key, None)
+            self._memos.pop(key, None)
         else:
             self.overlays[key] = text
 
@@ -189,8 +191,10 @@ class Workspace:
                 comp = Compilation(src, m.Interface(src, Path(key).stem),
                                    [make("include-not-found", f"cannot read '{key}'", src, Span(0, 0))])
                 return comp
-        cache = self._chunks.setdefault(key, ChunkCache()) if key in self.overlays else None
-        comp = compile_source(Source(key, text), problems, cache=cache,
+        editing = key in self.overlays
+        cache = self._chunks.setdefault(key, ChunkCache()) if editing else None
+        memo = self._memos.setdefault(key, {}) if editing else None
+        comp = compile_source(Source(key, text), problems, cache=cache, memo=memo,
                               includes=_Includes(self, (*stack, key)))
         self._cache[key] = (stamp, comp)
         return comp
@@ -217,6 +221,7 @@ class _Includes:
 
 def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
                    cache: ChunkCache | None = None,
+                   memo: Memo | None = None,
                    includes: _Includes | None = None) -> Compilation:
     """Parse, model, resolve and check one source; ``includes`` finds and compiles included files."""
     diagnostics: list[Diagnostic] = list(problems or [])
@@ -231,7 +236,7 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
         diagnostics.extend(build_symbols(iface))
         diagnostics.extend(resolve_references(iface))
         diagnostics.extend(derive(iface))
-        diagnostics.extend(validate(iface))
+        diagnostics.extend(validate(iface, memo))
         broken = parsed.broken_ranges()
         if broken:
             diagnostics = [d for d in diagnostics if d.code == "syntax-error" or d.source is not source

@@ -192,7 +192,7 @@ def _close(e: UnexpectedToken, end: int) -> bool:
 
 
 def _expected(names: set[str] | frozenset[str]) -> str:
-    desc = terminal_descriptions()
+    desc = terminal_descriptions(chunk_parser().parser)
     words = {desc.get(n, n.lower()) for n in names}
     if words & _TYPE_WORDS:
         words -= _TYPE_WORDS
@@ -209,13 +209,13 @@ def _expected(names: set[str] | frozenset[str]) -> str:
 
 def _describe_token(e: UnexpectedToken) -> str:
     tok = e.token
-    desc = terminal_descriptions().get(tok.type, tok.type.lower())
+    desc = terminal_descriptions(chunk_parser().parser).get(tok.type, tok.type.lower())
     shown = repr(str(tok)) if desc.startswith("a ") or desc.startswith("an ") else desc
     return f"unexpected {shown}; expected {_expected(e.expected)}"
 
 
 def _describe_eof(e: UnexpectedToken) -> str:
-    closers = [terminal_descriptions()[c] for c in _CLOSERS if c in e.expected]
+    closers = [terminal_descriptions(chunk_parser().parser)[c] for c in _CLOSERS if c in e.expected]
     if closers:
         return f"{closers[0]} expected: the body is still open here"
     return f"unexpected end of definition; expected {_expected(e.expected)}"

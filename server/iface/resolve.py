@@ -57,7 +57,9 @@ def resolve_named(iface: m.Interface, t: m.NamedType) -> bool:
 
 def did_you_mean(iface: m.Interface, name: str) -> list[str]:
     """Close names for an unknown type name."""
-    pool = _candidates(iface) + list(BUILTIN_NAMES)
+    n = len(name)
+    slack = max(2, n // 3)
+    pool = [c for c in _candidates(iface) + list(BUILTIN_NAMES) if abs(len(c) - n) <= slack]
     return difflib.get_close_matches(name, pool, n=3, cutoff=0.6)
 
 

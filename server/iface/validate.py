@@ -7,27 +7,42 @@ files and on Thrift files that declare a ``ros2`` or ``px4`` namespace.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Callable, Iterator
 
 from . import model as m
 from .diagnostics import Diagnostic, Related, Severity, make
+from .source import Source
 from .naming import ros_constant_name, ros_field_name, ros_type_name, is_ros_constant, is_ros_field, is_ros_type
 from .normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
 from .resolve import constant_value
 from .walk import all_consts, bodies, resolve_typedefs
 
 Rule = Callable[[m.Interface], Iterator[Diagnostic]]
-RULES: list[tuple[Rule, bool]] = []  # (rule, robot_only)
+LocalRule = Callable[[Source, m.Definition], Iterator[Diagnostic]]
+RULES: list[tuple[Rule, bool]] = []  # (rule, robot_only): rules over the whole file
+LOCAL_RULES: list[tuple[LocalRule, bool]] = []  # rules over one definition, cached while it is unchanged
+
+#: Per-document memo of local findings: id(definition) -> (definition, robot, findings).
+Memo = dict[int, tuple[m.Definition, bool, list[Diagnostic]]]
 
 _UUID = re.compile(r"^\{?[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}\}?$")
 _TOPIC = re.compile(r"^~?/?[A-Za-z_{][A-Za-z0-9_{}]*(/[A-Za-z_{][A-Za-z0-9_{}]*)*$")
 
 
 def rule(robot_only: bool = False) -> Callable[[Rule], Rule]:
-    """Register a check."""
+    """Register a check over the whole resolved file."""
     def register(fn: Rule) -> Rule:
         RULES.append((fn, robot_only))
+        return fn
+    return register
+
+
+def local_rule(robot_only: bool = False) -> Callable[[LocalRule], LocalRule]:
+    """Register a check that reads one definition and nothing else (so it can be cached)."""
+    def register(fn: LocalRule) -> LocalRule:
+        LOCAL_RULES.append((fn, robot_only))
         return fn
     return register
 
@@ -38,70 +53,87 @@ def is_robot(iface: m.Interface) -> bool:
         ns.scope in ("ros2", "px4") for ns in iface.namespaces)
 
 
-def validate(iface: m.Interface) -> Iterator[Diagnostic]:
-    """Run every registered rule that applies."""
+def validate(iface: m.Interface, memo: Memo | None = None) -> Iterator[Diagnostic]:
+    """Run every registered rule that applies; ``memo`` reuses findings of unchanged definitions."""
     robot = is_robot(iface)
+    src = iface.source
+    fresh: Memo = {}
+    for d in iface.definitions:
+        hit = memo.get(id(d)) if memo is not None else None
+        if hit is not None and hit[0] is d and hit[1] == robot:
+            found = [_rehome(x, src) for x in hit[2]]
+        else:
+            found = [x for fn, robot_only in LOCAL_RULES if robot or not robot_only for x in fn(src, d)]
+        fresh[id(d)] = (d, robot, found)
+        yield from found
+    if memo is not None:
+        memo.clear()
+        memo.update(fresh)
     for fn, robot_only in RULES:
         if robot_only and not robot:
             continue
         yield from fn(iface)
 
 
+def _rehome(d: Diagnostic, src: Source) -> Diagnostic:
+    """A cached finding, attached to the newest version of its file."""
+    if d.source is src:
+        return d
+    related = [Related(src, r.span, r.message) if r.source.path == src.path else r for r in d.related]
+    return dataclasses.replace(d, source=src, related=related)
+
+
 # ---------------------------------------------------------------------------
 # duplicates and ids
 
 
-@rule()
-def duplicate_members(iface: m.Interface) -> Iterator[Diagnostic]:
+@local_rule()
+def duplicate_members(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     """Two fields or constants of one name, or two fields of one id, in a body."""
-    src = iface.source
-    for d in iface.definitions:
-        for label, fields, consts in bodies(d):
-            names: dict[str, m.Field | m.Const] = {}
-            ids: dict[int, m.Field] = {}
-            for f in (*fields, *consts):
-                first = names.get(f.name)
-                if first is not None:
-                    yield make("duplicate-field", f"'{f.name}' is already declared in '{label}'", src,
-                               f.name_span, related=[Related(src, first.name_span, "first declared here")])
+    for label, fields, consts in bodies(d):
+        names: dict[str, m.Field | m.Const] = {}
+        ids: dict[int, m.Field] = {}
+        for f in (*fields, *consts):
+            first = names.get(f.name)
+            if first is not None:
+                yield make("duplicate-field", f"'{f.name}' is already declared in '{label}'", src,
+                           f.name_span, related=[Related(src, first.name_span, "first declared here")])
+            else:
+                names[f.name] = f
+            if isinstance(f, m.Field) and f.id is not None:
+                assert f.id_span is not None
+                if not -32768 <= f.id <= 32767 or f.id == 0:
+                    yield make("invalid-field-id", f"field id {f.id} is outside 1..32767", src, f.id_span)
+                other = ids.get(f.id)
+                if other is not None:
+                    yield make("duplicate-field-id", f"field id {f.id} is already used by '{other.name}'",
+                               src, f.id_span,
+                               related=[Related(src, other.id_span or other.span, f"id {f.id} first used here")])
                 else:
-                    names[f.name] = f
-                if isinstance(f, m.Field) and f.id is not None:
-                    assert f.id_span is not None
-                    if not -32768 <= f.id <= 32767 or f.id == 0:
-                        yield make("invalid-field-id", f"field id {f.id} is outside 1..32767", src, f.id_span)
-                    other = ids.get(f.id)
-                    if other is not None:
-                        yield make("duplicate-field-id", f"field id {f.id} is already used by '{other.name}'",
-                                   src, f.id_span,
-                                   related=[Related(src, other.id_span or other.span, f"id {f.id} first used here")])
-                    else:
-                        ids[f.id] = f
+                    ids[f.id] = f
 
 
-@rule()
-def enum_values(iface: m.Interface) -> Iterator[Diagnostic]:
+@local_rule()
+def enum_values(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     """Enum names unique, values unique and within i32."""
-    src = iface.source
     lo, hi = m.INT_RANGES["i32"]
-    for d in iface.definitions:
-        if not isinstance(d, m.Enum):
-            continue
-        names: dict[str, m.EnumValue] = {}
-        values: dict[int, m.EnumValue] = {}
-        for v in d.values:
-            if v.name in names:
-                yield make("duplicate-enum-value", f"'{v.name}' is already a value of '{d.name}'", src,
-                           v.name_span, related=[Related(src, names[v.name].name_span, "first declared here")])
-            names.setdefault(v.name, v)
-            if v.value in values:
-                yield make("duplicate-enum-value",
-                           f"'{v.name}' has the value {v.value} of '{values[v.value].name}'", src, v.span,
-                           severity=Severity.WARNING)
-            values.setdefault(v.value, v)
-            if not lo <= v.value <= hi:
-                yield make("int-out-of-range", f"enum value {v.value} does not fit in i32, the type of enums",
-                           src, v.span, severity=Severity.WARNING)
+    if not isinstance(d, m.Enum):
+        return
+    names: dict[str, m.EnumValue] = {}
+    values: dict[int, m.EnumValue] = {}
+    for v in d.values:
+        if v.name in names:
+            yield make("duplicate-enum-value", f"'{v.name}' is already a value of '{d.name}'", src,
+                       v.name_span, related=[Related(src, names[v.name].name_span, "first declared here")])
+        names.setdefault(v.name, v)
+        if v.value in values:
+            yield make("duplicate-enum-value",
+                       f"'{v.name}' has the value {v.value} of '{values[v.value].name}'", src, v.span,
+                       severity=Severity.WARNING)
+        values.setdefault(v.value, v)
+        if not lo <= v.value <= hi:
+            yield make("int-out-of-range", f"enum value {v.value} does not fit in i32, the type of enums",
+                       src, v.span, severity=Severity.WARNING)
 
 
 # ---------------------------------------------------------------------------
@@ -211,32 +243,30 @@ def values(iface: m.Interface) -> Iterator[Diagnostic]:
                     yield from check_value(iface, f.type, f.default, f"default of '{f.name}'")
 
 
-@rule()
-def bounds(iface: m.Interface) -> Iterator[Diagnostic]:
+@local_rule()
+def bounds(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     """Bounds and sizes are positive; ROS arrays hold no arrays."""
-    src = iface.source
-    for d in iface.definitions:
-        roots = [f.type for f in _fields(d)] + [c.type for c in all_consts(d)]
-        if isinstance(d, m.Typedef):
-            roots.append(d.type)
-        for root in roots:
-            stack: list[m.TypeRef] = [root]
-            while stack:
-                t = stack.pop()
-                if isinstance(t, m.BaseType):
-                    if t.bound is not None and t.bound <= 0:
-                        yield make("bounds-misuse", f"a string bound must be at least 1, not {t.bound}", src, t.span)
-                elif isinstance(t, m.ArrayType):
-                    if t.size is not None and t.size <= 0:
-                        yield make("bounds-misuse", f"an array size must be at least 1, not {t.size}", src, t.span)
-                    if not t.spelled_list and isinstance(t.element, m.ArrayType) and not t.element.spelled_list:
-                        yield make("bounds-misuse", "an array of arrays cannot be written for ROS 2: "
-                                   "wrap the inner array in a message", src, t.span, severity=Severity.WARNING)
-                    stack.append(t.element)
-                elif isinstance(t, m.SetType):
-                    stack.append(t.element)
-                elif isinstance(t, m.MapType):
-                    stack.extend((t.key, t.element))
+    roots = [f.type for f in _fields(d)] + [c.type for c in all_consts(d)]
+    if isinstance(d, m.Typedef):
+        roots.append(d.type)
+    for root in roots:
+        stack: list[m.TypeRef] = [root]
+        while stack:
+            t = stack.pop()
+            if isinstance(t, m.BaseType):
+                if t.bound is not None and t.bound <= 0:
+                    yield make("bounds-misuse", f"a string bound must be at least 1, not {t.bound}", src, t.span)
+            elif isinstance(t, m.ArrayType):
+                if t.size is not None and t.size <= 0:
+                    yield make("bounds-misuse", f"an array size must be at least 1, not {t.size}", src, t.span)
+                if not t.spelled_list and isinstance(t.element, m.ArrayType) and not t.element.spelled_list:
+                    yield make("bounds-misuse", "an array of arrays cannot be written for ROS 2: "
+                               "wrap the inner array in a message", src, t.span, severity=Severity.WARNING)
+                stack.append(t.element)
+            elif isinstance(t, m.SetType):
+                stack.append(t.element)
+            elif isinstance(t, m.MapType):
+                stack.extend((t.key, t.element))
 
 
 def _fields(d: m.Definition) -> Iterator[m.Field]:
@@ -248,29 +278,26 @@ def _fields(d: m.Definition) -> Iterator[m.Field]:
 # services, actions, functions
 
 
-@rule()
-def service_forms(iface: m.Interface) -> Iterator[Diagnostic]:
+@local_rule()
+def service_forms(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     """Service and action bodies are one form, with all their parts."""
-    src = iface.source
-    for d in iface.definitions:
-        if isinstance(d, m.Service):
-            kinds = [bool(d.functions), bool(d.flat_fields), bool(d.sections)]
-            if sum(kinds) > 1:
-                yield make("mixed-service-forms", f"service '{d.name}' mixes "
-                           + " and ".join(w for w, k in zip(("functions", "plain fields", "sections"), kinds) if k)
-                           + ": use one form", src, d.name_span)
-                continue
-            yield from _parts(iface, d, SERVICE_PARTS, "service")
-        elif isinstance(d, m.Action):
-            if d.flat_fields and d.sections:
-                yield make("mixed-service-forms", f"action '{d.name}' mixes plain fields and sections",
-                           src, d.name_span)
-                continue
-            yield from _parts(iface, d, ACTION_PARTS, "action")
+    if isinstance(d, m.Service):
+        kinds = [bool(d.functions), bool(d.flat_fields), bool(d.sections)]
+        if sum(kinds) > 1:
+            yield make("mixed-service-forms", f"service '{d.name}' mixes "
+                       + " and ".join(w for w, k in zip(("functions", "plain fields", "sections"), kinds) if k)
+                       + ": use one form", src, d.name_span)
+            return
+        yield from _parts(src, d, SERVICE_PARTS, "service")
+    elif isinstance(d, m.Action):
+        if d.flat_fields and d.sections:
+            yield make("mixed-service-forms", f"action '{d.name}' mixes plain fields and sections",
+                       src, d.name_span)
+            return
+        yield from _parts(src, d, ACTION_PARTS, "action")
 
 
-def _parts(iface: m.Interface, d: m.Service | m.Action, parts: tuple[str, ...], word: str) -> Iterator[Diagnostic]:
-    src = iface.source
+def _parts(src: Source, d: m.Service | m.Action, parts: tuple[str, ...], word: str) -> Iterator[Diagnostic]:
     if d.form == "explicit":
         seen: dict[str, m.Section] = {}
         for sec in d.sections:
@@ -285,7 +312,7 @@ def _parts(iface: m.Interface, d: m.Service | m.Action, parts: tuple[str, ...], 
         if missing:
             yield make("service-part-missing", f"{word} '{d.name}' has no {' and no '.join(missing)}"
                        f" (write `{missing[0]} {{}}` for an empty one)", src, d.name_span, missing=missing)
-    elif d.form == "flat" and iface.source.path.endswith(".iface"):
+    elif d.form == "flat" and src.path.endswith(".iface"):
         code = "flat-service" if word == "service" else "flat-action"
         yield make(code, f"{word} '{d.name}' lists plain fields, read as {flat_reading(d)}; "
                    f"write the parts explicitly to say what is meant", src, d.name_span)
@@ -331,67 +358,67 @@ def field_kinds(iface: m.Interface) -> Iterator[Diagnostic]:
 
 @rule()
 def components(iface: m.Interface) -> Iterator[Diagnostic]:
-    """At most one component declaration; senum is deprecated."""
+    """At most one component declaration."""
     src = iface.source
     decls = [i for i in iface.items if isinstance(i, m.ComponentDecl)]
     for extra in decls[1:]:
         yield make("duplicate-component", "the file already declares its component", src, extra.span,
                    related=[Related(src, decls[0].span, "component declared here")])
-    for d in iface.definitions:
-        if isinstance(d, m.Senum):
-            yield make("deprecated-syntax", "senum is deprecated in Thrift: use an enum or string constants",
-                       src, d.name_span)
 
 
-@rule()
-def parameter_ranges(iface: m.Interface) -> Iterator[Diagnostic]:
+@local_rule()
+def deprecated(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
+    """Syntax Thrift itself deprecates."""
+    if isinstance(d, m.Senum):
+        yield make("deprecated-syntax", "senum is deprecated in Thrift: use an enum or string constants",
+                   src, d.name_span)
+
+
+@local_rule()
+def parameter_ranges(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     """Configuration ranges are well formed and hold the default."""
-    src = iface.source
-    for d in iface.definitions:
-        if not isinstance(d, m.Struct):
+    if not isinstance(d, m.Struct):
+        return
+    for f in d.fields:
+        keys = [a for a in f.annotations if a.key in ("range", "min", "max")]
+        if not keys:
             continue
-        for f in d.fields:
-            keys = [a for a in f.annotations if a.key in ("range", "min", "max")]
-            if not keys:
-                continue
-            rng = f.range
-            if rng is None:
-                yield make("param-range", f"'{f.name}': write the range as range = \"lo..hi\" "
-                           "or min/max numbers", src, keys[0].span)
-                continue
-            lo, hi = rng
-            if lo is not None and hi is not None and lo > hi:
-                yield make("param-range", f"'{f.name}': the range {lo}..{hi} is empty", src, keys[0].span)
-            elif f.default is not None and f.default.kind in ("int", "double"):
-                val = float(f.default.value)  # type: ignore[arg-type]
-                if (lo is not None and val < lo) or (hi is not None and val > hi):
-                    yield make("param-range", f"'{f.name}': the default {f.default.text} lies outside its range",
-                               src, f.default.span)
+        rng = f.range
+        if rng is None:
+            yield make("param-range", f"'{f.name}': write the range as range = \"lo..hi\" "
+                       "or min/max numbers", src, keys[0].span)
+            continue
+        lo, hi = rng
+        if lo is not None and hi is not None and lo > hi:
+            yield make("param-range", f"'{f.name}': the range {lo}..{hi} is empty", src, keys[0].span)
+        elif f.default is not None and f.default.kind in ("int", "double"):
+            val = float(f.default.value)  # type: ignore[arg-type]
+            if (lo is not None and val < lo) or (hi is not None and val > hi):
+                yield make("param-range", f"'{f.name}': the default {f.default.text} lies outside its range",
+                           src, f.default.span)
 
 
 # ---------------------------------------------------------------------------
 # robot targets
 
 
-@rule(robot_only=True)
-def ros_names(iface: m.Interface) -> Iterator[Diagnostic]:
+@local_rule(robot_only=True)
+def ros_names(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     """Names ROS 2 cannot use as they are: converted with a warning, or refused."""
-    src = iface.source
-    for d in iface.definitions:
-        if isinstance(d, (m.Struct, m.Service, m.Action)) and not (
-                isinstance(d, m.Struct) and d.kind in ("configuration", "state")) and not (
-                isinstance(d, m.Service) and d.is_diagnostics):
-            if not is_ros_type(d.name):
-                yield _ros_name(src, d.name, ros_type_name(d.name), d.name_span, "type")
-        if isinstance(d, m.Struct) and d.kind == "configuration":
-            continue
-        for _, fields, consts in bodies(d):
-            for f in fields:
-                if not is_ros_field(f.name):
-                    yield _ros_name(src, f.name, ros_field_name(f.name), f.name_span, "field")
-            for c in consts:
-                if not is_ros_constant(c.name):
-                    yield _ros_name(src, c.name, ros_constant_name(c.name), c.name_span, "constant")
+    if isinstance(d, (m.Struct, m.Service, m.Action)) and not (
+            isinstance(d, m.Struct) and d.kind in ("configuration", "state")) and not (
+            isinstance(d, m.Service) and d.is_diagnostics):
+        if not is_ros_type(d.name):
+            yield _ros_name(src, d.name, ros_type_name(d.name), d.name_span, "type")
+    if isinstance(d, m.Struct) and d.kind == "configuration":
+        return
+    for _, fields, consts in bodies(d):
+        for f in fields:
+            if not is_ros_field(f.name):
+                yield _ros_name(src, f.name, ros_field_name(f.name), f.name_span, "field")
+        for c in consts:
+            if not is_ros_constant(c.name):
+                yield _ros_name(src, c.name, ros_constant_name(c.name), c.name_span, "constant")
 
 
 def _ros_name(src: m.Source, name: str, new: str | None, span: m.Span, what: str) -> Diagnostic:
