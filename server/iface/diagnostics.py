@@ -68,6 +68,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "deprecated-syntax": (Severity.WARNING, "Syntax Thrift itself deprecates."),
     "duplicate-component": (Severity.ERROR, "More than one component declaration."),
     "param-range": (Severity.ERROR, "A configuration range that is malformed or excludes the default."),
+    "missing-default": (Severity.INFORMATION, "A configuration parameter without a default value."),
 }
 
 

@@ -375,6 +375,16 @@ def deprecated(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
 
 
 @local_rule()
+def parameter_defaults(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
+    """A parameter without a default must be given a value whenever the component starts."""
+    if isinstance(d, m.Struct) and d.kind == "configuration":
+        for f in d.fields:
+            if f.default is None:
+                yield make("missing-default", f"parameter '{f.name}' has no default: every launch must set it",
+                           src, f.name_span, name=f.name)
+
+
+@local_rule()
 def parameter_ranges(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     """Configuration ranges are well formed and hold the default."""
     if not isinstance(d, m.Struct):
