@@ -194,6 +194,9 @@ def _close(e: UnexpectedToken, end: int) -> bool:
 def _expected(names: set[str] | frozenset[str]) -> str:
     desc = terminal_descriptions(chunk_parser().parser)
     words = {desc.get(n, n.lower()) for n in names}
+    if "IDENTIFIER" in names:
+        # LALR lookaheads merged from generic contexts; after a type a name is what is meant
+        words -= {"'&'", "'>'", "','", "'<='"}
     if words & _TYPE_WORDS:
         words -= _TYPE_WORDS
         words.add("a type")
