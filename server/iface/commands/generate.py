@@ -1,0 +1,133 @@
+"""``iface-lsp generate FILE... --target T [--out DIR] [--dry-run] [--check] [--force] [-q]``
+
+Exit 0 on success; 1 when the input has errors (nothing is written), when ``--check``
+finds files that differ, or when a hand-edited file is refused; 2 on usage or I/O errors.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Sequence
+
+from ..diagnostics import Diagnostic, Severity
+from ..emit.base import GeneratedFile, GenerationError, Target
+from ..emit.registry import targets
+from ..emit.write import WriteReport, write_files
+from .common import UsageError, check_suffix, compile_files, display_path, gather, has_errors, print_diagnostics
+
+#: More files than this get a progress line each.
+PROGRESS_FROM = 2
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the command's arguments."""
+    p.add_argument("files", nargs="+", metavar="FILE", help=".iface or .thrift files")
+    p.add_argument("-t", "--target", required=True, metavar="T", help="the target (see `iface-lsp targets`)")
+    p.add_argument("-o", "--out", default=".", metavar="DIR", help="the output folder (default: .)")
+    mode = p.add_mutually_exclusive_group()
+    mode.add_argument("--dry-run", action="store_true", help="list what would be written, write nothing")
+    mode.add_argument("--check", action="store_true", help="exit 1 when files on disk differ from what "
+                      "would be generated")
+    p.add_argument("--force", action="store_true", help="overwrite generated files edited by hand")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines and no warnings")
+    p.add_argument("--templates", metavar="DIR", help="a folder of templates that override the target's")
+    p.add_argument("-I", "--include-path", action="append", default=[], metavar="DIR",
+                   help="a folder to search for included files")
+
+
+def _fail(message: str) -> int:
+    print(f"iface-lsp generate: {message}", file=sys.stderr)
+    return 2
+
+
+def _merge(per_input: Sequence[tuple[str, list[GeneratedFile]]]) -> tuple[list[GeneratedFile], list[str]]:
+    """All files, once each; a path two inputs generate differently is a conflict."""
+    by_path: dict[str, tuple[str, GeneratedFile]] = {}
+    conflicts = []
+    for source, files in per_input:
+        for f in files:
+            seen = by_path.get(f.path)
+            if seen is None:
+                by_path[f.path] = (source, f)
+            elif seen[1].text != f.text:
+                conflicts.append(f"{f.path}: generated differently from {seen[0]} and {source}")
+    return [f for _, f in sorted(by_path.values(), key=lambda sf: sf[1].path)], conflicts
+
+
+def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedFile], list[Diagnostic], int]:
+    """Compile and render every input; (files, diagnostics, exit code so far)."""
+    for f in args.files:
+        check_suffix(f)
+    comps = compile_files(args.files, args.include_path)
+    diags = gather(comps)
+    if has_errors(diags):
+        return [], diags, 1
+    options = {"templates": args.templates} if args.templates else {}
+    per_input = []
+    found: list[Diagnostic] = []
+    for comp in comps:
+        result = target.generate(comp, options)
+        found.extend(result.diagnostics)
+        per_input.append((display_path(comp.path), result.files))
+    if has_errors(found):
+        return [], found, 1
+    files, conflicts = _merge(per_input)
+    for c in conflicts:
+        print(f"iface-lsp generate: {c}", file=sys.stderr)
+    return files, found, 1 if conflicts else 0
+
+
+def _report(report: WriteReport, args: argparse.Namespace, total: int) -> int:
+    """Print what happened; the exit code."""
+    out = args.out
+    for e in report.errors:
+        print(f"iface-lsp generate: {e}", file=sys.stderr)
+    if report.errors:
+        return 1
+    if args.check:
+        for p in report.differing:
+            print(f"differs: {os.path.join(out, p)}")
+        return 1 if report.differing else 0
+    if args.dry_run:
+        for p in report.written:
+            print(f"would write: {os.path.join(out, p)}")
+    elif not args.quiet and total >= PROGRESS_FROM:
+        for p in report.written:
+            print(f"wrote {os.path.join(out, p)}", file=sys.stderr)
+    for p in report.refused:
+        print(f"iface-lsp generate: {os.path.join(out, p)} was edited by hand since it was generated; "
+              "not overwritten (--force overwrites it)", file=sys.stderr)
+    if not args.quiet and not args.dry_run:
+        print(f"{len(report.written)} written, {len(report.unchanged)} unchanged"
+              + (f", {len(report.refused)} refused" if report.refused else ""), file=sys.stderr)
+    return 1 if report.refused else 0
+
+
+def run(args: argparse.Namespace) -> int:
+    """Generate, then write, list (--dry-run) or compare (--check)."""
+    available = targets()
+    target = available.get(args.target)
+    if target is None:
+        return _fail(f"unknown target '{args.target}'; available: {', '.join(sorted(available)) or 'none'}")
+    if os.path.exists(args.out) and not os.path.isdir(args.out):
+        return _fail(f"{args.out}: not a folder")
+    if args.templates and not os.path.isdir(args.templates):
+        return _fail(f"{args.templates}: not a folder")
+    try:
+        files, diags, code = _generate(target, args)
+    except UsageError as e:
+        return _fail(str(e))
+    except GenerationError as e:
+        return _fail(str(e))
+    shown = [d for d in diags if d.severity == Severity.ERROR or not args.quiet]
+    if code:
+        print_diagnostics(shown)
+        return code
+    print_diagnostics(shown, stream=sys.stderr)
+    try:
+        report = write_files(files, args.out, force=args.force, dry_run=args.dry_run, check=args.check)
+    except OSError as e:
+        return _fail(f"cannot write: {e}")
+    return _report(report, args, len(files))

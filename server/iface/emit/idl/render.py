@@ -1,0 +1,130 @@
+"""Writing lowered ROS 2 interfaces as OMG IDL 4 the way rosidl writes it."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+from ...diagnostics import Diagnostic
+from .. import types
+from ..ros2.codes import diag
+from ..ros2.lower import PyValue, RosInterface, RosPackage, RosSection, RosType, Scalar
+
+#: ROS 2 primitive → IDL type (rosidl's own mapping; ``char`` is ``uint8``, ``byte`` is ``octet``).
+ROS_TO_IDL: dict[str, str] = {row.ros2: row.idl for row in types.BASE_TYPES.values()
+                              if row.ros2 is not None and row.idl is not None and "[" not in row.ros2}
+_PART_SUFFIXES = {"msg": ("",), "srv": ("_Request", "_Response"), "action": ("_Goal", "_Result", "_Feedback")}
+_ESCAPES = {'"': '\\"', "\n": "\\n", "\t": "\\t", "\r": "\\r"}
+
+
+def idl_string(text: str, *, comment: bool = False) -> str:
+    """A double-quoted IDL string literal; in comments a backslash is written as an octal escape."""
+    out = ['"']
+    for c in text:
+        if c in _ESCAPES:
+            out.append(_ESCAPES[c])
+        elif c == "\\":
+            out.append("\\134" if comment else "\\\\")
+        elif c == " " or c.isprintable():
+            out.append(c)
+        else:
+            out.append(f"\\x{ord(c):02x}" if ord(c) < 0x100 else f"\\u{ord(c):04x}" if ord(c) <= 0xFFFF else "?")
+    out.append('"')
+    return "".join(out)
+
+
+def idl_scalar(value: Scalar) -> str:
+    """A constant or @default value."""
+    if isinstance(value, bool):
+        return "TRUE" if value else "FALSE"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    return idl_string(value)
+
+
+def idl_default(value: PyValue) -> str:
+    """An @default value: arrays as rosidl writes them, a string of a Python-style tuple."""
+    if isinstance(value, list):
+        return idl_string("(" + ", ".join(repr(v) for v in value) + ")")
+    return idl_scalar(value)
+
+
+def element(rt: RosType) -> str:
+    """The IDL element type (no array)."""
+    if rt.primitive is not None:
+        base = ROS_TO_IDL[rt.primitive]
+        return f"{base}<{rt.string_bound}>" if rt.string_bound is not None else base
+    return f"{rt.package}::msg::{rt.name}"
+
+
+def typedef_name(rt: RosType) -> str:
+    """The typedef rosidl declares for a fixed array (``double__9``)."""
+    return re.sub(r"[^A-Za-z0-9]+", "__", element(rt)).strip("_") + f"__{rt.size}"
+
+
+def idl_type(rt: RosType) -> str:
+    """The type of a member."""
+    if rt.array == "fixed":
+        return typedef_name(rt)
+    if rt.array == "bounded":
+        return f"sequence<{element(rt)}, {rt.size}>"
+    if rt.array == "unbounded":
+        return f"sequence<{element(rt)}>"
+    return element(rt)
+
+
+@dataclass(frozen=True, slots=True)
+class IdlStruct:
+    """One struct of an IDL file: name and the section it holds."""
+
+    name: str
+    section: RosSection
+
+
+def structs(ri: RosInterface) -> list[IdlStruct]:
+    """The structs of an interface file (``Foo``; ``Foo_Request``/``_Response``; ``Foo_Goal``/…)."""
+    return [IdlStruct(ri.name + suffix, sec) for suffix, sec in zip(_PART_SUFFIXES[ri.kind], ri.sections)]
+
+
+def typedefs(ri: RosInterface) -> list[tuple[str, str, int]]:
+    """(element, name, size) of every fixed-array typedef the file needs, once each, in order."""
+    seen: dict[str, tuple[str, str, int]] = {}
+    for sec in ri.sections:
+        for f in sec.fields:
+            if f.type.array == "fixed":
+                seen.setdefault(typedef_name(f.type), (element(f.type), typedef_name(f.type), f.type.size or 0))
+    return list(seen.values())
+
+
+def includes(ri: RosInterface) -> list[str]:
+    """The IDL files of the message types a file uses."""
+    found = {f"{f.type.package}/msg/{f.type.name}.idl" for sec in ri.sections for f in sec.fields
+             if f.type.primitive is None}
+    return sorted(found)
+
+
+def check_idl_values(pkg: RosPackage) -> Iterator[Diagnostic]:
+    """Errors for string values IDL readers would decode differently (a backslash)."""
+    for ri in pkg.interfaces:
+        for sec in ri.sections:
+            for c in sec.consts:
+                if isinstance(c.value, str) and "\\" in c.value:
+                    yield diag("idl-unwritable-string", f"constant '{c.name}' of {ri.name} holds a backslash, "
+                               "which IDL readers decode differently", c.source, c.span)
+            for f in sec.fields:
+                values = f.default if isinstance(f.default, list) else [f.default]
+                if any(isinstance(v, str) and ("\\" in v or (isinstance(f.default, list) and "'" in v))
+                       for v in values):
+                    yield diag("idl-unwritable-string", f"the default of '{f.name}' in {ri.name} holds a "
+                               "backslash (or a quote inside an array), which IDL readers decode differently",
+                               f.source, f.span)
+
+
+FILTERS = {
+    "idl_string": idl_string,
+    "idl_comment": lambda text: idl_string(text, comment=True),
+    "idl_scalar": idl_scalar,
+    "idl_default": idl_default,
+    "idl_type": idl_type,
+}

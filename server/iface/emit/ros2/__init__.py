@@ -1,0 +1,74 @@
+"""The ``ros2`` target: an ament package of .msg/.srv/.action files a ROS 2 user builds with colcon.
+
+Layout under the output folder: ``<package>/msg/*.msg``, ``srv/*.srv``, ``action/*.action``,
+``package.xml``, ``CMakeLists.txt`` and ``config/<component>.params.yaml``. How the model is
+mapped is described in ``lower`` and in docs/targets.md.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import jinja2
+
+from ...compile import Compilation
+from ..base import GeneratedFile, GenerationError, Result, Target, TemplateSet, header_lines, sorted_files
+from .codes import CODES
+from .lower import RosPackage, lower
+from .render import FILTERS, check_msg_values
+
+TEMPLATES = Path(__file__).parent / "templates"
+KINDS = ("msg", "srv", "action")
+
+__all__ = ["CODES", "TARGET", "generate"]
+
+
+def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFile]:
+    """Every file of the package, in a stable order."""
+    root = pkg.name
+    files: list[GeneratedFile] = []
+    interface_files: list[str] = []
+    for kind in KINDS:
+        for ri in pkg.of_kind(kind):
+            rel = f"{kind}/{ri.name}.{kind}"
+            interface_files.append(rel)
+            text = templates.render(f"{kind}.j2", interface=ri, package=pkg.name,
+                                    header=header_lines("#", pkg.source_name).rstrip("\n"))
+            files.append(GeneratedFile(f"{root}/{rel}", text))
+    xml_header = header_lines("<!--", pkg.source_name, end=" -->").rstrip("\n")
+    files.append(GeneratedFile(f"{root}/package.xml", templates.render("package.xml.j2", package=pkg,
+                                                                      header=xml_header)))
+    hash_header = header_lines("#", pkg.source_name).rstrip("\n")
+    files.append(GeneratedFile(f"{root}/CMakeLists.txt", templates.render(
+        "CMakeLists.txt.j2", package=pkg, files=interface_files, header=hash_header)))
+    if pkg.params:
+        files.append(GeneratedFile(f"{root}/config/{pkg.node}.params.yaml", templates.render(
+            "params.yaml.j2", package=pkg, header=hash_header)))
+    return sorted_files(files)
+
+
+def generate(comp: Compilation, options: dict[str, Any]) -> Result:
+    """Lower the compilation, refuse what .msg syntax cannot hold, render the package."""
+    result = Result()
+    pkg, diagnostics = lower(comp)
+    result.diagnostics.extend(diagnostics)
+    if pkg is not None:
+        result.diagnostics.extend(check_msg_values(pkg))
+    result.diagnostics.sort(key=lambda d: (d.path, d.span.start, d.span.end, d.code))
+    if pkg is None or result.has_errors:
+        return result
+    templates = TemplateSet(TEMPLATES, "ros2", filters=FILTERS, override=options.get("templates"))
+    try:
+        result.files = render_package(pkg, templates)
+    except jinja2.TemplateError as e:
+        raise GenerationError(f"ros2 templates: {e}") from e
+    return result
+
+
+TARGET = Target(
+    name="ros2",
+    description="ROS 2 ament package: msg/srv/action files, package.xml, CMakeLists.txt, parameter YAML",
+    generate=generate,
+    templates=str(TEMPLATES),
+)

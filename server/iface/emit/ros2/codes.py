@@ -1,0 +1,31 @@
+"""Diagnostic codes of the ROS 2 and IDL targets, and a helper to build them."""
+
+from __future__ import annotations
+
+from ...diagnostics import CODES as CORE_CODES
+from ...diagnostics import Diagnostic, Severity
+from ...source import Source, Span
+
+#: Codes this package reports, with their severity and a summary (core codes are reused as they are).
+CODES: dict[str, tuple[Severity, str]] = {
+    "ros2-unsupported": (Severity.ERROR, "A construct ROS 2 interfaces cannot express "
+                         "(union, senum, map, set, nested arrays, throws, a non-constant top-level const…)."),
+    "ros2-hash-in-string": (Severity.ERROR, "A string default or constant containing '#': "
+                            "ROS 2 parsers read the rest of the line as a comment."),
+    "ros2-unwritable-string": (Severity.ERROR, "A string default or constant a .msg line cannot hold "
+                               "(line break, control character, '=' in a field default, quotes in an array)."),
+    "ros2-unsupported-default": (Severity.ERROR, "A default ROS 2 cannot state (on a nested message, "
+                                 "a map, a value of the wrong kind)."),
+    "ros2-name-clash": (Severity.ERROR, "Two names that become the same after conversion to ROS 2 rules."),
+    "ros2-param-type": (Severity.ERROR, "A configuration field whose type a ROS 2 parameter cannot have."),
+    "ros2-package-metadata": (Severity.WARNING, "A component version or maintainer e-mail package.xml "
+                              "cannot hold; a neutral value is written instead."),
+    "idl-unwritable-string": (Severity.ERROR, "A string default or constant with a backslash, "
+                              "which IDL readers decode differently."),
+}
+
+
+def diag(code: str, message: str, source: Source, span: Span) -> Diagnostic:
+    """A diagnostic with one of this package's codes or a core code, at its default severity."""
+    severity = CODES[code][0] if code in CODES else CORE_CODES[code][0]
+    return Diagnostic(code, message, source, span, severity)

@@ -1,0 +1,39 @@
+"""Fixtures of the ros2/idl emitter tests: inputs, compiling and generating."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from iface.compile import Compilation, Workspace
+from iface.emit import Result, generate
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+DATA = Path(__file__).parent / "data" / "ros2"
+#: The inputs every target must generate from, by golden case name.
+CASES = {
+    "listing1": EXAMPLES / "listing1.iface",
+    "robot_arm": EXAMPLES / "robot_arm.iface",
+    "injection": DATA / "injection.iface",
+}
+
+
+def compile_file(path: Path) -> Compilation:
+    """A fresh compilation of ``path``."""
+    return Workspace().compile_path(str(path))
+
+
+def compile_text(text: str, name: str = "case.iface", tmp: Path | None = None) -> Compilation:
+    """A compilation of ``text`` as if it were the file ``name``."""
+    folder = tmp or DATA
+    return Workspace().compile_text(str(folder / name), text)
+
+
+def run(target: str, comp: Compilation) -> Result:
+    """Generate ``target`` and return the result."""
+    return generate(comp, target)
+
+
+def codes(result: Result) -> list[str]:
+    """The diagnostic codes of a result, sorted."""
+    return sorted(d.code for d in result.diagnostics)
