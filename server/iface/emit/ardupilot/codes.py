@@ -1,0 +1,23 @@
+"""Diagnostic codes of the ardupilot target."""
+
+from __future__ import annotations
+
+from ...diagnostics import Severity
+from ..px4.support import CodeTable
+
+CODES: dict[str, tuple[Severity, str]] = {
+    "ap-name-invalid": (Severity.ERROR, "A component name that cannot be made a C++ class name."),
+    "ap-no-actions": (Severity.WARNING, "AP_DDS has no actions: they are not generated."),
+    "ap-param-unsupported-type": (Severity.WARNING, "A parameter type AP_Param cannot hold: left out of the table."),
+    "ap-param-precision": (Severity.WARNING, "A float64 parameter: AP_Float is 32-bit."),
+    "ap-param-name-too-long": (Severity.ERROR, "An ArduPilot parameter name over 16 characters."),
+    "ap-param-name-invalid": (Severity.ERROR, "An ArduPilot parameter name or prefix that is not UPPER_CASE."),
+    "ap-param-name-conflict": (Severity.ERROR, "Two parameters with one ArduPilot name."),
+    "ap-param-index-implicit": (Severity.WARNING, "A parameter without a field id or ap.index: its index follows "
+                                "the declaration order and changes when parameters are inserted before it."),
+    "ap-param-index-range": (Severity.ERROR, "An AP_Param group index outside 0..63."),
+    "ap-param-index-conflict": (Severity.ERROR, "Two parameters with one AP_Param index."),
+    "ap-param-default": (Severity.ERROR, "A parameter default AP_Param cannot state."),
+}
+
+diag = CodeTable(CODES)

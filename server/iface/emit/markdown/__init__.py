@@ -1,0 +1,68 @@
+"""The markdown target: the interface as a document.
+
+Interfaces double as documentation: a title, the description, the seven sets
+as tables, the contract (assumptions and guarantees) and a table per type.
+Every piece of text from the interface is escaped, so a doc comment cannot
+start a heading, close a table cell or inject HTML.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from ... import model as m
+from ...compile import Compilation
+from ..base import GeneratedFile, Result, Target, TemplateSet
+from .build import call_rows, contract_item, endpoint_rows, fields_table, type_sections
+from .escape import code, md, paragraphs
+
+TEMPLATES = Path(__file__).parent / "templates"
+FILTERS = {"md": md, "code": code, "paragraphs": paragraphs}
+
+
+def generate(comp: Compilation, options: dict[str, Any]) -> Result:
+    """One Markdown file, ``<component>.md``; the document renders any interface, so it reports nothing."""
+    iface = comp.interface
+    ts = TemplateSet(TEMPLATES, "markdown", filters=FILTERS, override=options.get("templates"))
+    view = {
+        "iface": iface,
+        "doc": iface.component.doc if iface.component else None,
+        "subscribed": endpoint_rows(iface.subscribed),
+        "published": endpoint_rows(iface.published),
+        "services": call_rows(iface.services, ("request", "response")),
+        "actions": call_rows(iface.actions, ("goal", "result", "feedback")),
+        "parameters": fields_table("", iface.parameters),
+        "state": fields_table("", iface.state),
+        "diagnostics": [[(s.name, True), (", ".join(f.name for f in s.request.fields) if s.request else "—", False),
+                         (", ".join(f.name for f in s.response.fields) if s.response else "—", False)]
+                        for s in iface.diagnostics],
+        "assumptions": [contract_item(x) for x in iface.assumptions],
+        "guarantees": [contract_item(x) for x in iface.guarantees],
+        "state_names": [f.name for f in iface.state],
+        "sections": type_sections(iface),
+    }
+    name = Path(comp.path).name
+    text = ts.render("interface.md.j2", source_name=_comment_safe(name),
+                     open="<!--", close=" -->", **view)
+    file_name = _file_name(iface)
+    return Result(files=[GeneratedFile(file_name, text)])
+
+
+def _comment_safe(name: str) -> str:
+    """A file name that cannot end the HTML comment it is written into."""
+    text = " ".join(name.split())
+    while "--" in text:
+        text = text.replace("--", "- -")
+    return text or "interface"
+
+
+def _file_name(iface: m.Interface) -> str:
+    stem = "".join(c if c.isalnum() or c in "_-" else "_" for c in iface.name).strip("._") or "interface"
+    return f"{stem}.md"
+
+
+TARGET = Target("markdown", "Markdown: the interface as a document (seven sets, contract, a table per type)",
+                generate, str(TEMPLATES))
+
+__all__ = ["TARGET", "generate"]

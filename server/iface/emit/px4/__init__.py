@@ -1,0 +1,82 @@
+"""The px4 target: uORB messages, a module class header and module.yaml parameters.
+
+PX4 speaks uORB: fixed-size messages with ``uint64 timestamp`` first, published
+and subscribed on snake_case topics. Anything uORB cannot hold (strings,
+variable-length arrays, defaults, services, actions) is reported, never dropped
+in silence; see docs/targets-px4-ardupilot.md.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from ... import model as m
+from ...compile import Compilation
+from ...diagnostics import Diagnostic
+from ..base import GeneratedFile, Result, Target, TemplateSet, sorted_files
+from .codes import CODES, diag
+from .escape import cpp_string, yaml_str
+from .messages import MessageBuilder
+from .module import ModuleBuilder
+from .support import Owners, source_name
+
+TEMPLATES = Path(__file__).parent / "templates"
+FILTERS = {"cpp_string": cpp_string, "yaml_str": yaml_str}
+
+
+def generate(comp: Compilation, options: dict[str, Any]) -> Result:
+    """uORB messages, the module header and module.yaml; errors mean no files."""
+    owners = Owners(comp)
+    messages = MessageBuilder(comp, owners)
+    msgs = messages.build()
+    modules = ModuleBuilder(comp, owners, messages.messages, messages.names)
+    module = modules.build()
+    diagnostics = [*messages.diagnostics, *modules.diagnostics, *_not_generated(comp.interface)]
+    diagnostics.sort(key=lambda d: (d.path, d.span.start, d.span.end, d.code))
+    result = Result(diagnostics=diagnostics)
+    if result.has_errors or module is None:
+        return result
+    ts = TemplateSet(TEMPLATES, "px4", filters=FILTERS, override=options.get("templates"))
+    common = {"source_name": source_name(comp), "close": ""}
+    files = [GeneratedFile(f"msg/{msg.name}.msg", ts.render("msg.j2", msg=msg, open="#", **common))
+             for msg in msgs]
+    folder = f"src/modules/{module.module_name}"
+    files.append(GeneratedFile(f"{folder}/{module.class_name}.hpp",
+                               ts.render("module.hpp.j2", module=module, open="//", **common)))
+    files.append(GeneratedFile(f"{folder}/module.yaml", ts.render("module.yaml.j2", module=module, open="#",
+                                                                   **common)))
+    result.files = sorted_files(files)
+    return result
+
+
+def _not_generated(iface: m.Interface) -> Iterator[Diagnostic]:
+    """PX4 has no services, actions or state: say so for each one."""
+    src = iface.source
+    seen: set[int] = set()
+    for ep in [*iface.services, *iface.actions]:
+        defn = ep.definition
+        if defn is None or id(defn) in seen:
+            continue
+        seen.add(id(defn))
+        kind = "action" if isinstance(defn, m.Action) else "service"
+        span = ep.wiring.span if ep.wiring is not None else defn.name_span
+        verb = "provided" if ep.role == "provides" else "called"
+        yield diag("px4-no-services", f"PX4 has no {kind}s: {kind} '{defn.name}' ({verb} as '{ep.name}') is not "
+                   "generated for px4; uORB only publishes and subscribes topics", src, span)
+    for svc in iface.diagnostics:
+        if id(svc) not in seen:
+            seen.add(id(svc))
+            yield diag("px4-no-services", f"PX4 has no services: the diagnostics service '{svc.name}' is not "
+                       "generated for px4", src, svc.name_span)
+    for d in iface.definitions:
+        if isinstance(d, m.Struct) and d.kind == "state":
+            yield diag("px4-no-state", f"PX4 has no state set: state '{d.name}' is not generated for px4",
+                       src, d.name_span)
+
+
+TARGET = Target("px4", "PX4: uORB .msg files, a module class header (uORB members, DEFINE_PARAMETERS) "
+                "and module.yaml parameters", generate, str(TEMPLATES))
+
+__all__ = ["CODES", "TARGET", "generate"]

@@ -1,0 +1,309 @@
+"""uORB messages from the interface: types, fields, constants and topics, checked against uORB's rules."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from ... import model as m
+from ...compile import Compilation
+from ...diagnostics import Diagnostic
+from ...naming import ros_constant_name, ros_field_name
+from ...walk import resolve_typedefs, type_text
+from ..types import container, px4_base
+from .codes import diag
+from .escape import comment_lines, number, one_line
+from .support import Owners, camel, enum_int_type, enum_of, literal, member_order, snake, upper
+
+#: External packages whose types are uORB messages that PX4 already has.
+PX4_PACKAGES = frozenset({"px4_msgs", "px4"})
+_UORB_TOPIC = re.compile(r"^[a-z][a-z0-9]*(_[a-z0-9]+)*$")
+_NUMERIC = frozenset({"bool", "char", "int8", "int16", "int32", "int64", "uint8", "uint16", "uint32", "uint64",
+                      "float32", "float64"})
+_HINTS = {"string": ": use a fixed char[N] array", "wstring": ": use a fixed char[N] array",
+          "binary": ": use a fixed uint8[N] array"}
+TIMESTAMP_DOC = "time since system start (microseconds)"
+
+
+class Unsupported(Exception):
+    """A type uORB cannot hold: the code and the reason, in words."""
+
+    def __init__(self, code: str, reason: str) -> None:
+        super().__init__(reason)
+        self.code = code
+        self.reason = reason
+
+
+@dataclass(slots=True)
+class Line:
+    """One field or constant line of a .msg file."""
+
+    type: str
+    name: str
+    value: str | None = None
+    comment: str = ""
+
+
+@dataclass(slots=True)
+class UorbMessage:
+    """One .msg file."""
+
+    name: str
+    struct: m.Struct
+    doc: list[str]
+    lines: list[Line] = field(default_factory=list)
+    topics: list[str] = field(default_factory=list)
+
+    @property
+    def snake(self) -> str:
+        """The header and struct stem PX4 derives from the file name (``SensorAccel`` → ``sensor_accel``)."""
+        return snake(self.name)
+
+
+def uorb_topic(name: str) -> str | None:
+    """A ROS-style topic name as a uORB topic name (``/arm/jointState`` → ``arm_joint_state``)."""
+    if name.startswith("~") or "{" in name:
+        return None
+    parts = name.strip("/").split("/")
+    converted = [ros_field_name(p) for p in parts]
+    if not parts or any(p is None for p in converted):
+        return None
+    topic = "_".join(converted)  # type: ignore[arg-type]
+    return topic if _UORB_TOPIC.match(topic) else None
+
+
+class MessageBuilder:
+    """Collects the messages a component needs and converts them, reporting what uORB cannot hold."""
+
+    def __init__(self, comp: Compilation, owners: Owners) -> None:
+        self.iface = comp.interface
+        self.owners = owners
+        self.diagnostics: list[Diagnostic] = []
+        self.messages: dict[str, UorbMessage] = {}
+        self.names: dict[int, str | None] = {}
+        self._queue: list[m.Struct] = []
+        self.topics: dict[str, tuple[UorbMessage | None, str]] = {}
+
+    # ---- collection ------------------------------------------------------------------
+    def build(self) -> list[UorbMessage]:
+        """Every message of the file and every message or struct they use, converted."""
+        for d in self.iface.definitions:
+            if isinstance(d, m.Struct) and d.kind == "message":
+                self.require(d)
+        for w in self.iface.wirings:
+            if w.direction in ("publishes", "subscribes") and isinstance(w.type.target, m.Struct):
+                self.require(w.type.target)
+        while self._queue:
+            self._convert(self._queue.pop(0))
+        self._wired_topics()
+        self._annotated_topics()
+        return [self.messages[k] for k in sorted(self.messages)]
+
+    def require(self, struct: m.Struct) -> str | None:
+        """The uORB name of ``struct``, queued for conversion the first time it is seen."""
+        key = id(struct)
+        if key in self.names:
+            return self.names[key]
+        name = camel(struct.name)
+        src = self.owners.source(struct)
+        if name is None:
+            self.diagnostics.append(diag("px4-name-invalid", f"'{struct.name}' cannot be made a uORB message "
+                                         "name (CamelCase)", src, struct.name_span))
+        elif name in self.messages:
+            other = self.messages[name].struct
+            self.diagnostics.append(diag("px4-name-conflict", f"'{struct.name}' and '{other.name}' both become "
+                                         f"the uORB message {name}", src, struct.name_span))
+            name = None
+        else:
+            self.messages[name] = UorbMessage(name, struct, comment_lines(struct.doc))
+            self._queue.append(struct)
+        self.names[key] = name
+        return name
+
+    # ---- conversion ------------------------------------------------------------------
+    def _convert(self, struct: m.Struct) -> None:
+        name = self.names[id(struct)]
+        assert name is not None
+        msg = self.messages[name]
+        src = self.owners.source(struct)
+        owner = self.owners.of(struct)
+        if struct.kind in ("union", "exception"):
+            self.diagnostics.append(diag("px4-unsupported-type", f"'{struct.name}' is a {struct.kind}: uORB "
+                                         "messages are plain structs", src, struct.name_span))
+        msg.lines.append(self._timestamp(struct, src))
+        enums_done: set[int] = set()
+        for member in member_order(struct):
+            if isinstance(member, m.Const):
+                line = self._const(struct, member, owner)
+                if line is not None:
+                    msg.lines.append(line)
+                continue
+            if member.name == "timestamp":
+                continue
+            fname = ros_field_name(member.name)
+            if fname is None:
+                self.diagnostics.append(diag("px4-name-invalid", f"field '{member.name}' of message "
+                                             f"'{struct.name}' cannot be made a uORB field name",
+                                             src, member.name_span))
+                continue
+            if member.default is not None:
+                self.diagnostics.append(diag("px4-default", f"field '{member.name}' of message '{struct.name}' "
+                                             f"has a default ({member.default.text or member.default.value}): "
+                                             "uORB messages have no default values", src, member.default.span))
+            try:
+                ptype = self.field_type(member.type)
+            except Unsupported as e:
+                self.diagnostics.append(diag(e.code, f"field '{member.name}' of message '{struct.name}': "
+                                             f"{e.reason}", src, member.type.span))
+                continue
+            msg.lines.append(Line(ptype, fname, None, _field_comment(member)))
+            enum = enum_of(member.type if not isinstance(resolve_typedefs(member.type), m.ArrayType)
+                           else resolve_typedefs(member.type).element)  # type: ignore[union-attr]
+            if enum is not None and id(enum) not in enums_done:
+                enums_done.add(id(enum))
+                msg.lines.extend(_enum_constants(enum))
+
+    def _timestamp(self, struct: m.Struct, src: m.Source) -> Line:
+        found = next((f for f in struct.fields if f.name == "timestamp"), None)
+        if found is None:
+            self.diagnostics.append(diag("px4-timestamp-added", f"message '{struct.name}' has no timestamp: "
+                                         "'uint64 timestamp' is added as its first field (uORB needs it)",
+                                         src, struct.name_span))
+            return Line("uint64", "timestamp", None, TIMESTAMP_DOC)
+        t = resolve_typedefs(found.type)
+        if not (isinstance(t, m.BaseType) and t.name == "u64"):
+            self.diagnostics.append(diag("px4-timestamp-type", f"field 'timestamp' of message '{struct.name}' is "
+                                         f"{type_text(found.type)}: uORB timestamps are u64 (microseconds)",
+                                         src, found.type.span))
+        return Line("uint64", "timestamp", None, _field_comment(found) or TIMESTAMP_DOC)
+
+    def _const(self, struct: m.Struct, c: m.Const, owner: m.Interface) -> Line | None:
+        src = self.owners.source(struct)
+        name = ros_constant_name(c.name)
+        t = resolve_typedefs(c.type)
+        ptype = px4_base(t.name) if isinstance(t, m.BaseType) and t.bound is None else None
+        if ptype not in _NUMERIC:
+            self.diagnostics.append(diag("px4-unsupported-type", f"constant '{c.name}' of message '{struct.name}' "
+                                         f"is {type_text(c.type)}: uORB constants are numbers or bool",
+                                         src, c.type.span))
+            return None
+        if name is None:
+            self.diagnostics.append(diag("px4-name-invalid", f"constant '{c.name}' cannot be made a uORB constant "
+                                         "name", src, c.name_span))
+            return None
+        value = literal(owner, c.value)
+        if isinstance(value, bool) or ptype == "bool":
+            text = "1" if value else "0"
+        elif isinstance(value, (int, float)):
+            text = number(value) if ptype in ("float32", "float64") else str(int(value))
+        else:
+            self.diagnostics.append(diag("px4-unsupported-type", f"constant '{c.name}' of message "
+                                         f"'{struct.name}' has no numeric value", src, c.value.span))
+            return None
+        return Line(ptype, name, text, one_line(c.doc))  # type: ignore[arg-type]
+
+    def field_type(self, t: m.TypeRef) -> str:
+        """The uORB spelling of a field type; Unsupported says why there is none."""
+        r = resolve_typedefs(t)
+        if isinstance(r, m.BaseType):
+            if r.bound is not None:
+                raise Unsupported("px4-unsupported-type", f"uORB has no bounded strings ({type_text(r)}): "
+                                  "use a fixed char[N] array")
+            px = px4_base(r.name)
+            if px is None:
+                hint = _HINTS.get(r.name, "")
+                raise Unsupported("px4-unsupported-type", f"uORB has no {r.spelling or r.name} type{hint}")
+            return px
+        if isinstance(r, m.ArrayType):
+            if r.array != "fixed":
+                raise Unsupported("px4-variable-array", f"{type_text(r)} has a variable length: uORB arrays "
+                                  "have a fixed size (T[N])")
+            inner = self.field_type(r.element)
+            if "[" in inner:
+                raise Unsupported("px4-unsupported-type", f"uORB has no arrays of arrays ({type_text(r)})")
+            return container("fixed", "px4", inner, r.size)  # type: ignore[return-value]
+        if isinstance(r, m.SetType):
+            raise Unsupported("px4-unsupported-type", f"uORB has no sets ({type_text(r)}): use a fixed array")
+        if isinstance(r, m.MapType):
+            raise Unsupported("px4-unsupported-type", f"uORB has no maps ({type_text(r)})")
+        target = r.target
+        if target is None:
+            if r.external in PX4_PACKAGES:
+                name = camel(r.local_name)
+                if name is not None:
+                    return name
+            if r.external:
+                raise Unsupported("px4-external-type", f"'{r.name}' comes from the package '{r.external}', which "
+                                  "PX4 does not have (only px4_msgs types can be used)")
+            raise Unsupported("px4-unsupported-type", f"unknown type '{r.name}'")
+        if isinstance(target, m.Enum):
+            return enum_int_type(target)
+        if isinstance(target, m.Struct):
+            if target.kind in ("union", "exception"):
+                raise Unsupported("px4-unsupported-type", f"'{r.name}' is a {target.kind}: uORB has plain "
+                                  "structs only")
+            name = self.require(target)
+            if name is None:
+                raise Unsupported("px4-name-invalid", f"'{r.name}' has no uORB message name")
+            return name
+        raise Unsupported("px4-unsupported-type", f"'{r.name}' is a {target.kind}, not a type uORB can hold")
+
+    # ---- topics ------------------------------------------------------------------
+    def _wired_topics(self) -> None:
+        src = self.iface.source
+        for w in self.iface.wirings:
+            if w.direction not in ("publishes", "subscribes"):
+                continue
+            topic = uorb_topic(w.topic)
+            if topic is None:
+                self.diagnostics.append(diag("px4-topic-invalid", f"topic '{w.topic}' has no uORB name: uORB "
+                                             "topics are snake_case names without namespaces or substitutions",
+                                             src, w.topic_span))
+                continue
+            target = w.type.target
+            msg = self.messages.get(self.names.get(id(target)) or "") if isinstance(target, m.Struct) else None
+            type_name = msg.name if msg else w.type.name
+            self._claim(topic, msg, type_name, src, w.topic_span)
+
+    def _annotated_topics(self) -> None:
+        for name in sorted(self.messages):
+            msg = self.messages[name]
+            a = m.annotation(msg.struct.annotations, "px4.topics")
+            if a is None:
+                continue
+            src = self.owners.source(msg.struct)
+            for raw in re.split(r"[\s,]+", a.text.strip()):
+                if not raw:
+                    continue
+                if not _UORB_TOPIC.match(raw):
+                    self.diagnostics.append(diag("px4-topic-invalid", f"'{raw}' in px4.topics of '{msg.struct.name}' "
+                                                 "is not a uORB topic name (snake_case)", src, a.span))
+                    continue
+                self._claim(raw, msg, msg.name, src, a.span)
+
+    def _claim(self, topic: str, msg: UorbMessage | None, type_name: str, src: m.Source, span: m.Span) -> None:
+        first = self.topics.get(topic)
+        if first is not None and first[1] != type_name:
+            self.diagnostics.append(diag("px4-topic-conflict", f"uORB topic '{topic}' would carry both {type_name} "
+                                         f"and {first[1]}: a uORB topic has one message type", src, span))
+            return
+        self.topics[topic] = (msg, type_name)
+        if msg is not None and topic not in msg.topics:
+            msg.topics.append(topic)
+
+
+def _field_comment(f: m.Field) -> str:
+    unit = f"[{one_line(f.unit)}]" if f.unit else ""
+    return " ".join(x for x in (unit, one_line(f.doc)) if x)
+
+
+def _enum_constants(enum: m.Enum) -> list[Line]:
+    ptype = enum_int_type(enum)
+    prefix = upper(enum.name)
+    out = []
+    for v in enum.values:
+        name = upper(v.name)
+        if not name.startswith(prefix + "_"):
+            name = f"{prefix}_{name}"
+        out.append(Line(ptype, name, str(v.value), one_line(v.doc)))
+    return out

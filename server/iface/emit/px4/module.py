@@ -1,0 +1,255 @@
+"""The PX4 module of a component: its uORB publications and subscriptions, and its parameters."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from ... import model as m
+from ...compile import Compilation
+from ...diagnostics import Diagnostic
+from ...walk import resolve_typedefs, type_text
+from .codes import diag
+from .escape import comment_lines, number, one_line, summary
+from .messages import PX4_PACKAGES, UorbMessage, uorb_topic
+from .support import Owners, camel, configuration_blocks, enum_of, humanize, literal, snake, upper
+
+MAX_PARAM_NAME = 16
+_PARAM_NAME = re.compile(r"^[A-Z][A-Z0-9]*(_[A-Z0-9]+)*$")
+#: Units PX4's module.yaml schema accepts (validation/module_schema.yaml).
+PX4_UNITS = frozenset({
+    "%", "Hz", "mAh", "rad", "%/rad", "rad/s", "rad/s^2", "%/rad/s", "rad s^2/m", "rad s/m", "bit/s", "B/s",
+    "deg", "deg*1e7", "deg/s", "celcius", "gauss", "gauss/s", "mgauss", "mgauss^2", "hPa", "kg", "kg/m^2",
+    "kg m^2", "mm", "m", "m/s", "m^2", "m/s^2", "m/s^3", "m/s^2/sqrt(Hz)", "m/s/rad", "Ohm", "V", "us", "ms",
+    "s", "S", "A/%", "(m/s^2)^2", "m/m", "tan(rad)^2", "(m/s)^2", "m/rad", "m/s^3/sqrt(Hz)", "m/s/sqrt(Hz)",
+    "s/(1000*PWM)", "%m/s", "min", "us/C", "N/(m/s)", "Nm/(rad/s)", "Nm", "N",
+})
+_INT32_SOURCES = frozenset({"i8", "i16", "i32", "u8", "u16", "char", "octet"})
+_PARAM_CLASS = {"int32": "ParamInt", "enum": "ParamInt", "float": "ParamFloat", "boolean": "ParamBool"}
+
+
+@dataclass(slots=True)
+class Topic:
+    """A publication or subscription member of the module class."""
+
+    cls: str
+    member: str
+    topic: str
+    message: str
+    callback: bool = False
+
+
+@dataclass(slots=True)
+class Param:
+    """One PX4 parameter (module.yaml entry and DEFINE_PARAMETERS member)."""
+
+    name: str
+    type: str
+    default: str
+    short: str
+    long: str
+    min: str | None = None
+    max: str | None = None
+    unit: str | None = None
+    decimal: str | None = None
+    values: list[tuple[int, str]] = field(default_factory=list)
+
+    @property
+    def param_class(self) -> str:
+        """The ModuleParams wrapper class."""
+        return _PARAM_CLASS[self.type]
+
+    @property
+    def member(self) -> str:
+        """The member name PX4 code uses for it."""
+        return "_param_" + self.name.lower()
+
+
+@dataclass(slots=True)
+class Px4Module:
+    """What the header and module.yaml render."""
+
+    class_name: str
+    module_name: str
+    group: str
+    doc: list[str]
+    description: str
+    includes: list[str] = field(default_factory=list)
+    publications: list[Topic] = field(default_factory=list)
+    subscriptions: list[Topic] = field(default_factory=list)
+    params: list[Param] = field(default_factory=list)
+
+
+class ModuleBuilder:
+    """Builds the module view, reporting parameters PX4 cannot hold."""
+
+    def __init__(self, comp: Compilation, owners: Owners, messages: dict[str, UorbMessage],
+                 names: dict[int, str | None]) -> None:
+        self.iface = comp.interface
+        self.owners = owners
+        self.messages = messages
+        self.names = names
+        self.diagnostics: list[Diagnostic] = []
+
+    def build(self) -> Px4Module | None:
+        """The module, or None when the component name cannot name a C++ class."""
+        iface = self.iface
+        comp_decl = iface.component
+        class_name = camel(iface.name)
+        if class_name is None:
+            span = comp_decl.name_span if comp_decl else m.Span(0, 0)
+            self.diagnostics.append(diag("px4-name-invalid", f"component name '{iface.name}' cannot be made a "
+                                         "C++ class name", iface.source, span))
+            return None
+        doc = comment_lines(comp_decl.doc if comp_decl else None)
+        group_ann = m.annotation(comp_decl.annotations, "px4.group") if comp_decl else None
+        module = Px4Module(class_name, snake(iface.name), one_line(group_ann.text) if group_ann else
+                           humanize(iface.name), doc, "\n".join(doc))
+        self._topics(module)
+        self._params(module)
+        return module
+
+    # ---- topics ------------------------------------------------------------------
+    def _topics(self, module: Px4Module) -> None:
+        seen: set[tuple[str, str]] = set()
+        includes: set[str] = set()
+        for w in self.iface.wirings:
+            if w.direction not in ("publishes", "subscribes"):
+                continue
+            topic = uorb_topic(w.topic)
+            stem = self._message_stem(w.type)
+            if topic is None or stem is None or (w.direction, topic) in seen:
+                continue
+            seen.add((w.direction, topic))
+            includes.add(stem)
+            if w.direction == "publishes":
+                module.publications.append(Topic(f"uORB::Publication<{stem}_s>", f"_{topic}_pub", topic, stem))
+            else:
+                callback = m.annotation(w.annotations, "px4.callback") is not None
+                cls = "uORB::SubscriptionCallbackWorkItem" if callback else "uORB::Subscription"
+                module.subscriptions.append(Topic(cls, f"_{topic}_sub", topic, stem, callback))
+        module.includes = sorted(includes)
+
+    def _message_stem(self, t: m.NamedType) -> str | None:
+        target = t.target
+        if isinstance(target, m.Struct):
+            name = self.names.get(id(target))
+            return snake(name) if name else None
+        if target is None and t.external in PX4_PACKAGES:
+            return snake(t.local_name)
+        return None
+
+    # ---- parameters ------------------------------------------------------------------
+    def _params(self, module: Px4Module) -> None:
+        comp_decl = self.iface.component
+        comp_prefix = m.annotation(comp_decl.annotations, "px4.prefix") if comp_decl else None
+        src = self.iface.source
+        taken: dict[str, m.Field] = {}
+        for block in configuration_blocks(self.iface):
+            ann = m.annotation(block.annotations, "px4.prefix") or comp_prefix
+            prefix = ann.text if ann else upper(self.iface.name)
+            if not _PARAM_NAME.match(prefix):
+                span = ann.span if ann else block.name_span
+                self.diagnostics.append(diag("px4-param-name-invalid", f"parameter prefix '{prefix}' is not "
+                                             "UPPER_CASE letters and digits (set px4.prefix)", src, span))
+                continue
+            for f in block.fields:
+                param = self._param(f, prefix)
+                if param is None:
+                    continue
+                if param.name in taken:
+                    self.diagnostics.append(diag("px4-param-name-conflict", f"parameter '{f.name}' becomes "
+                                                 f"{param.name}, as '{taken[param.name].name}' does", src,
+                                                 f.name_span))
+                    continue
+                taken[param.name] = f
+                module.params.append(param)
+
+    def _param(self, f: m.Field, prefix: str) -> Param | None:
+        src = self.iface.source
+        explicit = m.annotation(f.annotations, "px4.name")
+        name = explicit.text if explicit else f"{prefix}_{upper(f.name)}"
+        span = explicit.span if explicit else f.name_span
+        named = True
+        if not _PARAM_NAME.match(name):
+            self.diagnostics.append(diag("px4-param-name-invalid", f"parameter '{f.name}': '{name}' is not a PX4 "
+                                         "parameter name (UPPER_CASE)", src, span))
+            named = False
+        elif len(name) > MAX_PARAM_NAME:
+            self.diagnostics.append(diag("px4-param-name-too-long", f"parameter '{f.name}' becomes {name}, "
+                                         f"{len(name)} characters: PX4 parameter names have at most "
+                                         f"{MAX_PARAM_NAME} (shorten it or set px4.name / px4.prefix)", src, span))
+            named = False
+        ptype = self._param_type(f)
+        if ptype is None or not named:
+            return None
+        short = summary(f.doc) or humanize(f.name)
+        param = Param(name, ptype, "", short, one_line(f.doc) or short)
+        if not self._param_default(f, param):
+            return None
+        rng = f.range
+        if rng is not None and ptype in ("int32", "float", "enum"):
+            lo, hi = rng
+            param.min = None if lo is None else _num(lo, ptype)
+            param.max = None if hi is None else _num(hi, ptype)
+        if f.unit:
+            if f.unit in PX4_UNITS:
+                param.unit = f.unit
+            else:
+                self.diagnostics.append(diag("px4-param-unit", f"parameter '{f.name}': unit '{one_line(f.unit)}'"
+                                             " is not one PX4's module.yaml accepts; it is left out of module.yaml",
+                                             src, f.span))
+        dec = m.annotation(f.annotations, "px4.decimal")
+        if dec is not None and ptype == "float" and dec.text.isdigit():
+            param.decimal = dec.text
+        enum = enum_of(f.type)
+        if enum is not None:
+            param.values = [(v.value, humanize(v.name)) for v in enum.values]
+        return param
+
+    def _param_type(self, f: m.Field) -> str | None:
+        src = self.iface.source
+        t = resolve_typedefs(f.type)
+        if isinstance(t, m.NamedType) and isinstance(t.target, m.Enum):
+            return "enum"
+        if isinstance(t, m.BaseType) and t.bound is None:
+            if t.name == "bool":
+                return "boolean"
+            if t.name in _INT32_SOURCES:
+                return "int32"
+            if t.name == "float32":
+                return "float"
+            if t.name == "float64":
+                self.diagnostics.append(diag("px4-param-precision", f"parameter '{f.name}' is {type_text(f.type)}: "
+                                             "PX4 stores it as FLOAT (32-bit)", src, f.type.span))
+                return "float"
+        self.diagnostics.append(diag("px4-param-type", f"parameter '{f.name}' is {type_text(f.type)}: PX4 "
+                                     "parameters are INT32 or FLOAT (bool, integers up to 16 bits and i32, "
+                                     "float, double, enums)", src, f.type.span))
+        return None
+
+    def _param_default(self, f: m.Field, param: Param) -> bool:
+        if f.default is None:
+            param.default = {"boolean": "false", "float": "0.0"}.get(param.type, "0")
+            return True
+        value = literal(self.owners.root, f.default)
+        if param.type == "boolean" and isinstance(value, (bool, int)):
+            param.default = "true" if value else "false"
+            return True
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            if param.type == "float":
+                param.default = number(float(value))
+                return True
+            if isinstance(value, int) and -(2**31) <= value < 2**31:
+                param.default = str(value)
+                return True
+        self.diagnostics.append(diag("px4-param-default", f"parameter '{f.name}': the default "
+                                     f"{f.default.text or f.default.value!r} cannot be a PX4 {param.type} value",
+                                     self.iface.source, f.default.span))
+        return False
+
+
+def _num(value: float, ptype: str) -> str:
+    if ptype == "float":
+        return number(value)
+    return str(int(value)) if float(value).is_integer() else number(value)

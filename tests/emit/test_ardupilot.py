@@ -1,0 +1,198 @@
+"""The ardupilot target: AP_DDS IDL (rosbags), the AP_Param table (g++), index stability, goldens."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from rosbags.typesys import get_types_from_idl
+
+from iface.compile import Workspace
+from iface.emit import generate, get_target
+from iface.emit.ardupilot import CODES
+from iface.emit.base import Result
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = Path(__file__).parent / "data" / "ardupilot"
+GOLDEN = Path(__file__).parent / "golden" / "ardupilot"
+ROBOT_ARM = ROOT / "examples" / "robot_arm.iface"
+CASES = ["listing1", "rover_v1", "injection_docs"]
+ENTRY = re.compile(r'AP_GROUPINFO\("([A-Z0-9_]+)", (\d+), (\w+), (\w+), ([^)]+)\),')
+
+
+def run(path: Path) -> Result:
+    return generate(Workspace().compile_path(str(path)), "ardupilot")
+
+
+def ok(path: Path) -> Result:
+    result = run(path)
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    return result
+
+
+def files(result: Result) -> dict[str, str]:
+    return {f.path: f.text for f in result.files}
+
+
+def idl_types(result: Result) -> dict[str, tuple[list, list]]:
+    """Every generated .idl parsed by rosbags (which reads preprocessed IDL: includes are checked apart)."""
+    out: dict[str, tuple[list, list]] = {}
+    generated = files(result)
+    for path, text in generated.items():
+        if path.endswith(".idl"):
+            for inc in re.findall(r'^#include "([^"]+)"$', text, re.M):
+                package = inc.split("/")[0]
+                assert f"libraries/AP_DDS/Idl/{inc}" in generated or package != path.split("/")[3], inc
+            types = get_types_from_idl(re.sub(r"^#include .*$", "", text, flags=re.M))
+            assert types, f"{path}: rosbags found no type"
+            out.update(types)
+    return out
+
+
+def entries(result: Result) -> dict[str, int]:
+    """AP_Param name → index, from the generated var_info table."""
+    cpp = next(t for p, t in files(result).items() if p.endswith(".cpp"))
+    return {m.group(1): int(m.group(2)) for m in ENTRY.finditer(cpp)}
+
+
+def compile_params(result: Result, tmp: Path) -> None:
+    if shutil.which("g++") is None:
+        pytest.skip("g++ is not installed")
+    out = files(result)
+    for path, text in out.items():
+        if path.endswith((".h", ".cpp")):
+            (tmp / Path(path).name).write_text(text)
+    cpp = next(p for p in out if p.endswith(".cpp"))
+    proc = subprocess.run(["g++", "-std=gnu++17", "-fsyntax-only", "-Wall", "-Wextra", "-Werror",
+                           "-Wno-pedantic", "-I", str(DATA / "stubs"), "-I", str(tmp), str(tmp / Path(cpp).name)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+
+
+def compare_golden(case: str, result: Result) -> None:
+    folder = GOLDEN / case
+    out = files(result)
+    if os.environ.get("UPDATE_GOLDEN"):
+        shutil.rmtree(folder, ignore_errors=True)
+        for path, text in out.items():
+            (folder / path).parent.mkdir(parents=True, exist_ok=True)
+            (folder / path).write_bytes(text.encode("utf-8"))
+    expected = {p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    assert sorted(expected) == sorted(out), "generated files differ from the golden set (UPDATE_GOLDEN=1 rewrites)"
+    for path, text in out.items():
+        assert text.encode("utf-8") == expected[path], f"{case}/{path} differs from its golden file"
+
+
+def test_found_through_entry_point() -> None:
+    target = get_target("ardupilot")
+    assert target is not None and target.name == "ardupilot"
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_golden(case: str) -> None:
+    compare_golden(case, ok(DATA / f"{case}.iface"))
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_deterministic(case: str) -> None:
+    assert files(run(DATA / f"{case}.iface")) == files(run(DATA / f"{case}.iface"))
+
+
+# ---- IDL ------------------------------------------------------------------------------
+
+
+def test_listing1_idl_parses_with_rosbags(tmp_path: Path) -> None:
+    result = ok(DATA / "listing1.iface")
+    types = idl_types(result)
+    assert {"listing1/msg/Message1", "listing1/msg/Message2", "listing1/srv/Service1_Request",
+            "listing1/srv/Service1_Response", "listing1/srv/Diagnostics_Request"} <= set(types)
+    consts, fields = types["listing1/srv/Service1_Request"]
+    assert [name for name, _ in fields] == ["str", "i"]
+    assert not any("/action/" in p for p in files(result)), "AP_DDS has no actions"
+    actions = [d for d in result.diagnostics if d.code == "ap-no-actions"]
+    assert sorted(d.message.split("'")[1] for d in actions) == ["Action1", "Action2"]
+    compile_params(result, tmp_path)
+
+
+def test_idl_lives_in_the_ap_dds_tree() -> None:
+    paths = files(ok(DATA / "rover_v1.iface"))
+    assert "libraries/AP_DDS/Idl/rover_v1/msg/Drive.idl" in paths
+    assert "libraries/AP_Rover/AP_Rover_Params.h" in paths
+
+
+@pytest.mark.skipif(not ROBOT_ARM.is_file(), reason="examples/robot_arm.iface is not in this tree yet")
+def test_robot_arm(tmp_path: Path) -> None:
+    result = ok(ROBOT_ARM)
+    assert idl_types(result)
+    compile_params(result, tmp_path)
+
+
+# ---- AP_Param ------------------------------------------------------------------------------
+
+
+def test_param_table(tmp_path: Path) -> None:
+    result = ok(DATA / "rover_v1.iface")
+    compile_params(result, tmp_path)
+    cpp = next(t for p, t in files(result).items() if p.endswith(".cpp"))
+    assert ('    // @Param: MAX_SPEED\n    // @DisplayName: Top speed\n'
+            '    // @Description: Top speed. The rover never goes faster.\n    // @Units: m/s\n'
+            '    // @Range: 0 5\n    // @User: Standard\n'
+            '    AP_GROUPINFO("MAX_SPEED", 1, AP_Rover_Params, _max_speed, 2.5f),') in cpp
+    assert '// @Values: 0:Disabled,1:Enabled' in cpp
+    header = next(t for p, t in files(result).items() if p.endswith(".h"))
+    assert "    AP_Int16 _wheels;" in header and "    AP_Int8 _reverse;" in header
+
+
+def test_indices_stable_when_parameters_are_inserted() -> None:
+    before = entries(ok(DATA / "rover_v1.iface"))
+    after = entries(ok(DATA / "rover_v2.iface"))
+    assert before == {"MAX_SPEED": 1, "STEER_GAIN": 2, "REVERSE": 3, "WHEELS": 4}
+    assert {k: after[k] for k in before} == before
+    assert after["MAX_ACCEL"] == 5 and after["TRIM"] == 9
+
+
+def test_implicit_indices_warn() -> None:
+    result = ok(DATA / "listing1.iface")
+    warned = sorted(d.message.split("'")[1] for d in result.diagnostics if d.code == "ap-param-index-implicit")
+    assert warned == ["param2", "param3", "param4"]
+    assert entries(result) == {"PARAM2": 1, "PARAM3": 2, "PARAM4": 3}
+    assert any(d.code == "ap-param-unsupported-type" and "'param1'" in d.message for d in result.diagnostics)
+
+
+def test_bad_params_are_errors_at_the_field() -> None:
+    result = run(DATA / "bad_params.iface")
+    assert result.files == []
+    found = {(d.code, d.message.split("'")[1]) for d in result.diagnostics}
+    assert {("ap-param-name-too-long", "a_very_long_parameter"), ("ap-param-index-conflict", "other_gain"),
+            ("ap-param-index-range", "far_away"), ("ap-param-unsupported-type", "counter")} <= found
+    lines = (DATA / "bad_params.iface").read_text().splitlines()
+    for d in result.diagnostics:
+        assert d.code in CODES
+        assert d.message.split("'")[1] in lines[d.location()[0] - 1]
+
+
+# ---- injection ------------------------------------------------------------------------------
+
+
+def test_injection_docs_stay_comments(tmp_path: Path) -> None:
+    result = ok(DATA / "injection_docs.iface")
+    types = idl_types(result)
+    consts, fields = types["injection_docs/msg/Probe"]
+    assert consts == [] and [name for name, _ in fields] == ["value", "count"]
+    compile_params(result, tmp_path)
+    for path, text in files(result).items():
+        for line in text.splitlines():
+            assert not line.rstrip().endswith("\\"), f"{path}: a comment continued onto the next line"
+    cpp = next(t for p, t in files(result).items() if p.endswith(".cpp"))
+    assert '    // @Description: Gain "quoted" # hash <b> ../x second\n' in cpp
+    assert entries(result) == {"GAIN": 1, "ON": 2}
+
+
+def test_injection_strings_escaped_or_refused() -> None:
+    result = run(DATA / "injection_strings.iface")
+    assert any(d.code == "ap-param-name-too-long" and "'mode'" in d.message for d in result.diagnostics)
+    assert result.files == []

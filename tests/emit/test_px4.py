@@ -1,0 +1,269 @@
+"""The px4 target: uORB messages (pyros-genmsg), module.yaml (PX4's schema), the header (g++), goldens."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import genmsg
+import genmsg.msg_loader
+import jsonschema
+import pytest
+import yaml
+
+from iface.compile import Workspace
+from iface.emit import generate, get_target
+from iface.emit.base import Result
+from iface.emit.px4 import CODES
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = Path(__file__).parent / "data" / "px4"
+GOLDEN = Path(__file__).parent / "golden" / "px4"
+ROBOT_ARM = ROOT / "examples" / "robot_arm.iface"
+CASES = ["flight_arm", "injection_docs"]
+
+
+def run(path: Path) -> Result:
+    return generate(Workspace().compile_path(str(path)), "px4")
+
+
+def ok(path: Path) -> Result:
+    result = run(path)
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    return result
+
+
+def files(result: Result) -> dict[str, str]:
+    return {f.path: f.text for f in result.files}
+
+
+def messages(result: Result) -> dict[str, genmsg.MsgSpec]:
+    """Every generated .msg parsed by pyros-genmsg, PX4's own message parser."""
+    ctx = genmsg.MsgContext.create_default()
+    out = {}
+    for path, text in files(result).items():
+        if path.startswith("msg/"):
+            name = Path(path).stem
+            out[name] = genmsg.msg_loader.load_msg_from_string(ctx, text, f"px4_msgs/{name}")
+    return out
+
+
+def topics_of(text: str, name: str) -> list[str]:
+    found = [t for line in text.splitlines() if line.startswith("# TOPICS") for t in line.split()[2:]]
+    return found or [re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()]
+
+
+def check_header(result: Result, tmp: Path) -> None:
+    """Compile the module header against stub PX4 headers, with topic headers and params from the output."""
+    if shutil.which("g++") is None:
+        pytest.skip("g++ is not installed")
+    out = files(result)
+    inc = tmp / "inc"
+    for path, text in out.items():
+        if path.startswith("msg/"):
+            name = Path(path).stem
+            stem = re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
+            header = inc / "uORB" / "topics" / f"{stem}.h"
+            header.parent.mkdir(parents=True, exist_ok=True)
+            header.write_text("#pragma once\n#include <uORB/uORB.h>\n"
+                              f"struct {stem}_s {{ unsigned long long timestamp; }};\n"
+                              + "".join(f"extern const orb_metadata __orb_{t};\n" for t in topics_of(text, name)))
+    module_yaml = next(t for p, t in out.items() if p.endswith("module.yaml"))
+    params = [n for g in yaml.safe_load(module_yaml).get("parameters", []) for n in g["definitions"]]
+    inc.mkdir(parents=True, exist_ok=True)
+    (inc / "px4_params_generated.h").write_text(
+        "#pragma once\nnamespace px4 { enum class params { " + ", ".join(params) + " }; }\n")
+    header = next(p for p in out if p.endswith(".hpp"))
+    (tmp / Path(header).name).write_text(out[header])
+    main = tmp / "main.cpp"
+    cls = Path(header).stem
+    main.write_text(f'#include "{Path(header).name}"\n#include <cstdio>\n'
+                    f"int main() {{ std::fputs({cls}::DESCRIPTION, stdout); return 0; }}\n"
+                    if "DESCRIPTION" in out[header] else f'#include "{Path(header).name}"\nint main() {{ return 0; }}\n')
+    exe = tmp / "main"
+    proc = subprocess.run(["g++", "-std=c++17", "-Wall", "-Wextra", "-Werror", "-I", str(DATA / "stubs"),
+                           "-I", str(inc), "-o", str(exe), str(main)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    return subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout  # type: ignore[return-value]
+
+
+def compare_golden(case: str, result: Result) -> None:
+    folder = GOLDEN / case
+    out = files(result)
+    if os.environ.get("UPDATE_GOLDEN"):
+        shutil.rmtree(folder, ignore_errors=True)
+        for path, text in out.items():
+            (folder / path).parent.mkdir(parents=True, exist_ok=True)
+            (folder / path).write_bytes(text.encode("utf-8"))
+    expected = {p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    assert sorted(expected) == sorted(out), "generated files differ from the golden set (UPDATE_GOLDEN=1 rewrites)"
+    for path, text in out.items():
+        assert text.encode("utf-8") == expected[path], f"{case}/{path} differs from its golden file"
+
+
+# ---- the target ------------------------------------------------------------------
+
+
+def test_found_through_entry_point() -> None:
+    target = get_target("px4")
+    assert target is not None and target.name == "px4"
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_golden(case: str) -> None:
+    compare_golden(case, ok(DATA / f"{case}.iface"))
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_deterministic(case: str) -> None:
+    assert files(run(DATA / f"{case}.iface")) == files(run(DATA / f"{case}.iface"))
+
+
+# ---- oracles ------------------------------------------------------------------------
+
+
+def test_messages_parse_with_genmsg() -> None:
+    specs = messages(ok(DATA / "flight_arm.iface"))
+    assert sorted(specs) == ["ArmSetpoint", "ArmStatus", "JointState"]
+    status = specs["ArmStatus"]
+    assert list(zip(status.types, status.names)) == [
+        ("uint64", "timestamp"), ("px4_msgs/JointState[2]", "joints"), ("uint8", "mode"),
+        ("bool", "healthy"), ("char[16]", "label")]
+    assert [(c.type, c.name, c.val) for c in status.constants] == [
+        ("uint8", "ORB_QUEUE_LENGTH", 4), ("uint32", "MESSAGE_VERSION", 1), ("uint8", "ARM_MODE_IDLE", 0),
+        ("uint8", "ARM_MODE_HOLD", 1), ("uint8", "ARM_MODE_TRACK", 2)]
+    for spec in specs.values():
+        assert (spec.types[0], spec.names[0]) == ("uint64", "timestamp")
+
+
+def test_topics_from_wiring_and_annotation() -> None:
+    out = files(ok(DATA / "flight_arm.iface"))
+    assert topics_of(out["msg/ArmSetpoint.msg"], "ArmSetpoint") == [
+        "arm_setpoint", "arm_setpoint_override", "arm_setpoint_backup"]
+    assert topics_of(out["msg/ArmStatus.msg"], "ArmStatus") == ["flight_arm_status"]
+    assert "# TOPICS" not in out["msg/JointState.msg"]
+
+
+def test_module_yaml_follows_px4_schema() -> None:
+    out = files(ok(DATA / "flight_arm.iface"))
+    doc = yaml.safe_load(out["src/modules/flight_arm/module.yaml"])
+    jsonschema.validate(doc, json.loads((DATA / "module_schema.json").read_text()))
+    defs = doc["parameters"][0]["definitions"]
+    assert defs["FARM_MAX_SPEED"] == {
+        "description": {"short": "Maximum joint speed.", "long": "Maximum joint speed. Applied to both joints."},
+        "type": "float", "default": 1.5, "min": 0.0, "max": 3.0, "unit": "rad/s"}
+    assert defs["FARM_ENABLED"]["type"] == "boolean" and defs["FARM_ENABLED"]["default"] is True
+    assert defs["FARM_START_MODE"]["values"] == {0: "Idle", 1: "Hold", 2: "Track"}
+    assert defs["FARM_GAIN"]["decimal"] == 3
+
+
+def test_header_compiles(tmp_path: Path) -> None:
+    result = ok(DATA / "flight_arm.iface")
+    printed = check_header(result, tmp_path)
+    assert printed == "A two-joint arm mounted under a multicopter.\n\nReads the vehicle attitude, commands the joints."
+    header = files(result)["src/modules/flight_arm/FlightArm.hpp"]
+    assert "uORB::Publication<arm_status_s> _flight_arm_status_pub{ORB_ID(flight_arm_status)};" in header
+    assert "uORB::SubscriptionCallbackWorkItem _arm_setpoint_sub{this, ORB_ID(arm_setpoint)};" in header
+    assert "uORB::Subscription _arm_setpoint_override_sub{ORB_ID(arm_setpoint_override)};" in header
+    assert "(ParamFloat<px4::params::FARM_MAX_SPEED>) _param_farm_max_speed," in header
+
+
+@pytest.mark.skipif(not ROBOT_ARM.is_file(), reason="examples/robot_arm.iface is not in this tree yet")
+def test_robot_arm(tmp_path: Path) -> None:
+    result = ok(ROBOT_ARM)
+    assert messages(result)
+    jsonschema.validate(yaml.safe_load(next(f.text for f in result.files if f.path.endswith("module.yaml"))),
+                        json.loads((DATA / "module_schema.json").read_text()))
+    check_header(result, tmp_path)
+
+
+# ---- what PX4 cannot hold -----------------------------------------------------------------
+
+
+def codes_by_name(result: Result) -> set[tuple[str, str]]:
+    return {(d.code, m.group(1)) for d in result.diagnostics
+            for m in [re.search(r"(?:field|constant|parameter) '([^']+)'", d.message)] if m}
+
+
+def test_listing1_errors_name_each_field() -> None:
+    result = run(DATA / "listing1.iface")
+    assert result.has_errors and result.files == []
+    errors = [d for d in result.diagnostics if d.severity == 1]
+    named = {(d.code, d.message.split("'")[1], d.message.split("'")[3]) for d in errors
+             if d.code == "px4-unsupported-type"}
+    assert named == {("px4-unsupported-type", "str", "message1"), ("px4-unsupported-type", "str", "message2")}
+    assert ("px4-param-type", "param1") in codes_by_name(result)
+    services = sorted(d.message.split("'")[1] for d in result.diagnostics if d.code == "px4-no-services")
+    assert services == ["action1", "action2", "diagnostics", "service1", "service2"]
+    assert all("PX4 has no" in d.message for d in result.diagnostics if d.code == "px4-no-services")
+
+
+def test_unsupported_constructs_are_errors_at_the_field() -> None:
+    result = run(DATA / "unsupported.iface")
+    assert result.files == []
+    found = codes_by_name(result)
+    assert {("px4-timestamp-type", "timestamp"), ("px4-unsupported-type", "name"),
+            ("px4-variable-array", "samples"), ("px4-variable-array", "bounded"),
+            ("px4-unsupported-type", "table"), ("px4-unsupported-type", "ids"),
+            ("px4-unsupported-type", "choice"), ("px4-default", "count"), ("px4-unsupported-type", "blob"),
+            ("px4-param-type", "label"), ("px4-param-type", "counter"),
+            ("px4-param-name-too-long", "a_parameter_with_a_long_name")} <= found
+    assert any(d.code == "px4-topic-invalid" and "~/private" in d.message for d in result.diagnostics)
+    text = (DATA / "unsupported.iface").read_text()
+    for d in result.diagnostics:
+        assert d.code in CODES
+        if d.code == "px4-variable-array":
+            name = d.message.split("'")[1]
+            line = d.location()[0]
+            assert name in text.splitlines()[line - 1], "the diagnostic is located at the field"
+
+
+def test_timestamp_added_with_information() -> None:
+    result = ok(DATA / "flight_arm.iface")
+    added = sorted(d.message.split("'")[1] for d in result.diagnostics if d.code == "px4-timestamp-added")
+    assert added == ["ArmSetpoint", "JointState"]
+    assert all(d.severity == 3 for d in result.diagnostics if d.code == "px4-timestamp-added")
+
+
+# ---- injection --------------------------------------------------------------------------
+
+
+def test_injection_docs_stay_comments(tmp_path: Path) -> None:
+    result = ok(DATA / "injection_docs.iface")
+    specs = messages(result)
+    assert list(zip(specs["Probe"].types, specs["Probe"].names)) == [
+        ("uint64", "timestamp"), ("float32", "value"), ("int32", "count")]
+    assert specs["Probe"].constants == []
+    doc = (DATA / "injection_docs.iface").read_text().split("*/\ncomponent")[0]
+    expected = "\n".join(line.strip().removeprefix("/**").removeprefix("*").strip().rstrip("\\").rstrip()
+                         for line in doc.splitlines()).strip()
+    assert check_header(result, tmp_path) == expected
+    yaml_doc = yaml.safe_load(files(result)["src/modules/inject/module.yaml"])
+    assert yaml_doc["parameters"][0]["definitions"]["INJ_GAIN"]["description"]["short"] == \
+        'Gain "quoted" # hash <b> ../x second'
+    for path, text in files(result).items():
+        if path.endswith(".hpp"):
+            for line in text.splitlines():
+                assert not line.rstrip().endswith("\\"), "a comment continued onto the next line"
+
+
+def test_injection_strings_are_refused() -> None:
+    result = run(DATA / "injection_strings.iface")
+    assert result.files == []
+    found = codes_by_name(result)
+    assert {("px4-unsupported-type", "note"), ("px4-default", "note"), ("px4-unsupported-type", "GREETING"),
+            ("px4-param-type", "mode")} <= found
+
+
+def test_cli_generate_fails_for_listing1(tmp_path: Path) -> None:
+    if not (ROOT / "server" / "iface" / "commands" / "generate.py").is_file():
+        pytest.skip("the generate command is not in this tree yet")
+    proc = subprocess.run([sys.executable, "-m", "iface", "generate", "--target", "px4", "-o", str(tmp_path),
+                           str(DATA / "listing1.iface")], capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert "px4-unsupported-type" in proc.stdout + proc.stderr
