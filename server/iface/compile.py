@@ -44,20 +44,10 @@ class Compilation:
 
     def all_diagnostics(self) -> list[Diagnostic]:
         """Diagnostics of this file and of every file it includes, each file once."""
-        out: list[Diagnostic] = []
-        seen: set[str] = set()
-        stack: list[Compilation] = [self]
-        while stack:
-            c = stack.pop()
-            if c.path in seen:
-                continue
-            seen.add(c.path)
-            out.extend(c.diagnostics)
-            stack.extend(reversed(list(c.includes.values())))
-        return out
+        return [d for c in self.closure() for d in c.diagnostics]
 
     def closure(self) -> list[Compilation]:
-        """This compilation and those of all files it includes, each once."""
+        """This compilation and those of all files it includes, each once, depth first."""
         out: list[Compilation] = []
         seen: set[str] = set()
         stack: list[Compilation] = [self]
@@ -67,7 +57,7 @@ class Compilation:
                 continue
             seen.add(c.path)
             out.append(c)
-            stack.extend(c.includes.values())
+            stack.extend(reversed(list(c.includes.values())))
         return out
 
 
