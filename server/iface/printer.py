@@ -21,6 +21,25 @@ _DOUBLE = re.compile(r"[+-]?([0-9]+\.[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?\Z|[+-]?[
 _ESCAPES = {"\\": "\\\\", '"': '\\"', "\n": "\\n", "\r": "\\r", "\t": "\\t", "\0": "\\0"}
 
 
+#: Words the parser does not take as a name right after a ``,`` (a parser limitation): a list whose
+#: next element starts with one of them is separated by a space instead.
+_KEYWORDS = frozenset({
+    "include", "cpp_include", "namespace", "component", "external", "publishes", "subscribes", "provides",
+    "calls", "on", "version", "const", "typedef", "enum", "senum", "struct", "union", "exception", "message",
+    "configuration", "state", "service", "action", "extends", "oneway", "void", "throws", "required",
+    "optional", "map", "set", "list", "cpp_type", "xsd_all", *m.BASE_ALIASES,
+})
+
+
+def join(parts: list[str]) -> str:
+    """Elements of a list separated by ", ", or by " " before one that starts with a keyword."""
+    out = parts[:1]
+    for part in parts[1:]:
+        first = re.match(r"[A-Za-z_][A-Za-z0-9_]*", part)
+        out.append((" " if first and first.group() in _KEYWORDS else ", ") + part)
+    return "".join(out)
+
+
 class PrintError(ValueError):
     """A model value that the language cannot spell (e.g. an infinite float)."""
 
@@ -94,7 +113,7 @@ def _int_of(text: str) -> int:
 def annotations_text(annotations: Iterable[m.Annotation]) -> str:
     """``(k = v, flag)`` or '' when there are none."""
     parts = [a.key if a.value is None else f"{a.key} = {value_text(a.value)}" for a in annotations]
-    return f"({', '.join(parts)})" if parts else ""
+    return f"({join(parts)})" if parts else ""
 
 
 def _with_annotations(text: str, annotations: Iterable[m.Annotation]) -> str:
@@ -204,11 +223,11 @@ def _sections(sections: list[m.Section], indent: str) -> list[str]:
 def _arguments(fields: list[m.Field], indent: str) -> list[str]:
     """An argument list: on one line, or one argument a line when some have docs."""
     if not any(f.doc is not None for f in fields):
-        return [", ".join(field_text(f) for f in fields)]
+        return [join([field_text(f) for f in fields])]
     lines = [""]
     for f in fields:
         lines.extend(doc_lines(f.doc, indent + INDENT))
-        lines.append(f"{indent}{INDENT}{field_text(f)},")
+        lines.append(f"{indent}{INDENT}{field_text(f)}")
     lines.append(indent)
     return lines
 
@@ -243,7 +262,7 @@ def definition_lines(d: m.Definition) -> list[str]:
         for v in d.values:
             lines.extend(doc_lines(v.doc, inner))
             text = f"{v.name} = {v.value}" if v.explicit else v.name
-            lines.append(inner + _with_annotations(text, v.annotations) + ",")
+            lines.append(inner + _with_annotations(text, v.annotations))
         out.extend(_body(f"enum {d.name}", lines, d.annotations, ""))
     elif isinstance(d, m.Senum):
         lines = [f"{inner}{value_text(v)}," for v in d.values]

@@ -19,8 +19,9 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
         target = w.type.target
         if w.direction in ("publishes", "subscribes"):
             if target is not None and not isinstance(target, m.Struct):
+                done = "published" if w.direction == "publishes" else "subscribed to"
                 yield make("wrong-kind", f"'{w.type.name}' is a {target.kind}, not a message: "
-                           f"only messages are {w.direction[:-1]}ed on topics", src, w.type.span)
+                           f"only messages are {done} on topics", src, w.type.span)
                 continue
             ep = m.Endpoint(w.direction, w.topic, target, w)
             (iface.published if w.direction == "publishes" else iface.subscribed).append(ep)
@@ -31,9 +32,9 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
         elif isinstance(target, m.Service) or target is None:
             iface.services.append(m.Endpoint(w.direction, w.topic, target, w))
         else:
+            done = "provided" if w.direction == "provides" else "called"
             yield make("wrong-kind", f"'{w.type.name}' is a {getattr(target, 'kind', 'definition')}, "
-                       f"not a service or action: only those are {w.direction[:-1]}d",
-                       src, w.type.span)
+                       f"not a service or action: only those are {done}", src, w.type.span)
     implicit: list[m.Definition] = []
     for d in iface.definitions:
         if isinstance(d, m.Struct):

@@ -1,0 +1,58 @@
+"""``iface-lsp import --from ros2|px4|json INPUT... --out DIR [--force] [-q]``"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..importers import InputError, Problem, get_importer, importers
+from ..importers.output import write_imported
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the command's arguments."""
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="ROS 2 package folders (ros2), a folder of uORB .msg files (px4), or JSON files (json)")
+    p.add_argument("--from", dest="source", required=True, metavar="FORMAT",
+                   help="what to import: " + ", ".join(sorted(importers())))
+    p.add_argument("--out", required=True, metavar="DIR", help="the folder to write the .iface files to")
+    p.add_argument("--force", action="store_true", help="overwrite existing files whose content differs")
+    p.add_argument("-q", "--quiet", action="store_true", help="print problems only, not the files written")
+
+
+def print_problems(problems: list[Problem], stream=None) -> None:
+    """One ``file:line: message`` line per problem."""
+    stream = stream or sys.stderr
+    for p in problems:
+        stream.write(p.format(p.path) + "\n")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Exit 0 when everything imported; 1 when an input had errors or an existing file was refused
+    (as ``generate`` does); 2 on usage or I/O errors."""
+    importer = get_importer(args.source)
+    if importer is None:
+        print(f"iface-lsp import: unknown format '{args.source}'; known: {', '.join(sorted(importers()))}",
+              file=sys.stderr)
+        return 2
+    try:
+        result = importer.run(list(args.inputs), {})
+    except InputError as e:
+        print(f"iface-lsp import: {e}", file=sys.stderr)
+        return 2
+    print_problems(result.problems)
+    report = write_imported(result.files, args.out, force=args.force)
+    for line in report.errors:
+        print(f"iface-lsp import: {line}", file=sys.stderr)
+    for path in report.refused:
+        print(f"iface-lsp import: {Path(args.out) / path}: exists with other content; not overwritten "
+              "(use --force)", file=sys.stderr)
+    if not args.quiet:
+        for path in report.written:
+            print(f"wrote {Path(args.out) / path}")
+        for path in report.unchanged:
+            print(f"unchanged {Path(args.out) / path}")
+    if report.errors:
+        return 2
+    return 1 if result.has_errors or report.refused else 0

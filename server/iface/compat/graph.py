@@ -1,0 +1,202 @@
+"""The system graph: components as nodes; topics, services and actions as links
+(publisher → subscriber, client → server), with checks of the wiring."""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from ..compile import Compilation
+from ..diagnostics import Diagnostic, Severity
+from ..source import Span
+from .system import Component, Port, System, qos_problems
+from .view import endpoint_type
+
+Display = Callable[[str], str]
+GRAPH_ID = "iface-graph/1"
+#: the graph checks: code -> (severity, summary)
+CHECKS: dict[str, tuple[Severity, str]] = {
+    "graph-unpublished-topic": (Severity.WARNING, "A subscribed topic that no component publishes."),
+    "graph-unsubscribed-topic": (Severity.INFORMATION, "A published topic that no component subscribes."),
+    "graph-topic-type-conflict": (Severity.ERROR, "One topic used with two message types."),
+    "graph-qos-mismatch": (Severity.ERROR, "A publisher and a subscriber whose QoS cannot match."),
+    "graph-unprovided-service": (Severity.ERROR, "A called service or action that no component provides."),
+    "graph-service-type-conflict": (Severity.ERROR, "One service or action name with two types."),
+    "graph-duplicate-provider": (Severity.WARNING, "A service or action provided by two components."),
+}
+
+
+@dataclass(frozen=True)
+class Link:
+    """One edge: from the sender of requests or messages to their receiver."""
+
+    kind: str
+    name: str
+    type: str
+    source: Port
+    target: Port
+    qos: tuple[str, ...] = ()
+
+
+@dataclass
+class Graph:
+    """Components, links, endpoints with no peer, and the checks."""
+
+    components: list[Component]
+    ids: dict[int, str]
+    links: list[Link] = field(default_factory=list)
+    open: list[Port] = field(default_factory=list)
+    checks: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def has_errors(self) -> bool:
+        """True when a check is an error."""
+        return any(d.severity == Severity.ERROR for d in self.checks)
+
+
+def _check(code: str, port: Port, message: str) -> Diagnostic:
+    src = port.component.side.source
+    w = port.endpoint.wiring
+    span = w.span if w is not None else (port.endpoint.definition.name_span if port.endpoint.definition else None)
+    return Diagnostic(code, message, src, span or Span(0, 0), CHECKS[code][0])
+
+
+def _sender(p: Port) -> bool:
+    return p.role in ("publishes", "calls")
+
+
+def build(comps: list[Compilation]) -> Graph:
+    """The graph of a system of compiled components."""
+    system = System.of(comps)
+    ids: dict[int, str] = {}
+    used: set[str] = set()
+    for c in system.components:
+        base = re.sub(r"[^A-Za-z0-9_]", "_", c.name) or "component"
+        ident, n = base, 2
+        while ident in used:
+            ident, n = f"{base}_{n}", n + 1
+        used.add(ident)
+        ids[id(c)] = ident
+    g = Graph(system.components, ids)
+    for key in sorted(system.by_key):
+        ports = system.by_key[key]
+        kind, name = key.split(":", 1)
+        senders = [p for p in ports if _sender(p)]
+        receivers = [p for p in ports if not _sender(p)]
+        types = {}
+        for p in ports:
+            types.setdefault(endpoint_type(p.component.side, p.endpoint).rpartition(".")[2], p)
+        if len(types) > 1:
+            code = "graph-topic-type-conflict" if kind == "topic" else "graph-service-type-conflict"
+            shown = ", ".join(f"{t} ({p.component.name})" for t, p in sorted(types.items()))
+            for p in ports:
+                g.checks.append(_check(code, p, f"{kind} '{name}' is used with several types: {shown}"))
+        for s in senders:
+            for r in receivers:
+                problems = tuple(qos_problems(s, r))
+                g.links.append(Link(kind, name, endpoint_type(s.component.side, s.endpoint), s, r, problems))
+                if problems:
+                    g.checks.append(_check("graph-qos-mismatch", r, f"QoS of '{name}' cannot match between "
+                                           f"{s.component.name} and {r.component.name}: " + "; ".join(problems)))
+        if kind == "topic":
+            if not senders:
+                for r in receivers:
+                    g.open.append(r)
+                    g.checks.append(_check("graph-unpublished-topic", r, f"{r.component.name} subscribes "
+                                           f"'{name}', which no component of the system publishes"))
+            if not receivers:
+                for s in senders:
+                    g.open.append(s)
+                    g.checks.append(_check("graph-unsubscribed-topic", s, f"{s.component.name} publishes "
+                                           f"'{name}', which no component of the system subscribes"))
+        else:
+            if not receivers:
+                for s in senders:
+                    g.open.append(s)
+                    g.checks.append(_check("graph-unprovided-service", s, f"{s.component.name} calls {kind} "
+                                           f"'{name}', which no component of the system provides"))
+            if len(receivers) > 1:
+                names = ", ".join(r.component.name for r in receivers)
+                for r in receivers:
+                    g.checks.append(_check("graph-duplicate-provider", r, f"{kind} '{name}' is provided by "
+                                           f"{len(receivers)} components: {names}"))
+    g.checks.sort(key=lambda d: (d.path, d.span.start, d.code, d.message))
+    return g
+
+
+def _dot_string(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
+def _open_id(g: Graph, p: Port) -> str:
+    return f"open_{g.ids[id(p.component)]}_{re.sub(r'[^A-Za-z0-9_]', '_', p.endpoint.name)}_{p.kind}"
+
+
+def render_dot(g: Graph) -> str:
+    """Graphviz DOT."""
+    lines = ["digraph system {", "  rankdir=LR;", "  node [shape=box, fontname=\"Helvetica\"];",
+             "  edge [fontname=\"Helvetica\", fontsize=10];"]
+    for c in g.components:
+        label = c.name + (f"\n{c.side.iface.version}" if c.side.iface.version else "")
+        lines.append(f"  {_dot_string(g.ids[id(c)])} [label={_dot_string(label)}];")
+    for p in g.open:
+        lines.append(f"  {_dot_string(_open_id(g, p))} [label={_dot_string(p.endpoint.name)}, shape=plaintext];")
+    for link in g.links:
+        style = "solid" if link.kind == "topic" else "dashed"
+        color = ", color=red" if link.qos else ""
+        label = f"{link.name}\n{link.type}" + ("" if link.kind == "topic" else f" ({link.kind})")
+        lines.append(f"  {_dot_string(g.ids[id(link.source.component)])} -> "
+                     f"{_dot_string(g.ids[id(link.target.component)])} [label={_dot_string(label)}, "
+                     f"style={style}{color}];")
+    for p in g.open:
+        a, b = g.ids[id(p.component)], _open_id(g, p)
+        src, dst = (a, b) if _sender(p) else (b, a)
+        lines.append(f"  {_dot_string(src)} -> {_dot_string(dst)} [style=dotted];")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def _mermaid_text(text: str) -> str:
+    return text.replace('"', "#quot;").replace("\n", "<br/>")
+
+
+def render_mermaid(g: Graph) -> str:
+    """A Mermaid flowchart."""
+    lines = ["flowchart LR"]
+    for c in g.components:
+        lines.append(f"  {g.ids[id(c)]}[\"{_mermaid_text(c.name)}\"]")
+    for p in g.open:
+        lines.append(f"  {_open_id(g, p)}([\"{_mermaid_text(p.endpoint.name)}\"])")
+    for link in g.links:
+        arrow = "-->" if link.kind == "topic" else "-.->"
+        label = f"{link.name}: {link.type}" + ("" if link.kind == "topic" else f" ({link.kind})")
+        lines.append(f"  {g.ids[id(link.source.component)]} {arrow}|\"{_mermaid_text(label)}\"| "
+                     f"{g.ids[id(link.target.component)]}")
+    for p in g.open:
+        a, b = g.ids[id(p.component)], _open_id(g, p)
+        src, dst = (a, b) if _sender(p) else (b, a)
+        lines.append(f"  {src} -.- {dst}")
+    return "\n".join(lines) + "\n"
+
+
+def graph_json(g: Graph, display: Display) -> dict[str, Any]:
+    """The graph as JSON data."""
+    def port(p: Port) -> dict[str, Any]:
+        return {"component": g.ids[id(p.component)], "kind": p.kind, "role": p.role, "name": p.endpoint.name,
+                "type": endpoint_type(p.component.side, p.endpoint)}
+    return {
+        "schema": GRAPH_ID,
+        "components": [{"id": g.ids[id(c)], "name": c.name, "version": c.side.iface.version,
+                        "file": display(c.comp.path)} for c in g.components],
+        "links": [{"kind": lk.kind, "name": lk.name, "type": lk.type, "from": g.ids[id(lk.source.component)],
+                   "to": g.ids[id(lk.target.component)], "qos_mismatch": list(lk.qos)} for lk in g.links],
+        "open": [port(p) for p in g.open],
+        "checks": [d.to_json(display(d.path)) for d in g.checks],
+    }
+
+
+def render_json(g: Graph, display: Display) -> str:
+    """The graph as indented JSON."""
+    return json.dumps(graph_json(g, display), indent=2, ensure_ascii=False) + "\n"

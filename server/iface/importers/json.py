@@ -1,0 +1,69 @@
+"""Import the JSON form the ``json`` target writes (see ``iface.jsonform``) back into ``.iface`` files.
+
+Each JSON file becomes the ``.iface`` file it was made from (its ``file`` key),
+written so that compiling it gives a model equal to the one exported.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+from typing import Any
+
+from ..emit.base import GeneratedFile
+from ..jsonform import FormError, from_json
+from ..printer import PrintError
+from . import ImportResult, Importer, InputError, Origin, Problem
+
+_STEM = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.\-]*$")
+
+
+def _line_of(text: str, error: json.JSONDecodeError) -> int:
+    return error.lineno if error.doc == text else 0
+
+
+def import_file(path: Path, result: ImportResult) -> None:
+    """One JSON form → one ``.iface`` file."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError(f"{path}: cannot read the file ({e})") from None
+    result.sources.append(str(path))
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as e:
+        result.problems.append(Problem(str(path), _line_of(text, e), f"not JSON: {e.msg}"))
+        return
+    try:
+        iface_text = from_json(doc)
+    except (FormError, PrintError) as e:
+        result.problems.append(Problem(str(path), 0, f"not the iface JSON form: {e}"))
+        return
+    name = _file_name(doc, path)
+    result.files.append(GeneratedFile(name, iface_text))
+    result.origins.append(Origin(str(path), name, str(doc.get("name", "")), "json"))
+
+
+def _file_name(doc: dict[str, Any], path: Path) -> str:
+    given = doc.get("file")
+    if isinstance(given, str) and _STEM.match(given) and given.endswith((".iface", ".thrift")):
+        return given
+    return f"{path.stem}.iface"
+
+
+def run(inputs: list[str], options: dict[str, Any]) -> ImportResult:
+    """Import every JSON file given; two forms of one file name are refused."""
+    result = ImportResult()
+    for raw in inputs:
+        path = Path(raw)
+        if not path.is_file():
+            raise InputError(f"{raw}: no such file")
+        import_file(path, result)
+    names = [f.path for f in result.files]
+    for name in sorted({n for n in names if names.count(n) > 1}):
+        raise InputError(f"two JSON files would both be written to {name}")
+    return result
+
+
+IMPORTER = Importer(name="json", description="the JSON form written by the json target → .iface", run=run)

@@ -1,0 +1,288 @@
+"""Import ROS 2 packages: ``msg/``, ``srv/``, ``action/`` (and ``.idl``) → one ``.iface`` per package.
+
+Each package becomes ``<package>.iface`` with ``namespace ros2 <package>``; a
+type of another imported package is reached through ``include
+"<other>.iface"``, a type of a package that was not given through ``external
+<other>`` (and a note says so). ROS 2 lets a message and a service (or an
+action) share a name, which one ``.iface`` file cannot: the later kind then
+goes to a companion file ``<package>_srv.iface`` (or ``_action``) in the same
+``ros2`` namespace, which includes the package file.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .. import model as m
+from ..emit.base import GeneratedFile
+from ..normalize import normalize_action, normalize_service
+from ..printer import PrintError, print_items
+from ..source import Span
+from . import ImportResult, Importer, InputError, Origin, Problem
+from .rosidl import Kind, RosFile, RosSyntaxError, RosType, clean_comments, is_package_name, parse_file
+from .rosmodel import PRIMITIVES, Spans, members
+
+KINDS: tuple[Kind, ...] = ("msg", "srv", "action")
+IDL_FOLDERS = ("msg", "srv", "action", "idl")
+
+
+@dataclass(slots=True)
+class Package:
+    """One ROS 2 package given on the command line."""
+
+    name: str
+    folder: Path
+    files: list[tuple[Kind, Path]] = field(default_factory=list)
+    idl: list[Path] = field(default_factory=list)
+    parsed: list[tuple[Path, RosFile]] = field(default_factory=list)
+
+
+def package_name(folder: Path) -> str:
+    """The name in ``package.xml``, else the folder name."""
+    xml = folder / "package.xml"
+    if xml.is_file():
+        try:
+            node = ET.parse(xml).getroot().find("name")
+        except (ET.ParseError, OSError):
+            node = None
+        if node is not None and node.text and node.text.strip():
+            return node.text.strip()
+    return folder.resolve().name
+
+
+def find_packages(inputs: list[str], problems: list[Problem]) -> list[Package]:
+    """The packages named on the command line, each once; folders without interfaces get a warning."""
+    out: dict[Path, Package] = {}
+    for raw in inputs:
+        folder = Path(raw)
+        if not folder.is_dir():
+            raise InputError(f"{raw}: not a folder (give ROS 2 package folders)")
+        key = folder.resolve()
+        if key in out:
+            continue
+        pkg = Package(package_name(folder), folder)
+        for kind in KINDS:
+            sub = folder / kind
+            if sub.is_dir():
+                pkg.files.extend((kind, p) for p in sorted(sub.glob(f"*.{kind}")) if p.is_file())
+        for sub in IDL_FOLDERS:
+            if (folder / sub).is_dir():
+                pkg.idl.extend(p for p in sorted((folder / sub).glob("*.idl")) if p.is_file())
+        if not pkg.files and not pkg.idl:
+            problems.append(Problem(str(folder), 0, "no msg/, srv/ or action/ interface files: not imported",
+                                    "warning"))
+            continue
+        out[key] = pkg
+    names: dict[str, Package] = {}
+    for pkg in out.values():
+        if pkg.name in names:
+            raise InputError(f"{pkg.folder}: the package '{pkg.name}' is also given as {names[pkg.name].folder}")
+        names[pkg.name] = pkg
+    return list(out.values())
+
+
+def _read(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as e:
+        raise InputError(f"{path}: byte {e.start} is not UTF-8") from None
+    except OSError as e:
+        raise InputError(f"{path}: {e.strerror}") from None
+
+
+class _PackageImport:
+    """Builds the ``.iface`` file(s) of one package."""
+
+    def __init__(self, pkg: Package, known: dict[str, dict[str, Kind]], result: ImportResult,
+                 edges: dict[str, set[str]], externals_seen: set[str]) -> None:
+        self.pkg = pkg
+        self.known = known
+        self.result = result
+        self.edges = edges
+        self.externals_seen = externals_seen
+        self.spans = Spans()
+
+    def problem(self, path: Path, line: int, message: str, severity: str = "error") -> None:
+        self.result.problems.append(Problem(str(path), line, message, severity))  # type: ignore[arg-type]
+
+    def reachable(self, start: str, goal: str) -> bool:
+        stack, seen = [start], set()
+        while stack:
+            x = stack.pop()
+            if x == goal:
+                return True
+            if x not in seen:
+                seen.add(x)
+                stack.extend(self.edges.get(x, ()))
+        return False
+
+    def name_of(self, t: RosType, path: Path, line: int, local_prefix: str, uses: dict[str, str]) -> str:
+        """The .iface name of a message type, recording the include or external it needs."""
+        pkg = self.pkg.name
+        other = t.package or pkg
+        if other == pkg:
+            if self.known[pkg].get(t.name) != "msg":
+                raise RosSyntaxError(f"unknown type '{t.name}': the package '{pkg}' has no msg/{t.name}.msg")
+            return f"{local_prefix}{t.name}" if local_prefix else t.name
+        if other in self.known:
+            if self.known[other].get(t.name) != "msg":
+                raise RosSyntaxError(f"unknown type '{other}/{t.name}': the package '{other}' has no "
+                                     f"msg/{t.name}.msg")
+            if uses.get(other) == "include" or (other not in uses and not self.reachable(other, pkg)):
+                uses[other] = "include"
+                self.edges.setdefault(pkg, set()).add(other)
+                return f"{other}.{t.name}"
+            if other not in uses:
+                self.problem(path, line, f"'{other}' uses '{pkg}' too: its types are kept as `external {other}` "
+                             "so that the files do not include each other", "note")
+        uses[other] = "external"
+        if other not in self.externals_seen and other not in self.known:
+            self.externals_seen.add(other)
+            self.problem(path, line, f"'{other}/{t.name}' is from the package '{other}', which was not imported: "
+                         f"kept as an external reference (`external {other}`)", "note")
+        return f"{other}.{t.name}"
+
+    def definition(self, path: Path, rf: RosFile, local_prefix: str, uses: dict[str, str]) -> m.Definition | None:
+        """The model definition of one parsed file, or None when a line of it is wrong."""
+        problems: list[tuple[int, str]] = []
+        parts = []
+        for i, part in enumerate(rf.parts):
+            def name_of(t: RosType, _part: Any = part) -> str:
+                line = next((e.line for e in _part.elements if e.type is t), 0)
+                return self.name_of(t, path, line, local_prefix, uses)
+            lead = part.comments if i > 0 else None
+            fields, consts = members(part, name_of, self.spans, lead=lead, problems=problems)
+            parts.append((fields, consts))
+        for line, message in problems:
+            self.problem(path, line, message)
+        if problems:
+            return None
+        doc = clean_comments(rf.parts[0].comments)
+        span = self.spans()
+        if rf.kind == "msg":
+            fields, consts = parts[0]
+            return m.Struct("message", rf.name, span, span, fields, consts, [], doc)
+        names = ("request", "response") if rf.kind == "srv" else ("goal", "result", "feedback")
+        sections = [m.Section(n, self.spans(), Span(0, 0), f, c) for n, (f, c) in zip(names, parts)]
+        if rf.kind == "srv":
+            svc = m.Service(rf.name, span, span, sections=sections, doc=doc)
+            normalize_service(svc)
+            return svc
+        act = m.Action(rf.name, span, span, sections=sections, doc=doc)
+        normalize_action(act)
+        return act
+
+    def run(self) -> None:
+        pkg = self.pkg
+        files: dict[str, list[tuple[Path, m.Definition]]] = {"": []}
+        uses: dict[str, dict[str, str]] = {"": {}}
+        placed: dict[str, str] = {}
+        for path, rf in pkg.parsed:
+            first = placed.setdefault(rf.name, rf.kind)
+            suffix = "" if first == rf.kind else f"_{rf.kind}"
+            files.setdefault(suffix, [])
+            uses.setdefault(suffix, {})
+            prefix = f"{pkg.name}." if suffix else ""
+            d = self.definition(path, rf, prefix, uses[suffix])
+            if d is not None:
+                files[suffix].append((path, d))
+        for suffix, defs in files.items():
+            if not defs and suffix:
+                continue
+            self.write(suffix, defs, uses[suffix])
+
+    def write(self, suffix: str, defs: list[tuple[Path, m.Definition]], uses: dict[str, str]) -> None:
+        pkg = self.pkg.name
+        out = f"{pkg}{suffix}.iface"
+        items: list[m.Item] = [m.Namespace("ros2", pkg, self.spans())]
+        if suffix:
+            items.append(m.Include(f"{pkg}.iface", self.spans(), Span(0, 0)))
+        for other in sorted(uses):
+            if uses[other] == "include":
+                items.append(m.Include(f"{other}.iface", self.spans(), Span(0, 0)))
+        items.extend(m.External(o, self.spans()) for o in sorted(uses) if uses[o] == "external")
+        order = {k: i for i, k in enumerate(KINDS)}
+        defs = sorted(defs, key=lambda x: (order[_kind(x[1])], x[1].name))
+        items.extend(d for _, d in defs)
+        header = f"ROS 2 package {pkg}, imported by iface-lsp import --from ros2."
+        try:
+            text = print_items(items, header)
+        except PrintError as e:
+            self.problem(self.pkg.folder, 0, str(e))
+            return
+        self.result.files.append(GeneratedFile(out, text))
+        for path, d in defs:
+            self.result.origins.append(Origin(str(path), out, d.name, _kind(d)))
+
+
+def _kind(d: m.Definition) -> str:
+    return "srv" if isinstance(d, m.Service) else "action" if isinstance(d, m.Action) else "msg"
+
+
+def _idl_files(pkg: Package, result: ImportResult) -> None:
+    """Read .idl files through rosbags' IDL parser (fields and constants; defaults and comments are not read)."""
+    try:
+        from rosbags.typesys import get_types_from_idl
+    except ImportError:
+        for p in pkg.idl:
+            result.problems.append(Problem(str(p), 0, "reading .idl files needs the rosbags package "
+                                           "(pip install rosbags): not imported", "warning"))
+        return
+    from .idl import ros_files_from_idl
+
+    for p in pkg.idl:
+        try:
+            types = get_types_from_idl(_read(p))
+        except InputError:
+            raise
+        except Exception as e:  # rosbags raises its own error types for bad IDL
+            result.problems.append(Problem(str(p), 0, f"cannot read the IDL file: {e}"))
+            continue
+        files, problems = ros_files_from_idl(types, pkg.name)
+        result.problems.extend(Problem(str(p), 0, msg) for msg in problems)
+        pkg.parsed.extend((p, rf) for rf in files)
+
+
+def run(inputs: list[str], options: dict[str, Any]) -> ImportResult:
+    """Import every package given; problems are reported per line, the other files still import."""
+    result = ImportResult()
+    packages = find_packages(inputs, result.problems)
+    known: dict[str, dict[str, Kind]] = {}
+    for pkg in packages:
+        if not is_package_name(pkg.name):
+            result.problems.append(Problem(str(pkg.folder), 0, f"'{pkg.name}' is not a valid ROS 2 package name"))
+            continue
+        for kind, path in pkg.files:
+            result.sources.append(str(path))
+            rf = parse_file(kind, pkg.name, path.stem, _read(path))
+            for line, message in rf.problems:
+                result.problems.append(Problem(str(path), line, message))
+            if not rf.problems:
+                pkg.parsed.append((path, rf))
+        _idl_files(pkg, result)
+        names = known.setdefault(pkg.name, {})
+        for _, rf in pkg.parsed:
+            if rf.kind == "msg":
+                names[rf.name] = "msg"  # a type reference always means the message
+            else:
+                names.setdefault(rf.name, rf.kind)
+    edges: dict[str, set[str]] = {}
+    externals: set[str] = set()
+    for pkg in sorted(packages, key=lambda p: p.name):
+        if pkg.name in known and pkg.parsed:
+            _PackageImport(pkg, known, result, edges, externals).run()
+    result.files.sort(key=lambda f: f.path)
+    result.problems.sort(key=lambda p: (p.path, p.line))
+    return result
+
+
+IMPORTER = Importer(
+    name="ros2",
+    description="ROS 2 packages (msg/, srv/, action/, .idl) → one .iface per package",
+    run=run,
+)
+
+__all__ = ["IMPORTER", "PRIMITIVES", "run"]

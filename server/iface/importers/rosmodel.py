@@ -1,0 +1,108 @@
+"""Parsed ROS interface files → model definitions (shared by the ROS 2 and PX4 importers)."""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable
+
+from .. import model as m
+from ..printer import quote
+from ..source import Span
+from .rosidl import Element, Part, RosSyntaxError, RosType, Scalar, clean_comments
+
+_INT = re.compile(r"[+-]?(0x[0-9A-Fa-f]+|[0-9]+)\Z")
+_DOUBLE = re.compile(r"[+-]?([0-9]+\.[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?\Z|[+-]?[0-9]+[eE][+-]?[0-9]+\Z")
+
+#: ROS primitive → (canonical model name, spelling written in the .iface file).
+PRIMITIVES: dict[str, tuple[str, str]] = {
+    "bool": ("bool", "bool"), "byte": ("octet", "octet"), "char": ("char", "char"),
+    "int8": ("i8", "int8"), "uint8": ("u8", "uint8"), "int16": ("i16", "int16"), "uint16": ("u16", "uint16"),
+    "int32": ("i32", "int32"), "uint32": ("u32", "uint32"), "int64": ("i64", "int64"),
+    "uint64": ("u64", "uint64"), "float32": ("float32", "float32"), "float64": ("float64", "float64"),
+    "string": ("string", "string"), "wstring": ("wstring", "wstring"),
+}
+
+#: Resolves a message type to the name the .iface file uses for it (raises RosSyntaxError if unknown).
+NameOf = Callable[[RosType], str]
+
+
+class Spans:
+    """Increasing spans, so that the printer writes members in the order they were read."""
+
+    def __init__(self) -> None:
+        self.at = 0
+
+    def __call__(self) -> Span:
+        self.at += 1
+        return Span(self.at, self.at)
+
+
+def model_type(t: RosType, name_of: NameOf, spans: Spans) -> m.TypeRef:
+    """The model type of a ROS type."""
+    core: m.TypeRef
+    if t.primitive:
+        canonical, spelling = PRIMITIVES[t.name]
+        core = m.BaseType(canonical, spans(), spelling, t.string_bound)
+    else:
+        core = m.NamedType(name_of(t), spans())
+    if t.array is None:
+        return core
+    return m.ArrayType(core, spans(), t.array, t.size)
+
+
+def _scalar(t: str, value: Scalar, text: str, spans: Spans) -> m.Value:
+    if t == "bool":
+        word = "true" if value else "false"
+        return m.Value("name", word, spans(), word)
+    if t in ("string", "wstring"):
+        return m.Value("string", value, spans(), quote(str(value)))
+    if t in ("float32", "float64"):
+        number = float(value)
+        if math.isinf(number) or math.isnan(number):
+            raise RosSyntaxError(f"value '{text}' is not finite: iface numbers are finite")
+        if _INT.match(text):
+            return m.Value("int", int(text, 16) if "x" in text.lower() else int(text), spans(), text)
+        if _DOUBLE.match(text):
+            return m.Value("double", number, spans(), text)
+        return m.Value("double", number, spans(), repr(number))
+    text = text if _INT.match(text) and _int(text) == value else str(value)
+    return m.Value("int", value, spans(), text)
+
+
+def _int(text: str) -> int:
+    sign = -1 if text.startswith("-") else 1
+    digits = text.lstrip("+-")
+    return sign * (int(digits[2:], 16) if digits[:2].lower() == "0x" else int(digits, 10))
+
+
+def model_value(e: Element, spans: Spans) -> m.Value | None:
+    """The model value of a default or a constant value, spelled as written where the language allows."""
+    if e.value is None:
+        return None
+    if isinstance(e.value, list):
+        items = [_scalar(e.type.name, v, text, spans) for v, text in zip(e.value, e.texts)]
+        return m.Value("list", items, spans())
+    return _scalar(e.type.name, e.value, e.texts[0], spans)
+
+
+def members(part: Part, name_of: NameOf, spans: Spans, *, lead: list[str] | None = None,
+            problems: list[tuple[int, str]]) -> tuple[list[m.Field], list[m.Const]]:
+    """Fields and constants of one body; ``lead`` comments go to the first member."""
+    fields: list[m.Field] = []
+    consts: list[m.Const] = []
+    for i, e in enumerate(part.elements):
+        comments = ([*lead, ""] if lead and i == 0 else []) + e.comments
+        doc = clean_comments(comments)
+        try:
+            t = model_type(e.type, name_of, spans)
+            value = model_value(e, spans)
+        except RosSyntaxError as err:
+            problems.append((e.line, str(err)))
+            continue
+        if e.kind == "constant":
+            assert value is not None
+            consts.append(m.Const(e.name, t, value, spans(), spans(), [], doc))
+        else:
+            fields.append(m.Field(e.name, t, spans(), spans(), default=value, doc=doc))
+    return fields, consts

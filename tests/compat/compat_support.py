@@ -1,0 +1,36 @@
+"""Helpers for the compatibility tests: compile fixtures, run the real CLI."""
+
+from __future__ import annotations
+
+import functools
+import subprocess
+import sys
+from pathlib import Path
+
+from iface.compile import Compilation, Workspace
+
+DATA = Path(__file__).parent / "data"
+
+
+def compile_file(path: Path | str) -> Compilation:
+    """Compile one fixture file in a fresh workspace."""
+    return Workspace().compile_path(str(path))
+
+
+def compile_text(tmp_path: Path, name: str, text: str) -> Compilation:
+    """Write ``text`` to ``tmp_path/name`` and compile it."""
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return compile_file(p)
+
+
+def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``python -m iface ARGS`` and capture its output."""
+    return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True,
+                          cwd=str(cwd or DATA), timeout=120, check=False)
+
+
+@functools.cache
+def cached(path: Path) -> Compilation:
+    """Compile a fixture once per test session (comparisons do not change compilations)."""
+    return compile_file(path)
