@@ -27,10 +27,8 @@ def test_a_file_that_does_not_import_is_counted_as_different():
     assert r.stdout.splitlines()[-1] == "1 of 2 identical"
 
 
-@pytest.mark.xfail(strict=True, reason="ros2 target (emit/ros2/render.py msg_string_problem) refuses string "
-                   "array defaults whose quoted elements hold a comma, which rosidl reads: "
-                   "[\"a, b\", 'c', d] in CommaStrings.msg")
 def test_string_array_elements_with_commas():
+    """["a, b", 'c', d] in CommaStrings.msg: rosidl reads the commas inside quotes as text."""
     r = run_cli("roundtrip", "--from", "ros2", str(GAPS))
     assert r.returncode == 0, r.stdout
 

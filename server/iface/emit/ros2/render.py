@@ -62,8 +62,9 @@ def msg_string_problem(text: str, *, field_default: bool, in_array: bool) -> tup
     if text.endswith("\\") or '\\"' in text:
         return ("ros2-unwritable-string", "a backslash before a quote or at the end is read differently "
                 "by ROS 2 parsers")
-    if in_array and (any(q in text for q in "\"'\\,") or text != text.strip()):
-        return ("ros2-unwritable-string", "array elements cannot hold quotes, backslashes, commas or "
+    # elements are written quoted, so commas are safe; quotes and outer spaces are not
+    if in_array and (any(q in text for q in "\"'\\") or text != text.strip()):
+        return ("ros2-unwritable-string", "array elements cannot hold quotes, backslashes or "
                 "leading/trailing spaces in .msg syntax")
     return None
 
