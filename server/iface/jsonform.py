@@ -121,7 +121,7 @@ def _const(c: m.Const) -> dict[str, Any]:
 
 
 def _section(s: m.Section) -> dict[str, Any]:
-    return {"name": s.name, "implicit": s.implicit, "fields": [_field(f) for f in s.fields],
+    return {"name": s.name, "implicit": s.implicit, "doc": s.doc, "fields": [_field(f) for f in s.fields],
             "consts": [_const(c) for c in s.consts]}
 
 
@@ -314,7 +314,8 @@ class _Reader:
         consts = [self.const(x, w) for w, x in self.list_of(obj, "consts", where)]
         fields = [self.field(x, w) for w, x in self.list_of(obj, "fields", where)]
         return m.Section(self.get(obj, "name", where, str), self.span(), Span(0, 0), fields, consts,
-                         bool(self.get(obj, "implicit", where, bool, optional=True)))
+                         bool(self.get(obj, "implicit", where, bool, optional=True)),
+                         self.get(obj, "doc", where, str, optional=True))
 
     def function(self, obj: Any, where: str) -> m.Function:
         ret = self.get(obj, "returns", where, dict, optional=True)

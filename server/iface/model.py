@@ -254,6 +254,7 @@ class Section:
     consts: list[Const] = field(default_factory=list)
     #: True when read from a flat body rather than written as a section.
     implicit: bool = False
+    doc: str | None = None
 
 
 @dataclass(slots=True, eq=False)

@@ -216,6 +216,7 @@ def _body(head: str, lines: list[str], tail_annotations: list[m.Annotation], ind
 def _sections(sections: list[m.Section], indent: str) -> list[str]:
     out: list[str] = []
     for sec in sections:
+        out.extend(doc_lines(sec.doc, indent))
         out.extend(_body(sec.name, _members(sec.fields, sec.consts, indent + INDENT), [], indent))
     return out
 

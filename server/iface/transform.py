@@ -217,7 +217,8 @@ class ModelBuilder:
         fields = [x for x in c if isinstance(x, m.Field)]
         consts = [x for x in c if isinstance(x, m.Const)]
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "RBRACE")
-        return m.Section(str(name), self.span(name.start_pos, end), self.tok_span(name), fields, consts)
+        return m.Section(str(name), self.span(name.start_pos, end), self.tok_span(name), fields, consts,
+                         False, self.docs.get(name.start_pos))
 
     def service(self, c: list[Any]) -> m.Service:
         kw, name = c[0], c[1]

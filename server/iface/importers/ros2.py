@@ -153,8 +153,7 @@ class _PackageImport:
             def name_of(t: RosType, _part: Any = part) -> str:
                 line = next((e.line for e in _part.elements if e.type is t), 0)
                 return self.name_of(t, path, line, local_prefix, uses)
-            lead = part.comments if i > 0 else None
-            fields, consts = members(part, name_of, self.spans, lead=lead, problems=problems)
+            fields, consts = members(part, name_of, self.spans, problems=problems)
             parts.append((fields, consts))
         for line, message in problems:
             self.problem(path, line, message)
@@ -166,7 +165,9 @@ class _PackageImport:
             fields, consts = parts[0]
             return m.Struct("message", rf.name, span, span, fields, consts, [], doc)
         names = ("request", "response") if rf.kind == "srv" else ("goal", "result", "feedback")
-        sections = [m.Section(n, self.spans(), Span(0, 0), f, c) for n, (f, c) in zip(names, parts)]
+        sections = [m.Section(n, self.spans(), Span(0, 0), f, c, False,
+                              clean_comments(part.comments) if i > 0 else None)
+                    for i, (n, (f, c), part) in enumerate(zip(names, parts, rf.parts))]
         if rf.kind == "srv":
             svc = m.Service(rf.name, span, span, sections=sections, doc=doc)
             normalize_service(svc)
