@@ -68,3 +68,17 @@ def test_dump_command() -> None:
     assert r.returncode == 0
     data = json.loads(r.stdout)
     assert data["name"] == "drive" and data["sets"]["subscribed"][0]["name"] == "/cmd_vel"
+
+
+def test_cli_starts_without_site_hooks() -> None:
+    """A fresh install has no .pth hooks that import importlib.util for us (python -S)."""
+    import sys
+    import sysconfig
+    from pathlib import Path
+
+    server = Path(__file__).resolve().parents[2] / "server"
+    code = ("import sys; sys.path[:0] = [%r, %r]; from iface.cli import main; "
+            "sys.exit(main(['check', %r]))" % (str(server), sysconfig.get_paths()["purelib"],
+                                                 str(VALID / "mini_robot.iface")))
+    r = subprocess.run([sys.executable, "-S", "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
