@@ -276,6 +276,10 @@ def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Inclu
     for inc in iface.includes:
         if inc.cpp:
             continue
+        if not inc.path.endswith(SUFFIXES):
+            diagnostics.append(make("include-not-interface", f"cannot include '{inc.path}': only .iface and "
+                                    ".thrift files hold interfaces", src, inc.path_span))
+            continue
         found = includes.find(src.path, inc.path) if includes is not None else None
         if found is None:
             diagnostics.append(make("include-not-found", f"cannot find included file '{inc.path}'",

@@ -52,6 +52,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "topic-type-conflict": (Severity.ERROR, "One topic used with two message types."),
     "duplicate-wiring": (Severity.WARNING, "The same wiring stated twice."),
     "invalid-topic-name": (Severity.ERROR, "A topic or service name that ROS 2 rejects."),
+    "invalid-qos": (Severity.ERROR, "A QoS annotation with an unknown policy or a value ROS 2 cannot take."),
+    "include-not-interface": (Severity.ERROR, "An include that names a file which is not .iface or .thrift."),
     "recursive-type": (Severity.ERROR, "A type that contains itself, which ROS 2 and PX4 cannot represent."),
     "service-part-missing": (Severity.ERROR, "A service or action without one of its parts."),
     "unknown-section": (Severity.ERROR, "A section name a service or action does not have."),

@@ -15,6 +15,7 @@ from . import model as m
 from .diagnostics import Diagnostic, Related, Severity, make
 from .source import Source
 from .naming import ros_constant_name, ros_field_name, ros_type_name, is_ros_constant, is_ros_field, is_ros_type
+from .qos import problem as qos_problem
 from .normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
 from .resolve import constant_value
 from .walk import all_consts, bodies, resolve_typedefs
@@ -448,6 +449,21 @@ def topic_names(iface: m.Interface) -> Iterator[Diagnostic]:
         if not _TOPIC.match(t) or "//" in t or t.endswith("/") or "__" in t:
             yield make("invalid-topic-name", f"'{t}' is not a valid ROS 2 name: use letters, digits, "
                        "'_' and '/' separators, not starting with a digit", src, w.topic_span)
+
+
+@rule(robot_only=True)
+def qos_settings(iface: m.Interface) -> Iterator[Diagnostic]:
+    """QoS annotations name ROS 2 policies with values they can take."""
+    src = iface.source
+    for w in iface.wirings:
+        for a in w.annotations:
+            if not a.key.startswith("qos."):
+                continue
+            found = qos_problem(a.key[4:], a.text)
+            if found is not None:
+                is_error, message = found
+                yield make("invalid-qos", message, src, a.span,
+                           severity=Severity.ERROR if is_error else Severity.WARNING)
 
 
 @rule(robot_only=True)

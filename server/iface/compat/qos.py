@@ -12,30 +12,14 @@ automatic, infinite). Depth, history and lifespan do not take part in matching.
 from __future__ import annotations
 
 import math
-import re
 
-ORDERS: dict[str, tuple[str, ...]] = {
-    "reliability": ("best_effort", "reliable"),
-    "durability": ("volatile", "transient_local", "transient", "persistent"),
-    "liveliness": ("automatic", "manual_by_node", "manual_by_topic"),
-}
+from ..qos import ALIASES as _ALIASES
+from ..qos import ORDERS, duration
+
+#: Policies that take part in matching, with their ROS 2 defaults.
 DURATIONS = ("deadline", "liveliness_lease_duration")
-_ALIASES = {"lease_duration": "liveliness_lease_duration"}
 DEFAULTS: dict[str, object] = {"reliability": "reliable", "durability": "volatile", "liveliness": "automatic",
                                "deadline": math.inf, "liveliness_lease_duration": math.inf}
-_UNITS = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
-_DURATION = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*(ns|us|ms|s)?\s*$")
-
-
-def duration(text: str) -> float | None:
-    """Seconds from ``"100ms"``, ``"0.5"`` (seconds) or ``"infinite"``; None when unreadable."""
-    t = text.strip().lower()
-    if t in ("", "infinite", "inf", "default", "system_default"):
-        return math.inf
-    mt = _DURATION.match(t)
-    if mt is None:
-        return None
-    return float(mt.group(1)) * _UNITS[mt.group(2) or "s"]
 
 
 def policies(qos: dict[str, str]) -> dict[str, object]:
