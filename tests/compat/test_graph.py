@@ -92,3 +92,29 @@ def test_impact_cli() -> None:
     broken = run_cli("impact", "--system", "verdicts/planner.iface", "verdicts/monitor.iface",
                      "--replace", "verdicts/arm_v1.iface", "verdicts/arm_v3.iface")
     assert broken.returncode == 1 and "affected components: monitor (broken)" in broken.stdout
+
+
+def test_same_name_in_another_package_or_with_other_fields_is_a_conflict(tmp_path: Path) -> None:
+    from iface.compile import Workspace
+
+    pub = tmp_path / "nav.iface"
+    pub.write_text('namespace ros2 nav_pkg\nmessage Status { float64 battery, u8 mode }\n'
+                   'publishes Status on "/nav/status"\n')
+    other_pkg = tmp_path / "mon.iface"
+    other_pkg.write_text('namespace ros2 monitor_pkg\nmessage Status { float64 battery, u8 mode }\n'
+                         'subscribes Status on "/nav/status"\n')
+    other_fields = tmp_path / "mon2.iface"
+    other_fields.write_text('namespace ros2 nav_pkg\nmessage Status { i32 level }\n'
+                            'subscribes Status on "/nav/status"\n')
+    same = tmp_path / "mon3.iface"
+    same.write_text('namespace ros2 nav_pkg\nmessage Status { float64 battery, u8 mode }\n'
+                    'subscribes Status on "/nav/status"\n')
+    ws = Workspace()
+
+    def conflicts(*paths: Path) -> list[str]:
+        g = build([ws.compile_path(str(p)) for p in paths])
+        return [d.message for d in g.checks if d.code == "graph-topic-type-conflict"]
+
+    assert conflicts(pub, same) == []
+    assert any("monitor_pkg/Status" in msg and "nav_pkg/Status" in msg for msg in conflicts(pub, other_pkg))
+    assert any("other fields" in msg for msg in conflicts(pub, other_fields))

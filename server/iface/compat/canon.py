@@ -74,6 +74,9 @@ def _definition(side: Side, d: m.Definition) -> dict[str, Any]:
             "feedback": _section(side, d.feedback), "consts": _consts(side, d.consts)}
 
 
+canonical_definition = _definition
+
+
 def _setting(side: Side, f: m.Field) -> dict[str, Any]:
     return {"type": side.type_key(f.type), "default": value_key(f.default), "unit": f.unit,
             "range": list(f.range) if f.range else None}

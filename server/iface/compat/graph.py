@@ -3,15 +3,18 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from .. import model as m
 from ..compile import Compilation
 from ..diagnostics import Diagnostic, Severity
 from ..source import Span
 from .system import Component, Port, System, qos_problems
+from .canon import canonical_definition
 from .view import endpoint_type
 
 Display = Callable[[str], str]
@@ -56,6 +59,33 @@ class Graph:
         return any(d.severity == Severity.ERROR for d in self.checks)
 
 
+def wire_type(p: Port) -> str:
+    """What a port's type is on the wire: ROS package and name, and a digest of its structure.
+
+    Two components agree on a topic only when both match: the same name in another
+    package, or the same package and name with other fields, are different types
+    (ROS 2 matches by type hash). Types whose fields all carry ids are matched by
+    name only: readers may know a subset of the fields, which compat judges.
+    """
+    side = p.component.side
+    ep = p.endpoint
+    d = ep.definition
+    if d is None:
+        name = ep.wiring.type.name if ep.wiring is not None else "?"
+        pkg, _, local = name.rpartition(".")
+        return f"{pkg}/{local}" if pkg else local
+    qual = side.qualname(d)
+    if "." in qual:
+        pkg, _, local = qual.rpartition(".")
+    else:
+        pkg, local = side.iface.namespace("ros2") or side.iface.name, qual
+    if isinstance(d, m.Struct) and d.fields and all(f.id is not None for f in d.fields):
+        # Thrift-style ids: a reader may know a subset of the fields (checked by compat, not here)
+        return f"{pkg}/{local}"
+    digest = hashlib.sha256(json.dumps(canonical_definition(side, d), sort_keys=True).encode()).hexdigest()[:8]
+    return f"{pkg}/{local}#{digest}"
+
+
 def _check(code: str, port: Port, message: str) -> Diagnostic:
     src = port.component.side.source
     w = port.endpoint.wiring
@@ -87,10 +117,13 @@ def build(comps: list[Compilation]) -> Graph:
         receivers = [p for p in ports if not _sender(p)]
         types = {}
         for p in ports:
-            types.setdefault(endpoint_type(p.component.side, p.endpoint).rpartition(".")[2], p)
+            types.setdefault(wire_type(p), p)
         if len(types) > 1:
             code = "graph-topic-type-conflict" if kind == "topic" else "graph-service-type-conflict"
-            shown = ", ".join(f"{t} ({p.component.name})" for t, p in sorted(types.items()))
+            names = [t.partition("#")[0] for t in types]
+            shown = ", ".join(
+                f"{t.partition('#')[0]}{' (other fields)' if names.count(t.partition('#')[0]) > 1 else ''}"
+                f" ({p.component.name})" for t, p in sorted(types.items()))
             for p in ports:
                 g.checks.append(_check(code, p, f"{kind} '{name}' is used with several types: {shown}"))
         for s in senders:

@@ -49,6 +49,7 @@ _TABLE: list[tuple[str, Severity, str, str]] = [
     ("action-type-changed", E, "A", "An action name bound to a different action type."),
     # P: parameters
     ("parameter-added-required", E, "P", "A new parameter without a default: every deployment must now set it."),
+    ("parameter-default-removed", E, "P", "A parameter that lost its default: deployments that relied on it must now set it."),
     ("parameter-added", I, "P", "A new parameter with a default."),
     ("parameter-removed", I, "P", "NEW needs one parameter fewer."),
     ("parameter-type-changed", E, "P", "A parameter whose type does not accept every value the old type did."),

@@ -153,7 +153,11 @@ def compare_parameters(ctx: Context) -> None:
                 else:
                     ctx.add("parameter-type-changed", subject, f"parameter '{name}' changed type {to} → {tn}",
                             oloc, nloc, usage=usage, breaks="configurations written for OLD may not load")
-            if value_key(o.default) != value_key(n.default):
+            if o.default is not None and n.default is None:
+                ctx.add("parameter-default-removed", subject, f"parameter '{name}' no longer has a default "
+                        f"(was {value_text(o.default)})", oloc, nloc, usage=usage, fix=_add_default_fix(ctx.new, n),
+                        breaks="deployments configured for OLD do not set it")
+            elif value_key(o.default) != value_key(n.default):
                 ctx.add("default-changed", subject, f"default of parameter '{name}' changed "
                         f"{value_text(o.default)} → {value_text(n.default)}", oloc, nloc, usage=usage)
             compare_unit_range(ctx, subject, f"parameter '{name}'", o, n, oloc, nloc, {RECEIVE}, usage)
