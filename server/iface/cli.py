@@ -58,6 +58,14 @@ def _available() -> dict[str, tuple[str, str]]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``iface-lsp`` console script."""
     args_list = list(sys.argv[1:] if argv is None else argv)
+    if any(a == "--stdio" or a == "--tcp" or a.startswith("--tcp=") for a in args_list):
+        # the server starts without building the commands' parsers (their imports cost startup time)
+        pre = argparse.ArgumentParser(prog="iface-lsp")
+        pre.add_argument("--stdio", action="store_true")
+        pre.add_argument("--tcp", metavar="HOST:PORT")
+        known = pre.parse_args(args_list)
+        from .lsp.server import serve
+        return serve(tcp=known.tcp)
     available = _available()
     # only build the one subcommand's arguments: keeps `check` fast
     first = next((a for a in args_list if not a.startswith("-")), None)
@@ -68,9 +76,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         from . import __version__
         print(f"iface-lsp {__version__}")
         return 0
-    if args.stdio or args.tcp:
-        from .lsp.server import serve
-        return serve(tcp=args.tcp)
     if not args.command:
         parser.print_help(sys.stderr)
         return 2

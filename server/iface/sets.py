@@ -6,6 +6,7 @@ from collections.abc import Iterator
 
 from . import model as m
 from .diagnostics import Diagnostic, Related, make
+from .walk import resolve_typedefs
 
 
 def derive(iface: m.Interface) -> Iterator[Diagnostic]:
@@ -17,6 +18,9 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
     wired_calls = False
     for w in iface.wirings:
         target = w.type.target
+        if isinstance(target, m.Typedef):
+            real = resolve_typedefs(w.type)
+            target = real.target if isinstance(real, m.NamedType) else target
         if w.direction in ("publishes", "subscribes"):
             if target is not None and not isinstance(target, m.Struct):
                 done = "published" if w.direction == "publishes" else "subscribed to"
@@ -79,7 +83,7 @@ def _wiring_checks(iface: m.Interface) -> Iterator[Diagnostic]:
                        f"{channel} '{w.topic}' is used with '{b.name}' here and with '{a.name}' elsewhere",
                        src, w.topic_span,
                        related=[Related(src, first.topic_span, f"'{w.topic}' used with '{a.name}'")])
-    wired = {w.type.target for w in iface.wirings if w.direction in ("publishes", "subscribes")}
+    wired = {e.definition for e in (*iface.published, *iface.subscribed)}
     if src.path.endswith(".iface"):
         for d in iface.definitions:
             if isinstance(d, m.Struct) and d.kind == "message" and d not in wired:

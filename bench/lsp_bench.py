@@ -1,0 +1,185 @@
+"""Language server benchmark: ours against a naive server that re-parses everything with lark per change.
+
+Run ``python bench/lsp_bench.py`` (``--lines N``, ``--rounds K``). On a generated
+document of about 10,000 lines it measures, for both servers:
+
+- edit → diagnostics: one isolated edit, until the diagnostics of its version arrive;
+- completion right behind an edit: the completion request sent just after the change;
+- idle hover and idle completion: requests on a document that is not changing;
+- start → initialize response: from spawning the process to the answer.
+
+Figures are medians (and the 90th percentile) in milliseconds. This is a
+benchmark, not a test: the machine's load moves the numbers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import os
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from lsprotocol import types as lsp
+from pygls.lsp.client import LanguageClient
+
+sys.path.insert(0, str(Path(__file__).parent))
+from lsp_gendoc import generate  # noqa: E402
+
+OURS = [sys.executable, "-m", "iface", "--stdio"]
+#: The server without the command line in front (which imports every command's module first).
+DIRECT = [sys.executable, "-c", "import sys; from iface.lsp.server import serve; sys.exit(serve())"]
+NAIVE = [sys.executable, str(Path(__file__).parent / "naive_server.py")]
+
+
+class Probe:
+    """A client that notes when each version's diagnostics arrive."""
+
+    def __init__(self) -> None:
+        self.client = LanguageClient("iface-bench", "0")
+        self.arrived: dict[int | None, float] = {}
+        self.event = asyncio.Event()
+
+        @self.client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+        def published(params: lsp.PublishDiagnosticsParams) -> None:
+            self.arrived.setdefault(params.version, time.perf_counter())
+            self.event.set()
+
+    async def diagnostics(self, version: int, timeout: float = 60) -> float:
+        """When the diagnostics of ``version`` arrived."""
+        deadline = time.perf_counter() + timeout
+        while version not in self.arrived:
+            self.event.clear()
+            if version in self.arrived:
+                break
+            await asyncio.wait_for(self.event.wait(), max(0.001, deadline - time.perf_counter()))
+        return self.arrived[version]
+
+
+async def start(cmd: list[str], root: Path) -> tuple[Probe, float]:
+    """Spawn a server and initialize it; returns the probe and the seconds to the initialize answer."""
+    probe = Probe()
+    t0 = time.perf_counter()
+    await probe.client.start_io(*cmd)
+    await probe.client.initialize_async(lsp.InitializeParams(
+        capabilities=lsp.ClientCapabilities(), root_uri=root.as_uri(), process_id=os.getpid()))
+    elapsed = time.perf_counter() - t0
+    probe.client.initialized(lsp.InitializedParams())
+    return probe, elapsed
+
+
+async def stop(probe: Probe) -> None:
+    await probe.client.shutdown_async(None)
+    probe.client.exit(None)
+    await probe.client.stop()
+
+
+def field_line(text: str, k: int) -> int:
+    """A line inside a message body around the middle of the document (varies with ``k``)."""
+    lines = text.split("\n")
+    target = len(lines) // 2 + 37 * k
+    while not lines[target].startswith("    float64") and not lines[target].startswith("    u"):
+        target += 1
+    return target
+
+
+def change(uri: str, version: int, line: int, text: str, delete: bool) -> lsp.DidChangeTextDocumentParams:
+    """Insert a field line at ``line`` or delete the one inserted there before."""
+    start = lsp.Position(line=line, character=0)
+    if delete:
+        rng = lsp.Range(start=start, end=lsp.Position(line=line + 1, character=0))
+        new = ""
+    else:
+        rng = lsp.Range(start=start, end=start)
+        new = text
+    return lsp.DidChangeTextDocumentParams(
+        text_document=lsp.VersionedTextDocumentIdentifier(uri=uri, version=version),
+        content_changes=[lsp.TextDocumentContentChangePartial(range=rng, text=new)])
+
+
+async def measure(cmd: list[str], text: str, rounds: int, root: Path) -> dict[str, list[float]]:
+    """Every figure for one server."""
+    out: dict[str, list[float]] = {"start": [], "edit": [], "behind": [], "hover": [], "completion": []}
+    for _ in range(3):
+        probe, seconds = await start(cmd, root)
+        out["start"].append(seconds * 1000)
+        await stop(probe)
+    probe, _ = await start(cmd, root)
+    client = probe.client
+    uri = (root / "big.iface").as_uri()
+    client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+        lsp.TextDocumentItem(uri=uri, language_id="iface", version=1, text=text)))
+    await probe.diagnostics(1, timeout=120)
+    version = 1
+    doc = lsp.TextDocumentIdentifier(uri=uri)
+    for k in range(rounds):
+        line = field_line(text, k)
+        for delete in (False, True):
+            version += 1
+            await asyncio.sleep(0.3)  # the edit is isolated: the server is idle
+            t0 = time.perf_counter()
+            client.text_document_did_change(change(uri, version, line, f"    u8 extra_{k}\n", delete))
+            out["edit"].append((await probe.diagnostics(version) - t0) * 1000)
+    for k in range(rounds):
+        line = field_line(text, k)
+        for delete in (False, True):
+            version += 1
+            await asyncio.sleep(0.3)
+            position = lsp.Position(line=line + (0 if delete else 1), character=4)
+            t0 = time.perf_counter()
+            client.text_document_did_change(change(uri, version, line, f"    u8 extra_{k}\n", delete))
+            await client.text_document_completion_async(lsp.CompletionParams(doc, position))
+            out["behind"].append((time.perf_counter() - t0) * 1000)
+            await probe.diagnostics(version)
+    await asyncio.sleep(0.5)
+    type_line = next(i for i, s in enumerate(text.split("\n")) if s.startswith("    Reading"))
+    for k in range(rounds * 2):
+        t0 = time.perf_counter()
+        await client.text_document_hover_async(lsp.HoverParams(doc, lsp.Position(line=type_line, character=6)))
+        out["hover"].append((time.perf_counter() - t0) * 1000)
+        t0 = time.perf_counter()
+        await client.text_document_completion_async(
+            lsp.CompletionParams(doc, lsp.Position(line=field_line(text, k % rounds), character=4)))
+        out["completion"].append((time.perf_counter() - t0) * 1000)
+    await stop(probe)
+    return out
+
+
+def summary(values: list[float]) -> str:
+    values = sorted(values)
+    p90 = values[min(len(values) - 1, int(len(values) * 0.9))]
+    return f"{statistics.median(values):8.1f} (p90 {p90:7.1f})"
+
+
+async def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--lines", type=int, default=10_000)
+    parser.add_argument("--rounds", type=int, default=10)
+    args = parser.parse_args()
+    text = generate(args.lines)
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        (root / "big.iface").write_text(text, encoding="utf-8")
+        print(f"document: {text.count(chr(10))} lines, {len(text)} characters; {args.rounds} rounds", flush=True)
+        naive = await measure(NAIVE, text, args.rounds, root)
+        ours = await measure(OURS, text, args.rounds, root)
+        direct = []
+        for _ in range(3):
+            probe, seconds = await start(DIRECT, root)
+            direct.append(seconds * 1000)
+            await stop(probe)
+    rows = [("edit → diagnostics", "edit"), ("completion behind an edit", "behind"), ("idle hover", "hover"),
+            ("idle completion", "completion"), ("start → initialize", "start")]
+    print(f"{'ms (median, p90)':28} {'naive lark server':>24} {'iface-lsp':>24} {'speed-up':>9}")
+    for title, key in rows:
+        ratio = statistics.median(naive[key]) / max(statistics.median(ours[key]), 1e-9)
+        print(f"{title:28} {summary(naive[key]):>24} {summary(ours[key]):>24} {ratio:8.1f}×")
+    print(f"{'start → initialize (serve())':28} {'':>24} {summary(direct):>24}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(asyncio.run(main()))

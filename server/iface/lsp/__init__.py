@@ -1,0 +1,1 @@
+"""The iface language server: pygls adapters over the shared model (``iface.compile``, ``iface.query``)."""

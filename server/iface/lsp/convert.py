@@ -1,0 +1,306 @@
+"""The one place where model values become LSP values.
+
+Positions: the model counts code points; LSP ends lines at ``\\n``, ``\\r\\n``
+or ``\\r`` and counts characters in the negotiated encoding (UTF-16 code units
+unless the client agreed to UTF-32 or UTF-8). ``LineIndex`` converts both ways,
+astral characters included; every builder below takes one.
+"""
+
+from __future__ import annotations
+
+import re
+from bisect import bisect_right
+
+UTF8, UTF16, UTF32 = "utf-8", "utf-16", "utf-32"
+_BREAK = re.compile(r"\r\n|\r|\n")
+
+
+class LineIndex:
+    """Line starts of one text, and conversions between offsets and (line, units)."""
+
+    __slots__ = ("text", "encoding", "ascii", "starts")
+
+    def __init__(self, text: str, encoding: str = UTF16) -> None:
+        self.text = text
+        self.encoding = encoding
+        self.ascii = text.isascii()
+        if "\r" in text:
+            self.starts = [0, *(m.end() for m in _BREAK.finditer(text))]
+        else:
+            starts = [0]
+            find = text.find
+            i = find("\n")
+            while i >= 0:
+                starts.append(i + 1)
+                i = find("\n", i + 1)
+            self.starts = starts
+
+    @property
+    def line_count(self) -> int:
+        """The number of lines (a text ending with a newline has an empty last line)."""
+        return len(self.starts)
+
+    def line_end(self, line: int) -> int:
+        """Offset of the end of ``line``, before its line break."""
+        if line + 1 < len(self.starts):
+            end = self.starts[line + 1] - 1
+            if end > self.starts[line] and self.text[end] == "\n" and self.text[end - 1] == "\r":
+                end -= 1
+            return end
+        return len(self.text)
+
+    def units(self, chars: str) -> int:
+        """Length of ``chars`` in the negotiated encoding."""
+        if self.encoding == UTF32 or chars.isascii():
+            return len(chars)
+        if self.encoding == UTF16:
+            return len(chars) + sum(1 for c in chars if ord(c) > 0xFFFF)
+        return len(chars.encode("utf-8", errors="surrogatepass"))
+
+    def position(self, offset: int) -> tuple[int, int]:
+        """(line, character in the negotiated encoding) of a code point offset."""
+        offset = max(0, min(offset, len(self.text)))
+        line = bisect_right(self.starts, offset) - 1
+        start = self.starts[line]
+        if self.ascii or self.encoding == UTF32:
+            return line, offset - start
+        return line, self.units(self.text[start:offset])
+
+    def offset(self, line: int, character: int) -> int:
+        """Code point offset of an LSP position, clamped to its line."""
+        if line < 0:
+            return 0
+        if line >= len(self.starts):
+            return len(self.text)
+        start = self.starts[line]
+        end = self.line_end(line)
+        character = max(character, 0)
+        if self.ascii or self.encoding == UTF32:
+            return min(start + character, end)
+        used = 0
+        i = start
+        while i < end and used < character:
+            used += self.units(self.text[i])
+            if used > character:  # inside a surrogate pair or a multi-byte character
+                break
+            i += 1
+        return i
+
+
+# ---------------------------------------------------------------------------
+# lsprotocol builders (imported here only: the rest of iface never sees them)
+
+from typing import TYPE_CHECKING, Any  # noqa: E402
+
+from lsprotocol import types as lsp  # noqa: E402
+
+if TYPE_CHECKING:
+    from ..diagnostics import Diagnostic
+    from ..query import Symbol
+    from ..source import Span
+
+ENCODINGS = {UTF8: lsp.PositionEncodingKind.Utf8, UTF16: lsp.PositionEncodingKind.Utf16,
+             UTF32: lsp.PositionEncodingKind.Utf32}
+
+
+def position(index: LineIndex, offset: int) -> lsp.Position:
+    """The LSP position of a code point offset."""
+    line, character = index.position(offset)
+    return lsp.Position(line=line, character=character)
+
+
+def offset(index: LineIndex, pos: lsp.Position) -> int:
+    """The code point offset of an LSP position."""
+    return index.offset(pos.line, pos.character)
+
+
+def range_(index: LineIndex, start: int, end: int) -> lsp.Range:
+    """The LSP range of [start, end)."""
+    return lsp.Range(start=position(index, start), end=position(index, end))
+
+
+def span_range(index: LineIndex, span: Span) -> lsp.Range:
+    """The LSP range of a model span."""
+    return range_(index, span.start, span.end)
+
+
+def location(uri: str, index: LineIndex, span: Span) -> lsp.Location:
+    """An LSP location."""
+    return lsp.Location(uri=uri, range=span_range(index, span))
+
+
+_SEVERITY = {1: lsp.DiagnosticSeverity.Error, 2: lsp.DiagnosticSeverity.Warning,
+             3: lsp.DiagnosticSeverity.Information, 4: lsp.DiagnosticSeverity.Hint}
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, (str, int, float, bool)) or value is None:
+        return value
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    return str(value)
+
+
+def diagnostic(d: Diagnostic, index: LineIndex, uri_of: Any, index_of: Any) -> lsp.Diagnostic:
+    """An LSP diagnostic; ``uri_of(path)`` and ``index_of(source)`` place related locations."""
+    related = [
+        lsp.DiagnosticRelatedInformation(
+            location=lsp.Location(uri=uri_of(r.source.path), range=span_range(index_of(r.source), r.span)),
+            message=r.message)
+        for r in d.related
+    ]
+    data = _jsonable({**d.data, "code": d.code}) if d.data else None
+    tags = [lsp.DiagnosticTag.Deprecated] if d.code == "deprecated-syntax" else None
+    return lsp.Diagnostic(range=span_range(index, d.span), message=d.message, severity=_SEVERITY[int(d.severity)],
+                          code=d.code, source="iface", related_information=related or None, data=data, tags=tags)
+
+
+def internal_error(message: str) -> lsp.Diagnostic:
+    """A diagnostic at the top of a file saying the server failed on it."""
+    return lsp.Diagnostic(range=lsp.Range(start=lsp.Position(line=0, character=0), end=lsp.Position(line=0, character=0)),
+                          message=message, severity=lsp.DiagnosticSeverity.Error, code="internal-error",
+                          source="iface")
+
+
+def markdown(text: str) -> lsp.MarkupContent:
+    """Markdown content."""
+    return lsp.MarkupContent(kind=lsp.MarkupKind.Markdown, value=text)
+
+
+def hover(text: str, index: LineIndex, span: Span) -> lsp.Hover:
+    """A Markdown hover over ``span``."""
+    return lsp.Hover(contents=markdown(text), range=span_range(index, span))
+
+
+def text_edit(index: LineIndex, start: int, end: int, new_text: str) -> lsp.TextEdit:
+    """Replace [start, end) with ``new_text``."""
+    return lsp.TextEdit(range=range_(index, start, end), new_text=new_text)
+
+
+def workspace_edit(changes: dict[str, list[lsp.TextEdit]]) -> lsp.WorkspaceEdit:
+    """Text edits by document URI."""
+    return lsp.WorkspaceEdit(changes=changes)
+
+
+_SYMBOL_KINDS = {
+    "group": lsp.SymbolKind.Namespace, "struct": lsp.SymbolKind.Struct, "message": lsp.SymbolKind.Struct,
+    "union": lsp.SymbolKind.Struct, "exception": lsp.SymbolKind.Class, "configuration": lsp.SymbolKind.Object,
+    "state": lsp.SymbolKind.Object, "service": lsp.SymbolKind.Interface, "action": lsp.SymbolKind.Interface,
+    "enum": lsp.SymbolKind.Enum, "senum": lsp.SymbolKind.Enum, "typedef": lsp.SymbolKind.TypeParameter,
+    "const": lsp.SymbolKind.Constant, "field": lsp.SymbolKind.Field, "enum-value": lsp.SymbolKind.EnumMember,
+    "section": lsp.SymbolKind.Module, "function": lsp.SymbolKind.Method, "publishes": lsp.SymbolKind.Event,
+    "subscribes": lsp.SymbolKind.Event, "provides": lsp.SymbolKind.Event, "calls": lsp.SymbolKind.Event,
+}
+
+
+def symbol_kind(kind: str) -> lsp.SymbolKind:
+    """The LSP symbol kind of a model kind."""
+    return _SYMBOL_KINDS.get(kind, lsp.SymbolKind.Variable)
+
+
+def document_symbol(index: LineIndex, s: Symbol) -> lsp.DocumentSymbol:
+    """A hierarchical outline entry."""
+    rng = span_range(index, s.span)
+    sel = span_range(index, s.name_span)
+    if not (s.span.start <= s.name_span.start and s.name_span.end <= s.span.end):
+        sel = lsp.Range(start=rng.start, end=rng.start)
+    return lsp.DocumentSymbol(name=s.name or "?", kind=symbol_kind(s.kind), range=rng, selection_range=sel,
+                              detail=s.detail or None,
+                              children=[document_symbol(index, c) for c in s.children] or None)
+
+
+def flat_symbols(uri: str, index: LineIndex, symbols: list[Symbol], container: str | None = None) -> list[lsp.SymbolInformation]:
+    """The outline as flat SymbolInformation (clients without hierarchy support)."""
+    out: list[lsp.SymbolInformation] = []
+    for s in symbols:
+        if s.kind != "group":
+            out.append(lsp.SymbolInformation(name=s.name, kind=symbol_kind(s.kind),
+                                             location=location(uri, index, s.span), container_name=container))
+        out.extend(flat_symbols(uri, index, s.children, s.name if s.kind != "group" else container))
+    return out
+
+
+def workspace_symbol(name: str, kind: str, uri: str, index: LineIndex, span: Span, container: str) -> lsp.WorkspaceSymbol:
+    """A workspace-wide symbol."""
+    return lsp.WorkspaceSymbol(name=name, kind=symbol_kind(kind), location=location(uri, index, span),
+                               container_name=container)
+
+
+_FOLD = {"comment": lsp.FoldingRangeKind.Comment, "imports": lsp.FoldingRangeKind.Imports, "region": None}
+
+
+def folding_range(index: LineIndex, span: Span, kind: str) -> lsp.FoldingRange | None:
+    """A folding range over whole lines (None for a one-line span)."""
+    first, _ = index.position(span.start)
+    last, _ = index.position(max(span.start, span.end - 1))
+    if last <= first:
+        return None
+    return lsp.FoldingRange(start_line=first, end_line=last, kind=_FOLD.get(kind))
+
+
+def selection_range(index: LineIndex, chain: list[Span]) -> lsp.SelectionRange:
+    """A selection range from the innermost span out."""
+    parent: lsp.SelectionRange | None = None
+    for s in reversed(chain):
+        parent = lsp.SelectionRange(range=span_range(index, s), parent=parent)
+    assert parent is not None
+    return parent
+
+
+COMPLETION_KINDS = {
+    "keyword": lsp.CompletionItemKind.Keyword, "snippet": lsp.CompletionItemKind.Snippet,
+    "base-type": lsp.CompletionItemKind.TypeParameter, "struct": lsp.CompletionItemKind.Struct,
+    "message": lsp.CompletionItemKind.Struct, "union": lsp.CompletionItemKind.Struct,
+    "exception": lsp.CompletionItemKind.Class, "configuration": lsp.CompletionItemKind.Struct,
+    "state": lsp.CompletionItemKind.Struct, "enum": lsp.CompletionItemKind.Enum,
+    "senum": lsp.CompletionItemKind.Enum, "typedef": lsp.CompletionItemKind.TypeParameter,
+    "service": lsp.CompletionItemKind.Interface, "action": lsp.CompletionItemKind.Interface,
+    "const": lsp.CompletionItemKind.Constant, "annotation": lsp.CompletionItemKind.Property,
+    "topic": lsp.CompletionItemKind.Value, "field": lsp.CompletionItemKind.Field,
+    "enum-value": lsp.CompletionItemKind.EnumMember, "section": lsp.CompletionItemKind.Module,
+    "external": lsp.CompletionItemKind.Module,
+}
+
+
+def completion_item(label: str, kind: str, detail: str = "", doc: str = "", insert: str | None = None,
+                    snippet: bool = False, sort: str | None = None, edit: tuple[LineIndex, int, int] | None = None
+                    ) -> lsp.CompletionItem:
+    """One completion; ``snippet`` only when the client accepts snippets; ``edit`` replaces a range."""
+    text_edit_: lsp.TextEdit | None = None
+    if edit is not None:
+        index, start, end = edit
+        text_edit_ = lsp.TextEdit(range=range_(index, start, end), new_text=insert if insert is not None else label)
+        insert = None
+    return lsp.CompletionItem(
+        label=label, kind=COMPLETION_KINDS.get(kind, lsp.CompletionItemKind.Text), detail=detail or None,
+        documentation=markdown(doc) if doc else None, insert_text=insert, text_edit=text_edit_,
+        insert_text_format=lsp.InsertTextFormat.Snippet if snippet else None, sort_text=sort)
+
+
+def completion_list(items: list[lsp.CompletionItem], incomplete: bool = False) -> lsp.CompletionList:
+    """The completion answer."""
+    return lsp.CompletionList(is_incomplete=incomplete, items=items)
+
+
+def command(title: str, name: str, arguments: list[Any] | None = None) -> lsp.Command:
+    """A command reference."""
+    return lsp.Command(title=title, command=name, arguments=arguments)
+
+
+def code_lens(index: LineIndex, span: Span, cmd: lsp.Command) -> lsp.CodeLens:
+    """A code lens above ``span``."""
+    return lsp.CodeLens(range=span_range(index, span), command=cmd)
+
+
+def code_action(title: str, kind: str, edit: lsp.WorkspaceEdit | None = None, cmd: lsp.Command | None = None,
+                diagnostics: list[lsp.Diagnostic] | None = None, preferred: bool = False) -> lsp.CodeAction:
+    """A quick fix, refactoring or source action."""
+    return lsp.CodeAction(title=title, kind=kind, edit=edit, command=cmd, diagnostics=diagnostics or None,
+                          is_preferred=preferred or None)
+
+
+def semantic_tokens(data: list[int]) -> lsp.SemanticTokens:
+    """Encoded semantic tokens."""
+    return lsp.SemanticTokens(data=data)

@@ -1,0 +1,253 @@
+"""workspace/executeCommand: generate, preview, export JSON, compatibility and the system graph.
+
+Arguments are positional (``[uri, target]``) or one object (``[{"uri": …, "target": …}]``).
+Answers are JSON objects: ``iface.preview`` gives ``{files: [{path, text}]}``
+(a virtual document for the client to show, nothing written), ``iface.generate``
+and ``iface.exportJson`` give ``{written, unchanged, refused, errors, files, folder}``,
+``iface.compat`` and ``iface.graph`` give ``{text}``. A missing module or a bad
+argument is answered with an error that says what is wrong.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import TYPE_CHECKING, Any
+
+from pygls.exceptions import JsonRpcInternalError, JsonRpcInvalidParams
+
+from ..settings import DEFAULT_OUTPUT
+from ..state import Snapshot
+
+from ..server import IfaceServer  # noqa: E402  (resolved at run time: pygls reads the handlers' annotations)
+
+if TYPE_CHECKING:
+    from ...compile import Compilation
+    from ..state import Project
+
+
+class CommandError(JsonRpcInvalidParams):
+    """A command that cannot run as asked."""
+
+
+def available_targets() -> list[str]:
+    """Names of the installed generation targets ([] when the emitters are not installed)."""
+    try:
+        from ...emit import targets
+    except ImportError:
+        return []
+    return sorted(targets())
+
+
+def _args(arguments: Any, names: tuple[str, ...]) -> dict[str, Any]:
+    """Positional or object arguments, by name."""
+    args = list(arguments or [])
+    if len(args) == 1 and isinstance(args[0], dict):
+        return {k: args[0].get(k) for k in names}
+    return {k: (args[i] if i < len(args) else None) for i, k in enumerate(names)}
+
+
+def _text(value: Any, what: str, required: bool = True) -> str | None:
+    if value is None and not required:
+        return None
+    if not isinstance(value, str) or not value:
+        raise CommandError(f"{what} must be a non-empty string")
+    return value
+
+
+class Runner:
+    """Runs the commands for one server."""
+
+    def __init__(self, project: Project) -> None:
+        self.project = project
+
+    async def compilation(self, uri: str) -> Snapshot:
+        """A current snapshot of ``uri`` (compiled now if needed)."""
+        snap = await self.project.snapshot(uri, fresh=True)
+        if snap is None or snap.comp is None:
+            raise CommandError(f"cannot read {uri}")
+        return snap
+
+    def target(self, name: str | None) -> str:
+        """The target asked for, or the first default one."""
+        targets = available_targets()
+        if not targets:
+            raise JsonRpcInternalError(message="no generation target is installed (iface.emit is missing)")
+        chosen = name or next((t for t in self.project.settings.targets if t in targets), None) or targets[0]
+        if chosen not in targets:
+            raise CommandError(f"unknown target '{chosen}'; available: {', '.join(targets)}")
+        return chosen
+
+    def out_dir(self, path: str, folder: str | None, target: str) -> str:
+        """Where generated files go: the argument, the setting, or ``generated/<target>`` in the workspace."""
+        base = self.project.roots[0] if self.project.roots else os.path.dirname(path)
+        chosen = folder or self.project.settings.output_folder or DEFAULT_OUTPUT
+        chosen = chosen if os.path.isabs(chosen) else os.path.join(base, chosen)
+        return os.path.join(chosen, target)
+
+    def _generate(self, comp: Compilation, target: str) -> tuple[list[Any], list[str]]:
+        from ...emit import generate
+
+        result = generate(comp, target)
+        errors = [d.format() for d in result.diagnostics if int(d.severity) == 1]
+        return result.files, errors
+
+    async def preview(self, arguments: Any) -> dict[str, Any]:
+        """``iface.preview [uri, target]``: the generated files, not written."""
+        a = _args(arguments, ("uri", "target"))
+        snap = await self.compilation(_text(a["uri"], "uri") or "")
+        target = self.target(_text(a["target"], "target", required=False))
+
+        def run() -> dict[str, Any]:
+            assert snap.comp is not None
+            files, errors = self._generate(snap.comp, target)
+            return {"target": target, "files": [{"path": f.path, "text": f.text} for f in files], "errors": errors}
+
+        return await self.project.run(run)
+
+    async def generate(self, arguments: Any) -> dict[str, Any]:
+        """``iface.generate [uri, target, folder]``: write the generated files."""
+        a = _args(arguments, ("uri", "target", "folder"))
+        snap = await self.compilation(_text(a["uri"], "uri") or "")
+        target = self.target(_text(a["target"], "target", required=False))
+        out = self.out_dir(snap.path, _text(a["folder"], "folder", required=False), target)
+
+        def run() -> dict[str, Any]:
+            from ...emit.write import write_files
+
+            assert snap.comp is not None
+            files, errors = self._generate(snap.comp, target)
+            if errors:
+                return {"target": target, "folder": out, "written": [], "unchanged": [], "refused": [],
+                        "errors": errors, "files": []}
+            report = write_files(files, out)
+            return {"target": target, "folder": out, "written": report.written, "unchanged": report.unchanged,
+                    "refused": report.refused, "errors": report.errors,
+                    "files": [os.path.join(out, p) for p in report.written + report.unchanged]}
+
+        return await self.project.run(run)
+
+    async def export_json(self, arguments: Any) -> dict[str, Any]:
+        """``iface.exportJson [uri, folder]``: the interface as JSON, written to the output folder."""
+        a = _args(arguments, ("uri", "folder"))
+        snap = await self.compilation(_text(a["uri"], "uri") or "")
+        out = self.out_dir(snap.path, _text(a["folder"], "folder", required=False), "json")
+
+        def run() -> dict[str, Any]:
+            from ...emit.write import write_files
+            from ...emit.base import GeneratedFile
+            try:
+                from ...jsonform import to_json
+            except ImportError as e:
+                raise JsonRpcInternalError(message="JSON export is not installed (iface.jsonform)") from e
+            assert snap.comp is not None
+            if snap.comp.has_errors:
+                return {"written": [], "unchanged": [], "refused": [], "files": [], "folder": out,
+                        "errors": [d.format() for d in snap.comp.diagnostics if int(d.severity) == 1]}
+            name = os.path.splitext(os.path.basename(snap.path))[0] + ".json"
+            text = json.dumps(to_json(snap.comp.interface), indent=2, ensure_ascii=False) + "\n"
+            report = write_files([GeneratedFile(name, text)], out)
+            return {"written": report.written, "unchanged": report.unchanged, "refused": report.refused,
+                    "errors": report.errors, "folder": out, "files": [{"path": os.path.join(out, name), "text": text}]}
+
+        return await self.project.run(run)
+
+    async def compat(self, arguments: Any) -> dict[str, Any]:
+        """``iface.compat [uri, baseline]``: can this file replace its baseline (a file or ``git:REV``)?"""
+        a = _args(arguments, ("uri", "baseline"))
+        snap = await self.compilation(_text(a["uri"], "uri") or "")
+        spec = _text(a["baseline"], "baseline", required=False) or self.project.settings.compat_baseline
+        if not spec:
+            raise CommandError("no baseline: pass one or set compat.baseline")
+
+        def run() -> dict[str, Any]:
+            try:
+                from ...compat import compare, load_baseline
+                from ...compat.report import render_text
+            except ImportError as e:
+                raise JsonRpcInternalError(message="compatibility checks are not installed (iface.compat)") from e
+            assert snap.comp is not None
+            old = load_baseline(snap.path, spec, list(self.project.workspace().include_paths))
+            if old is None:
+                raise CommandError(f"cannot read the baseline '{spec}'")
+            report = compare(old, snap.comp)
+            return {"text": render_text(report, _display(self.project)), "verdict": str(report.verdict)}
+
+        return await self.project.run(run)
+
+    async def graph(self, arguments: Any) -> dict[str, Any]:
+        """``iface.graph [format]``: the system graph of the workspace's components (mermaid, dot or json)."""
+        a = _args(arguments, ("format",))
+        fmt = _text(a["format"], "format", required=False) or "mermaid"
+        if fmt not in ("mermaid", "dot", "json"):
+            raise CommandError("format must be mermaid, dot or json")
+        if self.project.workspace_index is not None:
+            await self.project.workspace_index.ready.wait()
+
+        def run() -> dict[str, Any]:
+            try:
+                from ...compat import graph
+            except ImportError as e:
+                raise JsonRpcInternalError(message="the system graph is not installed (iface.compat.graph)") from e
+            index = self.project.workspace_index
+            comps = index.all_compilations() if index is not None else []
+            comps = [c for c in comps if c.path.endswith(".iface") and c.interface.component is not None]
+            g = graph.build(comps)
+            if fmt == "dot":
+                text = graph.render_dot(g)
+            elif fmt == "json":
+                text = graph.render_json(g, _display(self.project))
+            else:
+                text = graph.render_mermaid(g)
+            return {"text": text, "format": fmt, "components": len(comps)}
+
+        return await self.project.run(run)
+
+
+def _display(project: Project) -> Any:
+    root = project.roots[0] if project.roots else None
+
+    def display(path: str) -> str:
+        if root is not None:
+            try:
+                rel = os.path.relpath(path, root)
+            except ValueError:
+                return path
+            return path if rel.startswith("..") else rel
+        return path
+    return display
+
+
+def register(server: IfaceServer) -> None:
+    """Register the commands."""
+    runner = Runner(server.project)
+
+    @server.command("iface.preview")
+    async def preview(ls: IfaceServer, *args: Any) -> dict[str, Any]:
+        return await runner.preview(_flatten(args))
+
+    @server.command("iface.generate")
+    async def generate(ls: IfaceServer, *args: Any) -> dict[str, Any]:
+        result = await runner.generate(_flatten(args))
+        ls.log_info(f"iface: generated {len(result['written'])} file(s) into {result['folder']}")
+        return result
+
+    @server.command("iface.exportJson")
+    async def export_json(ls: IfaceServer, *args: Any) -> dict[str, Any]:
+        return await runner.export_json(_flatten(args))
+
+    @server.command("iface.compat")
+    async def compat(ls: IfaceServer, *args: Any) -> dict[str, Any]:
+        return await runner.compat(_flatten(args))
+
+    @server.command("iface.graph")
+    async def graph(ls: IfaceServer, *args: Any) -> dict[str, Any]:
+        return await runner.graph(_flatten(args))
+
+
+def _flatten(args: tuple[Any, ...]) -> list[Any]:
+    """pygls passes the arguments list as one positional argument or spread; accept both."""
+    if len(args) == 1 and isinstance(args[0], list):
+        return args[0]
+    return list(args)
+

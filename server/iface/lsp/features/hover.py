@@ -1,0 +1,41 @@
+"""Hover: what the name under the cursor is, and what it becomes on every target."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from lsprotocol import types as lsp
+
+from .. import convert
+
+if TYPE_CHECKING:
+    from ..server import IfaceServer
+    from ..state import View
+
+
+def register(server: IfaceServer) -> None:
+    """Register the hover handler."""
+    project = server.project
+
+    @server.feature(lsp.TEXT_DOCUMENT_HOVER)
+    async def hover(ls: IfaceServer, params: lsp.HoverParams) -> lsp.Hover | None:
+        pos = params.position
+
+        def answer(view: View) -> lsp.Hover | None:
+            from ...query import locate
+            from ..describe import describe
+
+            iface = view.iface
+            offset = view.offset(pos.line, pos.character)
+            if iface is None or offset is None:
+                return None
+            hit = locate(iface, offset)
+            if hit is None:
+                return None
+            text = describe(hit, iface, view.snap.text, [])
+            rng = view.range(hit.span)
+            if text is None or rng is None:
+                return None
+            return lsp.Hover(contents=convert.markdown(text), range=rng)
+
+        return await project.view(params.text_document.uri, answer)

@@ -1,0 +1,165 @@
+"""What the workspace holds: every interface file under the workspace folders.
+
+Files are compiled one by one on the model thread (a request waits behind at
+most one of them) when the server starts, and again when they are saved or
+change on disk. Open documents answer from their own snapshots instead.
+The facts kept (definitions, wirings) are immutable tuples, safe to read from
+the event loop (completion reads topics from there).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import os
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from .state import path_to_uri
+
+if TYPE_CHECKING:
+    from ..compile import Compilation
+    from ..model import Interface
+    from .state import Project
+
+log = logging.getLogger("iface.lsp")
+
+MAX_FILES = 2000
+SKIP_DIRS = frozenset({"node_modules", "__pycache__", "build", "install", "log", "dist", "venv"})
+
+
+@dataclass(frozen=True, slots=True)
+class WiringFact:
+    """``direction type on topic`` in one file, with the definition the type resolves to."""
+
+    path: str
+    component: str
+    direction: str
+    type_name: str
+    topic: str
+    target: tuple[str, str] | None  # (defining file, definition name)
+
+
+@dataclass(frozen=True, slots=True)
+class FileFacts:
+    """What one file defines and wires."""
+
+    path: str
+    definitions: tuple[tuple[str, str], ...]  # (name, kind)
+    wirings: tuple[WiringFact, ...]
+
+
+def facts_of(iface: Interface) -> FileFacts:
+    """The facts of one compiled interface."""
+    from ..query import defining_interface
+
+    scopes = [iface, *iface.included.values()]
+    wirings = []
+    for w in iface.wirings:
+        target = None
+        if w.type.target is not None:
+            home = defining_interface(scopes, w.type.target)
+            if home is not None:
+                target = (home.path, w.type.target.name)
+        wirings.append(WiringFact(iface.path, iface.name, w.direction, w.type.name, w.topic, target))
+    return FileFacts(iface.path, tuple((d.name, d.kind) for d in iface.definitions), tuple(wirings))
+
+
+class WorkspaceIndex:
+    """Facts and interfaces of the workspace's files, by path."""
+
+    def __init__(self, project: Project) -> None:
+        self.project = project
+        self.facts: dict[str, FileFacts] = {}
+        self.compilations: dict[str, Compilation] = {}
+        self.ready = asyncio.Event()
+        self._queue: list[str] = []
+        self._task: asyncio.Task[None] | None = None
+
+    def start(self) -> None:
+        """Scan the workspace folders in the background."""
+        self._task = asyncio.get_running_loop().create_task(self._scan())
+
+    def refresh(self, path: str) -> None:
+        """Read one file again (saved, created, changed or deleted)."""
+        if path.endswith((".iface", ".thrift")):
+            self._queue.append(path)
+            if self._task is None or self._task.done():
+                self._task = asyncio.get_running_loop().create_task(self._drain())
+
+    async def _scan(self) -> None:
+        try:
+            paths = await self.project.run(self._list)
+            keep = set(paths)
+            for gone in [p for p in self.facts if p not in keep]:
+                self.facts.pop(gone, None)
+                self.compilations.pop(gone, None)
+            self._queue.extend(paths)
+            await self._drain()
+        finally:
+            self.ready.set()
+
+    def _list(self) -> list[str]:
+        found: list[str] = []
+        for root in self.project.roots:
+            for folder, dirs, files in os.walk(root):
+                dirs[:] = sorted(d for d in dirs if not d.startswith(".") and d not in SKIP_DIRS)
+                for f in sorted(files):
+                    if f.endswith((".iface", ".thrift")):
+                        found.append(os.path.join(folder, f))
+                        if len(found) >= MAX_FILES:
+                            log.warning("indexing the first %d interface files of the workspace only", MAX_FILES)
+                            return found
+        return found
+
+    async def _drain(self) -> None:
+        while self._queue:
+            path = self._queue.pop(0)
+            try:
+                await self.project.run(self._index_one, path)
+            except Exception:
+                log.exception("indexing %s failed", path)
+
+    def _index_one(self, path: str) -> None:
+        if not os.path.isfile(path):
+            self.facts.pop(path, None)
+            self.compilations.pop(path, None)
+            return
+        comp = self.project.workspace().compile_path(path)
+        self.compilations[path] = comp
+        self.facts[path] = facts_of(comp.interface)
+
+    # ---- questions (model thread, where interfaces are read) ---------------------------
+    def all_facts(self) -> list[FileFacts]:
+        """Facts of every file, open documents from their snapshots."""
+        out = dict(self.facts)
+        for snap in list(self.project.snapshots.values()):
+            if snap.iface is not None:
+                out[snap.path] = facts_of(snap.iface)
+        return [out[k] for k in sorted(out)]
+
+    def all_compilations(self) -> list[Compilation]:
+        """Compilations of every file, open documents (and what they include) from their snapshots."""
+        out = dict(self.compilations)
+        for snap in list(self.project.snapshots.values()):
+            if snap.comp is not None:
+                for c in snap.comp.closure():
+                    if c.path == snap.path or c.path not in out:
+                        out[c.path] = c
+        return [out[k] for k in sorted(out)]
+
+    def all_interfaces(self) -> list[Interface]:
+        """Interfaces of every file (see ``all_compilations``)."""
+        return [c.interface for c in self.all_compilations()]
+
+    def topics(self) -> list[tuple[str, str, str]]:
+        """(topic, type, direction) of every wiring in the workspace."""
+        seen: dict[tuple[str, str, str], None] = {}
+        for facts in list(self.facts.values()):
+            for w in facts.wirings:
+                seen.setdefault((w.topic, w.type_name, w.direction))
+        return list(seen)
+
+    def uri(self, path: str) -> str:
+        """The URI of an indexed path."""
+        return path_to_uri(path)

@@ -1,0 +1,132 @@
+"""The language server: ``iface-lsp --stdio`` or ``--tcp HOST:PORT``.
+
+Handlers are thin: each feature module registers its handlers on the server
+and answers from the shared model through ``state.Project``. Only the
+capabilities of registered handlers are advertised (pygls builds them from
+the registered features).
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+from collections.abc import Generator
+from typing import Any
+
+from lsprotocol import types as lsp
+from pygls.exceptions import JsonRpcException
+from pygls.lsp.server import LanguageServer
+from pygls.protocol import LanguageServerProtocol, lsp_method
+
+from .. import __version__
+from .convert import ENCODINGS, UTF16
+from .state import Project
+
+log = logging.getLogger("iface.lsp")
+
+#: Feature modules, each with ``register(server)``.
+FEATURES = (
+    "configuration", "diagnostics", "hover", "completion", "navigation", "rename", "symbols", "folding",
+    "selection", "semantic_tokens", "formatting", "code_actions", "code_lens", "commands",
+)
+
+
+class IfaceProtocol(LanguageServerProtocol):
+    """pygls' protocol, with UTF-32 positions when offered and a reply to requests it cannot read."""
+
+    @lsp_method(lsp.INITIALIZE)
+    def lsp_initialize(self, params: lsp.InitializeParams) -> Generator[Any, Any, lsp.InitializeResult]:
+        """Prefer UTF-32 positions (no conversion needed), then the client's own order."""
+        general = params.capabilities.general
+        offered = list(general.position_encodings or []) if general is not None else []
+        if lsp.PositionEncodingKind.Utf32 in offered and general is not None:
+            general.position_encodings = [lsp.PositionEncodingKind.Utf32]
+        result = yield from super().lsp_initialize(params)
+        chosen = result.capabilities.position_encoding or lsp.PositionEncodingKind.Utf16
+        server = self._server
+        assert isinstance(server, IfaceServer)
+        server.project.encoding = {v: k for k, v in ENCODINGS.items()}.get(chosen, UTF16)
+        return result
+
+    # The project keeps its own documents (LSP line breaks, code point offsets),
+    # so pygls' copies, re-split on every change, are not kept.
+    @lsp_method(lsp.TEXT_DOCUMENT_DID_OPEN)
+    def lsp_text_document__did_open(self, params: lsp.DidOpenTextDocumentParams) -> Generator[Any, Any, None]:
+        """Hand the document to the user handler only."""
+        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_OPEN)) is not None:
+            yield handler, (params,), None
+
+    @lsp_method(lsp.TEXT_DOCUMENT_DID_CHANGE)
+    def lsp_text_document__did_change(self, params: lsp.DidChangeTextDocumentParams) -> Generator[Any, Any, None]:
+        """Hand the change to the user handler only."""
+        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_CHANGE)) is not None:
+            yield handler, (params,), None
+
+    @lsp_method(lsp.TEXT_DOCUMENT_DID_CLOSE)
+    def lsp_text_document__did_close(self, params: lsp.DidCloseTextDocumentParams) -> Generator[Any, Any, None]:
+        """Hand the closing to the user handler only."""
+        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_CLOSE)) is not None:
+            yield handler, (params,), None
+
+    def structure_message(self, data: dict[str, Any]) -> Any:
+        """Read a message; a request whose parameters cannot be read is answered with an error."""
+        try:
+            return super().structure_message(data)
+        except JsonRpcException as e:
+            if isinstance(data, dict) and "id" in data and "method" in data:
+                self._send_response(data["id"], None, e.to_response_error())
+            raise
+
+
+class IfaceServer(LanguageServer):
+    """The iface language server."""
+
+    def __init__(self) -> None:
+        super().__init__("iface-lsp", __version__, text_document_sync_kind=lsp.TextDocumentSyncKind.Incremental,
+                         protocol_cls=IfaceProtocol)
+        self.project = Project(self.publish)
+
+    def publish(self, uri: str, version: int | None, diagnostics: list[lsp.Diagnostic]) -> None:
+        """Send diagnostics of one document."""
+        self.text_document_publish_diagnostics(
+            lsp.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=version))
+
+    def report_server_error(self, error: Exception, source: Any) -> None:
+        """Log failures (handlers already answered with an error); never pop up a message per failure."""
+        log.error("%s: %s", getattr(source, "__name__", source), error)
+        try:
+            self.window_log_message(lsp.LogMessageParams(type=lsp.MessageType.Error, message=f"iface: {error}"))
+        except Exception:  # the connection itself may be what failed
+            pass
+
+    def log_info(self, message: str) -> None:
+        """A message for the client's log."""
+        self.window_log_message(lsp.LogMessageParams(type=lsp.MessageType.Info, message=message))
+
+
+def build() -> IfaceServer:
+    """A server with every feature registered."""
+    import importlib
+
+    server = IfaceServer()
+    for name in FEATURES:
+        importlib.import_module(f"{__package__}.features.{name}").register(server)
+    return server
+
+
+def serve(tcp: str | None = None) -> int:
+    """Run the server on stdio, or on ``HOST:PORT``; returns the exit code."""
+    logging.basicConfig(level=logging.WARNING, stream=sys.stderr, format="iface-lsp %(levelname)s: %(message)s")
+    # a request must not wait long for the model thread to hand over the interpreter
+    sys.setswitchinterval(0.001)
+    server = build()
+    if tcp is None:
+        server.start_io()
+        return 0
+    host, sep, port = tcp.rpartition(":")
+    if not sep or not port.isdigit():
+        print(f"iface-lsp: --tcp needs HOST:PORT, not {tcp!r}", file=sys.stderr)
+        return 2
+    server.start_tcp(host or "127.0.0.1", int(port))
+    return 0
+

@@ -1,0 +1,621 @@
+"""Open documents, their compilations, and the one thread that touches the model.
+
+Threads: the asyncio loop owns the documents (text, version, edit log); the
+model thread (a one-worker executor) owns the core ``Workspace`` and every
+``Snapshot``. A compilation shares model nodes with the next one of its
+document (unchanged chunks are reused and shifted in place), so a snapshot is
+read only on the model thread, and only until the next compile replaces it.
+Requests that arrive before the newest version is compiled use the latest
+snapshot and map offsets through the edits made since (``EditLog``).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import os
+import threading
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, TypeVar
+from urllib.parse import quote, unquote, urlparse
+
+from .convert import UTF16, LineIndex
+from .settings import Settings
+
+if TYPE_CHECKING:
+    from ..compile import Compilation, Workspace
+    from ..model import Interface
+    from ..source import Source, Span
+
+log = logging.getLogger("iface.lsp")
+T = TypeVar("T")
+
+# ---------------------------------------------------------------------------
+# URIs
+
+
+_VIRTUAL: dict[str, str] = {}
+
+
+def uri_to_path(uri: str) -> str:
+    """The file system path of a ``file:`` URI; other schemes get a stable virtual ``.iface`` path."""
+    parsed = urlparse(uri)
+    if parsed.scheme == "file":
+        path = unquote(parsed.path)
+        if os.name == "nt" and path.startswith("/") and len(path) > 2 and path[2] == ":":
+            path = path[1:]
+        return os.path.abspath(path)
+    path = os.path.join(os.sep, "__iface_virtual__", quote(uri, safe="") + ".iface")
+    _VIRTUAL[path] = uri
+    return path
+
+
+def path_to_uri(path: str) -> str:
+    """The ``file:`` URI of a path (or the URI a virtual path stands for)."""
+    virtual = _VIRTUAL.get(path)
+    if virtual is not None:
+        return virtual
+    return "file://" + quote(os.path.abspath(path).replace(os.sep, "/"), safe="/:")
+
+
+# ---------------------------------------------------------------------------
+# edits and offset mapping
+
+Edit = tuple[int, int, int]  # (start, end) replaced in the older text, and the length of the new text
+
+
+def map_back(edits: list[Edit], offset: int) -> int | None:
+    """An offset in the newest text → the same place in the text before ``edits``; None if it is new text."""
+    for start, end, length in reversed(edits):
+        if offset < start:
+            continue
+        if offset >= start + length:
+            offset += (end - start) - length
+        elif offset == start:
+            continue
+        else:
+            return None
+    return offset
+
+
+def map_forward(edits: list[Edit], offset: int) -> int | None:
+    """An offset in the text before ``edits`` → the same place now; None if that text was replaced."""
+    for start, end, length in edits:
+        if offset < start or (offset == start and end > start):
+            continue
+        if offset >= end:
+            offset += length - (end - start)
+        else:
+            return None
+    return offset
+
+
+class EditLog:
+    """The edits applied to a document, numbered from its opening."""
+
+    def __init__(self) -> None:
+        self._base = 0
+        self._edits: list[Edit] = []
+        self._lock = threading.Lock()
+
+    @property
+    def seq(self) -> int:
+        """The number of edits made so far."""
+        return self._base + len(self._edits)
+
+    def append(self, edit: Edit) -> None:
+        """Record an edit."""
+        with self._lock:
+            self._edits.append(edit)
+
+    def between(self, first: int, last: int) -> list[Edit]:
+        """The edits numbered [first, last)."""
+        with self._lock:
+            lo = max(first - self._base, 0)
+            return self._edits[lo:max(last - self._base, lo)]
+
+    def forget_before(self, seq: int) -> None:
+        """Drop edits older than ``seq`` (no snapshot needs them any more)."""
+        with self._lock:
+            k = seq - self._base
+            if k > 0:
+                del self._edits[:k]
+                self._base = seq
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class DocState:
+    """One version of a document's text; replaced as a whole on each change."""
+
+    text: str
+    version: int
+    seq: int
+    encoding: str
+    _index: list[LineIndex] = field(default_factory=list)
+
+    @property
+    def index(self) -> LineIndex:
+        """The line index of this text (built once, on first use)."""
+        if not self._index:
+            self._index.append(LineIndex(self.text, self.encoding))
+        return self._index[0]
+
+
+class Document:
+    """An open editor buffer (owned by the event loop)."""
+
+    def __init__(self, uri: str, text: str, version: int, encoding: str) -> None:
+        self.uri = uri
+        self.path = uri_to_path(uri)
+        self.log = EditLog()
+        self.state = DocState(text, version, 0, encoding)
+
+    def apply(self, changes: list[Any], version: int) -> None:
+        """Apply LSP content changes (ranged or whole-text) in order."""
+        st = self.state
+        text, index = st.text, st.index
+        for change in changes:
+            rng = getattr(change, "range", None)
+            if rng is None:
+                self.log.append((0, len(text), len(change.text)))
+                text = change.text
+            else:
+                start = index.offset(rng.start.line, rng.start.character)
+                end = max(start, index.offset(rng.end.line, rng.end.character))
+                self.log.append((start, end, len(change.text)))
+                text = text[:start] + change.text + text[end:]
+            index = LineIndex(text, st.encoding) if len(changes) > 1 else index
+        self.state = DocState(text, version, self.log.seq, st.encoding)
+
+
+# ---------------------------------------------------------------------------
+# snapshots and views
+
+
+@dataclass(frozen=True, slots=True)
+class Name:
+    """A definition as completion sees it (immutable, safe to read from any thread)."""
+
+    name: str
+    kind: str
+    detail: str
+    doc: str
+    members: tuple[str, ...] = ()
+
+
+@dataclass(eq=False)
+class Snapshot:
+    """One compiled version of a document (read on the model thread only, except ``names``)."""
+
+    uri: str
+    path: str
+    version: int
+    seq: int
+    text: str
+    index: LineIndex
+    comp: Compilation | None
+    names: tuple[Name, ...] = ()
+    topics: tuple[tuple[str, str], ...] = ()
+    deps: frozenset[str] = frozenset()
+
+    @property
+    def iface(self) -> Interface | None:
+        """The compiled interface."""
+        return self.comp.interface if self.comp is not None else None
+
+
+@dataclass(eq=False)
+class View:
+    """A snapshot seen from the current text of its document."""
+
+    project: Project
+    snap: Snapshot
+    state: DocState
+    edits: list[Edit]
+
+    @property
+    def uri(self) -> str:
+        return self.snap.uri
+
+    @property
+    def comp(self) -> Compilation | None:
+        return self.snap.comp
+
+    @property
+    def iface(self) -> Interface | None:
+        return self.snap.iface
+
+    @property
+    def text(self) -> str:
+        """The current text."""
+        return self.state.text
+
+    @property
+    def index(self) -> LineIndex:
+        """The line index of the current text."""
+        return self.state.index
+
+    @property
+    def current(self) -> bool:
+        """True when the snapshot is of the current text."""
+        return not self.edits
+
+    def offset(self, line: int, character: int) -> int | None:
+        """A current LSP position → an offset in the snapshot (None inside newly typed text)."""
+        off = self.state.index.offset(line, character)
+        return map_back(self.edits, off) if self.edits else off
+
+    def place(self, start: int, end: int) -> tuple[int, int] | None:
+        """A snapshot range → the current offsets (None if that text was replaced)."""
+        if not self.edits:
+            return start, end
+        a = map_forward(self.edits, start)
+        b = map_forward(self.edits, end)
+        if a is None or b is None or b < a:
+            return None
+        return a, b
+
+    def range(self, span: Span) -> Any:
+        """The current LSP range of a snapshot span, or None."""
+        from . import convert
+        placed = self.place(span.start, span.end)
+        return convert.range_(self.index, *placed) if placed is not None else None
+
+    def location(self, source: Source, span: Span) -> Any:
+        """An LSP location of a span in this document or in another file."""
+        from . import convert
+        if source.path == self.snap.path:
+            rng = self.range(span)
+            return convert.lsp.Location(uri=self.uri, range=rng) if rng is not None else None
+        return self.project.location(source, span)
+
+
+# ---------------------------------------------------------------------------
+# the project
+
+
+class Project:
+    """Documents, settings, the model thread and the compile scheduler."""
+
+    def __init__(self, publish: Callable[[str, int | None, list[Any]], None]) -> None:
+        self.publish = publish
+        self.docs: dict[str, Document] = {}
+        self.snapshots: dict[str, Snapshot] = {}
+        self.settings = Settings()
+        self.encoding = UTF16
+        self.roots: list[str] = []
+        self.model = ThreadPoolExecutor(max_workers=1, thread_name_prefix="iface-model")
+        self._ws: Workspace | None = None
+        self._dirty: set[str] = set()
+        self._task: asyncio.Task[None] | None = None
+        self._kick: asyncio.Event | None = None
+        self._waiters: dict[str, list[tuple[int, asyncio.Future[Snapshot | None]]]] = {}
+        self._external: dict[str, set[str]] = {}
+        self._indexes: dict[int, tuple[Source, LineIndex]] = {}
+        self._name_cache: dict[int, tuple[object, Name]] = {}
+        self._baselines: dict[tuple[str, str], Compilation | None] = {}
+        self.workspace_index: Any = None
+
+    # ---- the model thread ------------------------------------------------------
+    async def run(self, fn: Callable[..., T], *args: Any) -> T:
+        """Run ``fn(*args)`` on the model thread."""
+        return await asyncio.get_running_loop().run_in_executor(self.model, fn, *args)
+
+    def workspace(self) -> Workspace:
+        """The core workspace (model thread only), created with the configured include paths."""
+        if self._ws is None:
+            from ..compile import Workspace
+            self._ws = Workspace(self._include_paths())
+        return self._ws
+
+    def _include_paths(self) -> list[str]:
+        base = self.roots[0] if self.roots else os.getcwd()
+        return [p if os.path.isabs(p) else os.path.join(base, p) for p in self.settings.include_paths]
+
+    def reset_workspace(self) -> None:
+        """Start a new core workspace (after include paths change); model thread only."""
+        self._ws = None
+        ws = self.workspace()
+        for doc in list(self.docs.values()):
+            ws.set_overlay(doc.path, doc.state.text)
+
+    def index_of(self, source: Source) -> LineIndex:
+        """A line index for another file's text (model thread)."""
+        key = id(source)
+        cached = self._indexes.get(key)
+        if cached is not None and cached[0] is source:
+            return cached[1]
+        if len(self._indexes) > 256:
+            self._indexes.clear()
+        index = LineIndex(source.text, self.encoding)
+        self._indexes[key] = (source, index)
+        return index
+
+    def location(self, source: Source, span: Span) -> Any:
+        """An LSP location of a span in any file (model thread)."""
+        from . import convert
+        return convert.location(path_to_uri(source.path), self.index_of(source), span)
+
+    def compile(self, doc: Document) -> tuple[Snapshot, list[tuple[str, int | None, list[Any]]]]:
+        """Compile the newest version of an open document (model thread).
+
+        Returns the snapshot (installed only while the document is still open)
+        and the diagnostics to publish.
+        """
+        from . import convert
+        uri, path, state = doc.uri, doc.path, doc.state
+        ws = self.workspace()
+        index = state.index
+        try:
+            comp = ws.compile_text(path, state.text)
+        except Exception as e:  # the model must never take the server down
+            log.exception("compiling %s failed", uri)
+            snap = Snapshot(uri, path, state.version, state.seq, state.text, index, None)
+            self._install(doc, snap)
+            return snap, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
+        names, topics = _names(comp, self._name_cache)
+        deps = frozenset(c.path for c in comp.closure()[1:])
+        snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
+        self._install(doc, snap)
+        uri_of = path_to_uri
+        found = [*comp.diagnostics, *self._compat(path, comp)]
+        pubs = [(uri, state.version, [convert.diagnostic(d, index, uri_of, self.index_of) for d in found])]
+        for inc in comp.closure()[1:]:
+            inc_uri = path_to_uri(inc.path)
+            if inc_uri in self.docs:
+                continue
+            inc_index = self.index_of(inc.source)
+            pubs.append((inc_uri, None, [convert.diagnostic(d, inc_index, uri_of, self.index_of)
+                                         for d in inc.diagnostics]))
+        return snap, pubs
+
+    def _install(self, doc: Document, snap: Snapshot) -> None:
+        if self.docs.get(doc.uri) is doc:
+            self.snapshots[doc.uri] = snap
+
+    def _compat(self, path: str, comp: Compilation) -> list[Any]:
+        """Findings against the configured compatibility baseline, if any (model thread)."""
+        spec = self.settings.compat_baseline
+        if not spec or comp.has_errors:
+            return []
+        try:
+            from ..compat import baseline_diagnostics, load_baseline
+        except ImportError:
+            return []
+        key = (path, spec)
+        if key not in self._baselines:
+            self._baselines[key] = load_baseline(path, spec, self._include_paths())
+        old = self._baselines[key]
+        if old is None:
+            return []
+        try:
+            return baseline_diagnostics(old, comp)
+        except Exception:
+            log.exception("comparing %s with its baseline failed", path)
+            return []
+
+    def forget_baselines(self) -> None:
+        """Read baselines again (the setting changed); model thread."""
+        self._baselines.clear()
+
+    def compile_disk(self, uri: str) -> Snapshot | None:
+        """A snapshot of a file that is not open, read from the disk (model thread)."""
+        path = uri_to_path(uri)
+        if not os.path.isfile(path):
+            return None
+        comp = self.workspace().compile_path(path)
+        text = comp.source.text
+        return Snapshot(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp,
+                        *_names(comp, self._name_cache))
+
+    # ---- documents (event loop) ----------------------------------------------------
+    def open(self, uri: str, text: str, version: int) -> None:
+        """A document was opened."""
+        self.docs[uri] = Document(uri, text, version, self.encoding)
+        self.snapshots.pop(uri, None)  # a snapshot of an earlier opening counts edits of another log
+        self.changed(uri)
+
+    def change(self, uri: str, changes: list[Any], version: int) -> None:
+        """A document changed."""
+        doc = self.docs.get(uri)
+        if doc is None:
+            return
+        doc.apply(changes, version)
+        self.changed(uri)
+
+    def close(self, uri: str) -> None:
+        """A document was closed: back to the disk for anything that includes it."""
+        doc = self.docs.pop(uri, None)
+        if doc is None:
+            return
+        self.snapshots.pop(uri, None)
+        for _, fut in self._waiters.pop(uri, []):
+            if not fut.done():
+                fut.set_result(None)
+        self.model.submit(self._drop_overlay, doc.path)
+        self.publish(uri, None, [])
+        for other, snap in list(self.snapshots.items()):
+            if doc.path in snap.deps:
+                self.changed(other)
+
+    def _drop_overlay(self, path: str) -> None:
+        if self._ws is not None:
+            self._ws.set_overlay(path, None)
+
+    def file_changed_on_disk(self, path: str) -> None:
+        """A file that is not open changed: recheck the open documents that include it."""
+        for uri, snap in list(self.snapshots.items()):
+            if path in snap.deps:
+                self.changed(uri)
+
+    def recheck_all(self) -> None:
+        """Compile every open document again (settings changed)."""
+        for uri in self.docs:
+            self.changed(uri)
+
+    # ---- scheduling (event loop) ---------------------------------------------------
+    def changed(self, uri: str) -> None:
+        """Schedule a compile of ``uri``."""
+        self._dirty.add(uri)
+        if self._task is None or self._task.done():
+            self._kick = asyncio.Event()
+            self._task = asyncio.get_running_loop().create_task(self._drain())
+
+    def _flush(self) -> None:
+        if self._kick is not None:
+            self._kick.set()
+
+    async def _drain(self) -> None:
+        assert self._kick is not None
+        while self._dirty:
+            delay = self.settings.diagnostics_delay
+            if delay > 0 and not self._kick.is_set():
+                try:
+                    await asyncio.wait_for(self._kick.wait(), delay)
+                except asyncio.TimeoutError:
+                    pass
+            self._kick.clear()
+            batch = sorted(self._dirty, key=lambda u: u not in self._waiters)
+            self._dirty.clear()
+            for uri in batch:
+                try:
+                    await self._check(uri)
+                except Exception:  # keep checking the other documents, and the next edits
+                    log.exception("checking %s failed", uri)
+
+    async def _check(self, uri: str) -> None:
+        doc = self.docs.get(uri)
+        if doc is None:
+            return
+        snap, pubs = await self.run(self.compile, doc)
+        if self.docs.get(uri) is not doc:
+            return  # closed or opened again meanwhile
+        self._publish_all(uri, pubs)
+        doc.log.forget_before(snap.seq)
+        self._wake_waiters(uri, snap)
+        for other, osnap in list(self.snapshots.items()):
+            if other != uri and doc.path in osnap.deps and other in self.docs:
+                self._dirty.add(other)
+
+    def _publish_all(self, owner: str, pubs: list[tuple[str, int | None, list[Any]]]) -> None:
+        now = {u for u, _, _ in pubs[1:]}
+        for uri, version, diags in pubs:
+            if uri != owner:
+                self._external.setdefault(uri, set()).add(owner)
+            self.publish(uri, version, diags)
+        for uri, owners in list(self._external.items()):
+            if owner in owners and uri not in now:
+                owners.discard(owner)
+                if not owners:
+                    del self._external[uri]
+                    if uri not in self.docs:
+                        self.publish(uri, None, [])
+
+    def _wake_waiters(self, uri: str, snap: Snapshot) -> None:
+        waiters = self._waiters.get(uri)
+        if not waiters:
+            return
+        keep = []
+        for version, fut in waiters:
+            if fut.done():
+                continue
+            if snap.version >= version or uri not in self.docs:
+                fut.set_result(snap)
+            else:
+                keep.append((version, fut))
+        if keep:
+            self._waiters[uri] = keep
+            self.changed(uri)
+            self._flush()
+        else:
+            self._waiters.pop(uri, None)
+
+    async def snapshot(self, uri: str, fresh: bool = False) -> Snapshot | None:
+        """The latest snapshot of ``uri``; with ``fresh``, one of its current version.
+
+        Without ``fresh`` a document that has never been compiled is compiled now.
+        """
+        doc = self.docs.get(uri)
+        if doc is None:
+            snap = self.snapshots.get(uri)
+            return snap if snap is not None else await self.run(self.compile_disk, uri)
+        snap = self.snapshots.get(uri)
+        if snap is not None and (not fresh or snap.version == doc.state.version):
+            return snap
+        fut: asyncio.Future[Snapshot | None] = asyncio.get_running_loop().create_future()
+        self._waiters.setdefault(uri, []).append((doc.state.version, fut))
+        self.changed(uri)
+        self._flush()
+        return await fut
+
+    async def view(self, uri: str, fn: Callable[[View], T], fresh: bool = False) -> T | None:
+        """Run ``fn`` on the model thread over the latest snapshot of ``uri`` seen from its current text."""
+        snap = await self.snapshot(uri, fresh)
+        if snap is None:
+            return None
+        return await self.run(self._in_view, uri, fn)
+
+    def _in_view(self, uri: str, fn: Callable[[View], T]) -> T | None:
+        doc = self.docs.get(uri)
+        snap = self.snapshots.get(uri)
+        if doc is None:
+            snap = snap or self.compile_disk(uri)
+            if snap is None:
+                return None
+            state = DocState(snap.text, snap.version, snap.seq, self.encoding)
+            return fn(View(self, snap, state, []))
+        if snap is None:
+            return None
+        state = doc.state
+        edits = doc.log.between(snap.seq, state.seq) if state.seq > snap.seq else []
+        return fn(View(self, snap, state, edits))
+
+    def open_interfaces(self) -> list[Interface]:
+        """Interfaces of every open document and everything they include (model thread)."""
+        out: dict[str, Interface] = {}
+        for snap in list(self.snapshots.values()):
+            if snap.comp is None:
+                continue
+            for c in snap.comp.closure():
+                out.setdefault(c.path, c.interface)
+        return list(out.values())
+
+
+def _names(comp: Compilation, cache: dict[int, tuple[object, Name]]
+           ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
+    """Names of a compilation for completion: local definitions, then included ones with their prefix.
+
+    ``cache`` keeps the entry of each definition object: chunks that did not
+    change keep their definition objects, so an edit rebuilds only its own.
+    """
+    from .. import model as m
+    from ..walk import all_fields
+
+    fresh: dict[int, tuple[object, Name]] = {}
+
+    def entry(prefix: str, d: m.Definition) -> Name:
+        key = id(d)
+        hit = cache.get(key)
+        if hit is not None and hit[0] is d and hit[1].name == prefix + d.name:
+            fresh[key] = hit
+            return hit[1]
+        if isinstance(d, m.Enum):
+            members = tuple(v.name for v in d.values)
+        elif isinstance(d, m.Const):
+            members = ()
+        else:
+            members = tuple(f.name for f in all_fields(d)) + tuple(c.name for c in getattr(d, "consts", ()))
+        name = Name(prefix + d.name, d.kind, d.kind, d.doc or "", members)
+        fresh[key] = (d, name)
+        return name
+
+    iface = comp.interface
+    names = [entry("", d) for d in iface.definitions]
+    for prefix, inc in sorted(iface.included.items()):
+        names.extend(entry(prefix + ".", d) for d in inc.definitions)
+    cache.clear()
+    cache.update(fresh)
+    topics = tuple((w.topic, w.type.name) for w in iface.wirings)
+    return tuple(names), topics
