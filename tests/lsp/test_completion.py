@@ -93,3 +93,9 @@ async def test_enum_members_and_field_names_of_the_wired_message(client: Client,
     assert {"Mode.IDLE", "Mode.RUN"} <= labels(items)
     fields = await complete(client, doc, DOC + 'publishes Local on "/l" (key = |)\n')
     assert '"count"' in labels(fields)
+
+
+async def test_member_completion_after_a_constant(client: Client, doc: str) -> None:
+    """A blank line right after a constant member still offers types (seen in VS Code)."""
+    items = await complete(client, doc, DOC + "message Limits {\n    const u8 MAX_JOINTS = 6\n    |\n}\n")
+    assert {"float64", "Local"} <= labels(items)
