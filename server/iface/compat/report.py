@@ -58,8 +58,8 @@ def _reason(report: Report) -> str:
     if report.verdict == "replaceable-if-unused":
         if report.with_system:
             return f"{errors} breaking change{'s' if errors != 1 else ''}, none used by the system"
-        return (f"{errors} breaking change{'s' if errors != 1 else ''} that only matter if other components use "
-                "them: give --system to decide")
+        return (f"{errors} breaking change{'s' if errors != 1 else ''} that only matter{'' if errors != 1 else 's'}"
+                " if other components use them: give --system to decide")
     return f"{errors} breaking change{'s' if errors != 1 else ''}"
 
 

@@ -53,6 +53,29 @@ def package_name(folder: Path) -> str:
     return folder.resolve().name
 
 
+def package_metadata(folder: Path) -> dict[str, str]:
+    """version, description, license, maintainer and maintainer_email from ``package.xml``."""
+    xml = folder / "package.xml"
+    try:
+        root = ET.parse(xml).getroot() if xml.is_file() else None
+    except (ET.ParseError, OSError):
+        root = None
+    if root is None:
+        return {}
+    out: dict[str, str] = {}
+    for key in ("version", "description", "license"):
+        node = root.find(key)
+        if node is not None and node.text and " ".join(node.text.split()):
+            out[key] = " ".join(node.text.split())
+    maintainer = root.find("maintainer")
+    if maintainer is not None:
+        if maintainer.text and maintainer.text.strip():
+            out["maintainer"] = " ".join(maintainer.text.split())
+        if maintainer.get("email"):
+            out["maintainer_email"] = maintainer.get("email", "").strip()
+    return out
+
+
 def find_packages(inputs: list[str], problems: list[Problem]) -> list[Package]:
     """The packages named on the command line, each once; folders without interfaces get a warning."""
     out: dict[Path, Package] = {}
@@ -198,7 +221,14 @@ class _PackageImport:
     def write(self, suffix: str, defs: list[tuple[Path, m.Definition]], uses: dict[str, str]) -> None:
         pkg = self.pkg.name
         out = f"{pkg}{suffix}.iface"
-        items: list[m.Item] = [m.Namespace("ros2", pkg, self.spans())]
+        items: list[m.Item] = []
+        meta = package_metadata(self.pkg.folder) if not suffix else {}
+        if meta:
+            # package.xml's metadata, which the ros2 target writes back
+            annotations = [m.Annotation(k, m.Value("string", meta[k], self.spans(), ""), self.spans())
+                           for k in ("description", "maintainer", "maintainer_email", "license") if k in meta]
+            items.append(m.ComponentDecl(pkg, self.spans(), Span(0, 0), meta.get("version"), annotations))
+        items.append(m.Namespace("ros2", pkg, self.spans()))
         if suffix:
             items.append(m.Include(f"{pkg}.iface", self.spans(), Span(0, 0)))
         for other in sorted(uses):
