@@ -15,6 +15,7 @@ CASES = {
     "listing1": EXAMPLES / "listing1.iface",
     "robot_arm": EXAMPLES / "robot_arm.iface",
     "injection": DATA / "injection.iface",
+    "section_docs": DATA / "section_docs.iface",
 }
 
 

@@ -83,8 +83,23 @@ def test_doc_comments_cannot_escape_the_verbatim_string() -> None:
     assert rosbags_idl(text)
 
 
+def test_part_docs_are_verbatim_comments_of_their_structs() -> None:
+    files = generated("idl", "section_docs")
+    srv = files["section_docs_msgs/srv/SetGrip.idl"]
+    assert ('    @verbatim (language="comment", text=\n      "Sets the gripper opening." "\\n"\n      "" "\\n"\n'
+            '      "What to do." "\\n"\n      "" "\\n"\n      "The width is clamped to the gripper\'s range.")\n'
+            "    struct SetGrip_Request {") in srv
+    assert '      "What happened.")\n    struct SetGrip_Response {' in srv
+    action = files["section_docs_msgs/action/MoveTo.idl"]
+    assert '      "Moves the arm to a named pose.")\n    struct MoveTo_Goal {' in action
+    assert '      "Reached or not.")\n    struct MoveTo_Result {' in action
+    assert '      "Progress so far: 0..1." "\\n"\n      "Sent at 10 Hz.")\n    struct MoveTo_Feedback {' in action
+    for text in files.values():
+        assert rosbags_idl(text)
+
+
 def test_backslash_in_a_string_value_is_refused() -> None:
-    result = run("idl", compile_text('message M { string s = "a\\\\b" }'))
+    result = run("idl", compile_text('message M { string s = "a\\\\b" }', "strings.iface"))
     assert "idl-unwritable-string" in codes(result) and result.files == []
 
 
@@ -94,3 +109,46 @@ def test_the_docs_hold_the_type_table() -> None:
     from .helpers import ROOT
 
     assert markdown_table() in (ROOT / "docs" / "targets.md").read_text(encoding="utf-8")
+
+
+KEYWORD_FIELDS = ["module", "struct", "sequence", "string", "boolean", "octet", "long", "union", "switch", "case",
+                  "default", "enum", "const", "typedef", "in", "out", "interface", "any", "native", "fixed", "map",
+                  "bitset", "valuetype", "wchar", "int32"]
+
+
+@pytest.mark.parametrize("target", ["idl", "ardupilot"])
+@pytest.mark.parametrize("name", KEYWORD_FIELDS)
+def test_a_field_named_like_an_idl_keyword_is_an_error_at_the_name(target: str, name: str) -> None:
+    text = f"component kw\nmessage Pose {{ i32 x, i32 {name} }}\npublishes Pose on \"/pose\"\n"
+    comp = compile_text(text, "keywords.iface")  # the helper's default file stem, "case", is a keyword too
+    assert not comp.has_errors, [d.format() for d in comp.diagnostics]
+    result = run(target, comp)
+    found = [d for d in result.diagnostics if d.code == "idl-reserved-name"]
+    assert len(found) == 1 and result.files == []
+    assert f"field '{name}' of msg/Pose is an OMG IDL keyword" in found[0].message
+    assert text[found[0].span.start:found[0].span.end] == name
+
+
+@pytest.mark.parametrize("target", ["idl", "ardupilot"])
+def test_package_message_and_constant_names_are_checked_too(target: str) -> None:
+    text = ('namespace ros2 module\ncomponent kw\nmessage Object { i32 x, const i32 DEFAULT = 1 }\n'
+            'service Svc { request { i32 in } response { bool ok } }\nprovides Svc on "/svc"\n')
+    result = run(target, compile_text(text, "keywords.iface"))
+    where = {(d.code, text[d.span.start:d.span.end]) for d in result.diagnostics if d.code.startswith("idl-reserved")}
+    assert where == {("idl-reserved-name", "module"), ("idl-reserved-name", "Object"),
+                     ("idl-reserved-name", "in"), ("idl-reserved-name-case", "DEFAULT")}
+    assert result.files == []
+
+
+def test_a_name_differing_from_a_keyword_only_in_case_is_a_warning() -> None:
+    text = "message Mode { const u8 DEFAULT = 0, const u8 STRUCT = 1, i32 modules }"
+    result = run("idl", compile_text(text, "keywords.iface"))
+    assert codes(result).count("idl-reserved-name-case") == 2
+    assert not result.has_errors and result.files
+    assert rosbags_idl(result.files[0].text)
+
+
+def test_the_ros2_target_keeps_idl_keywords_rosidl_reads() -> None:
+    """rosidl's own IDL parser reads keywords as member names, so the ros2 target does not refuse them."""
+    result = run("ros2", compile_text("message M { i32 module }", "keywords.iface"))
+    assert not result.has_errors

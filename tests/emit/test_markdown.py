@@ -134,3 +134,14 @@ def test_source_name_cannot_close_the_header_comment(tmp_path: Path) -> None:
     shutil.copy(DATA / "listing1.iface", path)
     first = render(path).splitlines()[0]
     assert first.count("-->") == 1 and first.endswith(" -->")
+
+
+def test_service_and_action_parts_show_their_docs_and_constants() -> None:
+    path = Path(__file__).parent / "data" / "ros2" / "section_docs.iface"
+    text = render(path)
+    check_structure(text, path)
+    assert "#### Request\n\nWhat to do.\n\nThe width is clamped to the gripper's range.\n\n| Id |" in text
+    assert "| const | `MAX_RETRIES` | `u8` | `3` |  |  |" in text
+    assert "#### Response\n\nWhat happened.\n\n| Id |" in text
+    assert "#### Feedback\n\nProgress so far: 0..1. Sent at 10 Hz.\n\n| Id |" in text
+    assert "#### Goal\n\n| Id |" in text

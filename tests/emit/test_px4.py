@@ -267,3 +267,39 @@ def test_cli_generate_fails_for_listing1(tmp_path: Path) -> None:
                            str(DATA / "listing1.iface")], capture_output=True, text=True)
     assert proc.returncode == 1
     assert "px4-unsupported-type" in proc.stdout + proc.stderr
+
+
+# ---- text: string<=N is char[N] ----------------------------------------------------------
+
+
+TEXT = """component texts
+message LogLine {
+  u64 timestamp,
+  string<=127 text,
+  u8 severity
+}
+publishes LogLine on "/log_line"
+"""
+
+
+def test_a_bounded_string_is_a_char_array(tmp_path: Path) -> None:
+    path = tmp_path / "texts.iface"
+    path.write_text(TEXT)
+    spec = messages(ok(path))["LogLine"]
+    assert list(zip(spec.types, spec.names)) == [("uint64", "timestamp"), ("char[127]", "text"),
+                                                 ("uint8", "severity")]
+
+
+@pytest.mark.parametrize(("field", "reason"), [
+    ("string note", "uORB has no unbounded strings: write string<=N, which becomes char[N]"),
+    ("wstring<=10 wide", "uORB has no wide strings"),
+    ("string<=8[4] tags", "uORB has no arrays of arrays"),
+])
+def test_text_uorb_cannot_hold_is_an_error_naming_the_field(tmp_path: Path, field: str, reason: str) -> None:
+    path = tmp_path / "texts.iface"
+    path.write_text(TEXT.replace("u8 severity", f"u8 severity,\n  {field}"))
+    result = run(path)
+    assert result.files == []
+    name = field.split()[-1]
+    found = [d for d in result.diagnostics if d.code == "px4-unsupported-type"]
+    assert len(found) == 1 and f"field '{name}'" in found[0].message and reason in found[0].message

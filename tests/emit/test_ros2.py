@@ -97,6 +97,44 @@ def test_listing1_maps_every_set() -> None:
     assert "# param1: no default" in files["listing1/config/listing1.params.yaml"]
 
 
+def _without_docs(case: str) -> dict[str, str]:
+    """The files of ``case`` generated from its text with every doc comment removed."""
+    bare = re.sub(r"/\*\*.*?\*/", "", CASES[case].read_text(encoding="utf-8"), flags=re.S)
+    result = run("ros2", compile_text(bare, CASES[case].name))
+    assert not result.has_errors
+    return {f.path: f.text for f in result.files}
+
+
+def test_part_docs_are_the_parts_own_comments_for_rosidl() -> None:
+    specs = parsed(generated("section_docs"))
+    _, response = specs["srv/SetGrip"]
+    assert response.annotations["comment"] == ["What happened."]
+    _, ping_response = specs["srv/Ping"]
+    assert ping_response.annotations["comment"] == ["Nothing comes back."]
+    _, result, feedback = specs["action/MoveTo"]
+    assert result.annotations["comment"] == ["Reached or not."]
+    assert feedback.annotations["comment"] == ["Progress so far: 0..1.", "Sent at 10 Hz."]
+    # the part's doc is the part's, not its first field's
+    assert not result.fields[0].annotations.get("comment") and not feedback.fields[0].annotations.get("comment")
+
+
+def test_request_doc_stands_at_the_top_after_the_definition_doc() -> None:
+    text = generated("section_docs")["section_docs_msgs/srv/SetGrip.srv"]
+    top = text.split("\nuint8 MAX_RETRIES", 1)[0]
+    assert top.endswith("# Sets the gripper opening.\n\n# What to do.\n#\n# The width is clamped to the "
+                        "gripper's range.\n")
+
+
+def test_part_docs_change_no_field_or_constant() -> None:
+    with_docs, without = parsed(generated("section_docs")), parsed(_without_docs("section_docs"))
+    assert sorted(with_docs) == sorted(without)
+    for key, specs in with_docs.items():
+        for spec, bare in zip(specs, without[key], strict=True):
+            assert fields(spec) == fields(bare)
+            assert [(c.name, c.type, c.value) for c in spec.constants] == \
+                [(c.name, c.type, c.value) for c in bare.constants]
+
+
 def test_listing1_names_are_converted_with_warnings() -> None:
     result = run("ros2", compile_file(CASES["listing1"]))
     renamed = [d for d in result.diagnostics if d.code == "ros-naming"]
@@ -231,3 +269,28 @@ def test_template_folder_can_be_overridden(tmp_path: Path, monkeypatch: pytest.M
     files = {f.path: f.text for f in run("ros2", compile_file(CASES["listing1"])).files}
     assert files["listing1/msg/Message1.msg"].endswith("# custom Message1\n")
     assert files["listing1/srv/Service1.srv"].count("---") == 1
+
+
+@pytest.mark.parametrize("target", ["ros2", "idl", "ardupilot"])
+def test_an_external_package_rosidl_refuses_is_an_error_at_the_type(target: str) -> None:
+    text = "external geometryMsgs\nmessage M { geometryMsgs.Pose p }\n"
+    comp = compile_text(text)
+    assert not comp.has_errors
+    result = run(target, comp)
+    found = [d for d in result.diagnostics if d.code == "ros-name-invalid"]
+    assert len(found) == 1 and result.files == []
+    assert "'geometryMsgs' is not a ROS 2 package name" in found[0].message
+    assert text[found[0].span.start:found[0].span.end] == "geometryMsgs.Pose"
+
+
+def test_names_rosidl_checks_are_the_ones_lowering_enforces() -> None:
+    """The vendored rosidl parser's name patterns accept exactly what the lowering writes."""
+    from mcap_ros2._vendor.rosidl_adapter import parser as rosidl
+
+    from iface.naming import is_ros_constant, is_ros_field, is_ros_type
+
+    samples = ["a", "a1", "a_b", "a__b", "a_", "_a", "A", "Ab", "AB", "A_B", "A__B", "A_", "1a", "aB", "a1_2"]
+    for s in samples:
+        assert is_ros_field(s) == rosidl.is_valid_field_name(s) == rosidl.is_valid_package_name(s), s
+        assert is_ros_constant(s) == rosidl.is_valid_constant_name(s), s
+        assert is_ros_type(s) == rosidl.is_valid_message_name(s), s

@@ -1,18 +1,56 @@
-"""Targets found through the ``iface.targets`` entry point group."""
+"""Targets found through the ``iface.targets`` entry point group, each behind a guard.
+
+Every caller (the ``generate`` command, the editor's preview, ``roundtrip``) gets
+its targets from here, so the guard holds everywhere: a target that raises
+never shows a traceback. A template error becomes ``GenerationError`` (the
+caller reports it as a usage error: the templates are the user's or broken);
+any other exception becomes an ``internal-error`` diagnostic naming the target.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 from importlib.metadata import entry_points
 from typing import Any
 
+import jinja2
+
 from ..compile import Compilation
-from .base import Result, Target
+from ..diagnostics import Severity
+from ..source import Span
+from .base import CodeTable, GenerationError, Result, Target
 
 GROUP = "iface.targets"
 
+#: Codes every target may report through the guard.
+CODES: dict[str, tuple[Severity, str]] = {
+    "internal-error": (Severity.ERROR, "A target failed with an unexpected exception (a bug in the target); "
+                       "nothing is generated."),
+}
+_diag = CodeTable(CODES)
+
+
+def guarded(target: Target) -> Target:
+    """``target`` with a ``generate`` that reports exceptions instead of raising them."""
+    inner = target.generate
+
+    def generate(comp: Compilation, options: dict[str, Any]) -> Result:
+        try:
+            return inner(comp, options)
+        except GenerationError:
+            raise
+        except jinja2.TemplateError as e:
+            raise GenerationError(f"{target.name} templates: {type(e).__name__}: {e}") from e
+        except Exception as e:  # noqa: BLE001 - the point of the guard
+            message = (f"the {target.name} target failed: {type(e).__name__}: {e} (a bug in the target: "
+                       "please report it with the input file); nothing is generated")
+            return Result(diagnostics=[_diag("internal-error", message, comp.interface.source, Span(0, 0))])
+
+    return dataclasses.replace(target, generate=generate)
+
 
 def targets() -> dict[str, Target]:
-    """Every installed target by name (entry point value: a ``Target`` object)."""
+    """Every installed target by name (entry point value: a ``Target`` object), guarded."""
     found: dict[str, Target] = {}
     for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
         try:
@@ -20,7 +58,7 @@ def targets() -> dict[str, Target]:
         except Exception:  # a broken third-party target must not break the others
             continue
         if isinstance(target, Target):
-            found[target.name] = target
+            found[target.name] = guarded(target)
     return found
 
 

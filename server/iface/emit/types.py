@@ -54,8 +54,8 @@ BASE_TYPES: dict[str, TypeRow] = {row.language: row for row in (
             "8-bit unsigned; rosidl writes ROS `char` as IDL `uint8`."),
     TypeRow("octet", "byte", "uint8", "octet", _int_schema("octet"), "ROS `byte`, an opaque 8-bit value."),
     TypeRow("string", "string", None, "string", {"type": "string"},
-            "PX4 uORB has no strings: use a fixed `char[N]` array."),
-    TypeRow("wstring", "wstring", None, "wstring", {"type": "string"}, "UTF-16 in ROS 2 and IDL."),
+            "PX4 uORB has no unbounded strings: write `string<=N` (`char[N]`)."),
+    TypeRow("wstring", "wstring", None, "wstring", {"type": "string"}, "UTF-16 in ROS 2 and IDL; uORB text is 8-bit."),
     TypeRow("binary", "uint8[]", None, "sequence<uint8>", {"type": "string", "contentEncoding": "base64"},
             "Thrift `binary`: an unbounded byte array."),
     TypeRow("uuid", "uint8[16]", "uint8[16]", "uint8[16]", {"type": "string", "format": "uuid"},
@@ -72,8 +72,9 @@ CONTAINERS: dict[str, TypeRow] = {row.language: row for row in (
             "`T[<=N]`: at most N elements; PX4 has fixed arrays only."),
     TypeRow("unbounded", "{T}[]", None, "sequence<{T}>", {"type": "array", "items": "{T}"},
             "`T[]` and Thrift `list<T>`."),
-    TypeRow("bounded_string", "{T}<={N}", None, "{T}<{N}>", {"type": "string", "maxLength": "{N}"},
-            "`string<=N` and `wstring<=N`."),
+    TypeRow("bounded_string", "{T}<={N}", "char[{N}]", "{T}<{N}>", {"type": "string", "maxLength": "{N}"},
+            "`string<=N` and `wstring<=N`; PX4 writes text as a char array (`string<=N` only), as its "
+            "`log_message` does."),
     TypeRow("set", None, None, None, {"type": "array", "items": "{T}", "uniqueItems": True},
             "Thrift `set<T>`: no ROS 2/PX4/IDL equivalent (write `T[]` to accept duplicates)."),
     TypeRow("map", None, None, None, {"type": "object", "additionalProperties": "{T}"},
@@ -129,11 +130,18 @@ def json_schema_base(name: str, bound: int | None = None) -> dict[str, Any] | No
     return schema
 
 
+#: Targets whose bounded strings are 8-bit text only (``wstring<=N`` has no equivalent).
+_NARROW_TEXT = frozenset({"px4"})
+
+
 def container(kind: str, target: str, element: str, size: int | None = None, *, key: str = "",
               name: str = "") -> str | None:
-    """A container type written for ``target`` (``ros2``, ``px4``, ``idl``), None if unsupported."""
+    """A container type written for ``target`` (``ros2``, ``px4``, ``idl``), None if unsupported.
+
+    For ``bounded_string`` the element is the string kind, ``string`` or ``wstring``.
+    """
     pattern = getattr(CONTAINERS[kind], target)
-    if pattern is None:
+    if pattern is None or (kind == "bounded_string" and element == "wstring" and target in _NARROW_TEXT):
         return None
     return pattern.format(T=element, N="" if size is None else size, K=key, name=name)
 

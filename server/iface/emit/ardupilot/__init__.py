@@ -10,18 +10,19 @@ stable from field ids; see docs/targets-px4-ardupilot.md.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from ...compile import Compilation
-from ..base import GeneratedFile, Result, Target, TemplateSet, sorted_files
-from ..idl import TEMPLATES as IDL_TEMPLATES
+from ...diagnostics import Diagnostic
+from ..base import GeneratedFile, Result, Target, TemplateSet, sort_diagnostics, sorted_files
 from ..idl import render_package
-from ..idl.render import FILTERS as IDL_FILTERS
-from ..idl.render import ROS_TO_IDL, check_idl_values
-from ..px4.escape import cpp_string, one_line
-from ..px4.support import source_name
-from ..ros2.lower import lower
+from ..idl import templates as idl_templates
+from ..idl.render import check_idl_values
+from ..idl.reserved import check_idl_names
+from ..ros2.lower import RosPackage, lower_checked
+from ..text import cpp_string, header_name, one_line
 from .codes import CODES, diag
 from .params import ParamBuilder
 
@@ -35,25 +36,18 @@ FILTERS = {"cpp_string": cpp_string, "one_line": one_line}
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """IDL files for messages and services, and the AP_Param class; errors mean no files."""
-    pkg, lowered = lower(comp)
+    pkg, lowered = lower_checked(comp, check_idl_values, check_idl_names, _no_actions)
     # package.xml is the ros2 target's business, not ArduPilot's
     diagnostics = [d for d in lowered if d.code not in IGNORED]
-    if pkg is not None:
-        diagnostics.extend(check_idl_values(pkg))
-        for action in pkg.of_kind("action"):
-            diagnostics.append(diag("ap-no-actions", f"AP_DDS has no actions: action '{action.name}' is not "
-                                    "generated for ardupilot", action.source, action.span))
     params = ParamBuilder(comp)
     table = params.build()
     diagnostics.extend(params.diagnostics)
-    diagnostics.sort(key=lambda d: (d.path, d.span.start, d.span.end, d.code))
-    result = Result(diagnostics=diagnostics)
+    result = Result(diagnostics=sort_diagnostics(diagnostics))
     if result.has_errors or table is None or pkg is None:
         return result
     ts = TemplateSet(TEMPLATES, "ardupilot", filters=FILTERS, override=options.get("templates"))
-    idl_ts = TemplateSet(IDL_TEMPLATES, "idl", filters={**IDL_FILTERS, "idl_primitive": ROS_TO_IDL.__getitem__})
-    common = {"source_name": source_name(comp), "open": "//", "close": ""}
-    files = [GeneratedFile(f"{IDL_ROOT}/{f.path}", f.text) for f in render_package(pkg, idl_ts)
+    common = {"source_name": header_name(comp.path), "open": "//", "close": ""}
+    files = [GeneratedFile(f"{IDL_ROOT}/{f.path}", f.text) for f in render_package(pkg, idl_templates())
              if "/action/" not in f.path]
     if table.params:
         folder = f"libraries/{table.library}"
@@ -62,6 +56,13 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
                                    ts.render("params.cpp.j2", table=table, **common)))
     result.files = sorted_files(files)
     return result
+
+
+def _no_actions(pkg: RosPackage) -> Iterator[Diagnostic]:
+    """AP_DDS has no actions: a warning for each one."""
+    for action in pkg.of_kind("action"):
+        yield diag("ap-no-actions", f"AP_DDS has no actions: action '{action.name}' is not generated for "
+                   "ardupilot", action.source, action.span)
 
 
 TARGET = Target("ardupilot", "ArduPilot: OMG IDL for AP_DDS (rosidl shape) and an AP_Param table with stable "

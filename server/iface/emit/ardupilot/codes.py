@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ...diagnostics import Severity
-from ..px4.support import CodeTable
+from ..base import CodeTable
 
 CODES: dict[str, tuple[Severity, str]] = {
     "ap-name-invalid": (Severity.ERROR, "A component name that cannot be made a C++ class name."),

@@ -13,20 +13,19 @@ from the interface itself, never from the order of the generated table:
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 
 from ... import model as m
 from ...compile import Compilation
 from ...diagnostics import Diagnostic
 from ...walk import resolve_typedefs, type_text
-from ..px4.escape import number, one_line, summary
-from ..px4.support import camel, configuration_blocks, enum_of, humanize, literal, snake, upper
+from ..support import (PARAM_NAME, camel, component_span, enum_of, humanize, literal, parameter_prefixes, snake,
+                       upper)
+from ..text import compact_number, number, one_line, summary
 from .codes import diag
 
 MAX_NAME = 16
 MAX_INDEX = 63
-_NAME = re.compile(r"^[A-Z][A-Z0-9]*(_[A-Z0-9]+)*$")
 _AP_TYPES = {"bool": "AP_Int8", "i8": "AP_Int8", "u8": "AP_Int16", "i16": "AP_Int16", "char": "AP_Int16",
              "octet": "AP_Int16", "u16": "AP_Int32", "i32": "AP_Int32", "float32": "AP_Float",
              "float64": "AP_Float"}
@@ -74,23 +73,18 @@ class ParamBuilder:
     def build(self) -> ApParams | None:
         """The table, or None when the component name cannot name a class."""
         iface = self.iface
-        decl = iface.component
         base = camel(iface.name)
         if base is None:
             self.diagnostics.append(diag("ap-name-invalid", f"component name '{iface.name}' cannot be made a C++ "
-                                         "class name", self.src, decl.name_span if decl else m.Span(0, 0)))
+                                         "class name", self.src, component_span(iface)))
             return None
-        comp_prefix = m.annotation(decl.annotations, "ap.prefix") if decl else None
         table = ApParams(f"AP_{base}_Params", f"AP_{base}", "", snake(iface.name))
         entries: list[tuple[m.Field, ApParam, bool]] = []
         names: dict[str, m.Field] = {}
-        for block in configuration_blocks(iface):
-            ann = m.annotation(block.annotations, "ap.prefix") or comp_prefix
-            prefix = ann.text if ann else upper(iface.name)
-            if not _NAME.match(prefix):
+        for block, prefix, span in parameter_prefixes(iface, "ap.prefix"):
+            if not PARAM_NAME.match(prefix):
                 self.diagnostics.append(diag("ap-param-name-invalid", f"parameter prefix '{prefix}' is not UPPER_CASE "
-                                             "letters and digits (set ap.prefix)", self.src,
-                                             ann.span if ann else block.name_span))
+                                             "letters and digits (set ap.prefix)", self.src, span))
                 continue
             table.prefix = table.prefix or prefix
             for f in block.fields:
@@ -148,7 +142,7 @@ class ParamBuilder:
         span = explicit.span if explicit else f.name_span
         full = f"{prefix}_{name}"
         named = True
-        if not _NAME.match(name):
+        if not PARAM_NAME.match(name):
             self.diagnostics.append(diag("ap-param-name-invalid", f"parameter '{f.name}': '{name}' is not an "
                                          "ArduPilot parameter name (UPPER_CASE)", self.src, span))
             named = False
@@ -177,7 +171,7 @@ class ParamBuilder:
             p.units = one_line(f.unit)
         rng = f.range
         if rng is not None and rng[0] is not None and rng[1] is not None:
-            p.range = f"{_num(rng[0])} {_num(rng[1])}"
+            p.range = f"{compact_number(rng[0])} {compact_number(rng[1])}"
         p.values = values
         return p
 
@@ -215,6 +209,3 @@ class ParamBuilder:
                                      self.src, f.default.span))
         return None
 
-
-def _num(value: float) -> str:
-    return str(int(value)) if float(value).is_integer() else number(value)

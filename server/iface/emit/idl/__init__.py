@@ -11,12 +11,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import jinja2
-
 from ...compile import Compilation
-from ..base import GeneratedFile, GenerationError, Result, Target, TemplateSet, header_lines, sorted_files
-from ..ros2.lower import RosPackage, lower
-from .render import FILTERS, ROS_TO_IDL, check_idl_values, includes, structs, typedefs
+from ..base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
+from ..ros2.lower import RosPackage, lower_checked
+from .render import FILTERS, check_idl_values, includes, structs, typedefs
+from .reserved import check_idl_names
 
 TEMPLATES = Path(__file__).parent / "templates"
 
@@ -36,22 +35,18 @@ def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFil
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
-    """Lower the compilation as for ROS 2, refuse what IDL readers misread, render."""
-    result = Result()
-    pkg, diagnostics = lower(comp)
-    result.diagnostics.extend(diagnostics)
-    if pkg is not None:
-        result.diagnostics.extend(check_idl_values(pkg))
-    result.diagnostics.sort(key=lambda d: (d.path, d.span.start, d.span.end, d.code))
+    """Lower the compilation as for ROS 2, refuse what IDL readers misread or refuse, render."""
+    pkg, diagnostics = lower_checked(comp, check_idl_values, check_idl_names)
+    result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result
-    templates = TemplateSet(TEMPLATES, "idl", filters={**FILTERS, "idl_primitive": ROS_TO_IDL.__getitem__},
-                            override=options.get("templates"))
-    try:
-        result.files = render_package(pkg, templates)
-    except jinja2.TemplateError as e:
-        raise GenerationError(f"idl templates: {e}") from e
+    result.files = render_package(pkg, templates(options.get("templates")))
     return result
+
+
+def templates(override: str | None = None) -> TemplateSet:
+    """The idl target's templates (``override``: a folder of templates that wins)."""
+    return TemplateSet(TEMPLATES, "idl", filters=FILTERS, override=override)
 
 
 TARGET = Target(

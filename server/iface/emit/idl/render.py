@@ -10,28 +10,25 @@ from ...diagnostics import Diagnostic
 from .. import types
 from ..ros2.codes import diag
 from ..ros2.lower import PyValue, RosInterface, RosPackage, RosSection, RosType, Scalar
+from ..text import quote
 
 #: ROS 2 primitive → IDL type (rosidl's own mapping; ``char`` is ``uint8``, ``byte`` is ``octet``).
 ROS_TO_IDL: dict[str, str] = {row.ros2: row.idl for row in types.BASE_TYPES.values()
                               if row.ros2 is not None and row.idl is not None and "[" not in row.ros2}
 _PART_SUFFIXES = {"msg": ("",), "srv": ("_Request", "_Response"), "action": ("_Goal", "_Result", "_Feedback")}
-_ESCAPES = {'"': '\\"', "\n": "\\n", "\t": "\\t", "\r": "\\r"}
+_ESCAPES = {'"': '\\"', "\n": "\\n", "\t": "\\t", "\r": "\\r", "\\": "\\\\"}
+#: In a @verbatim comment a backslash is written as an octal escape.
+_COMMENT_ESCAPES = {**_ESCAPES, "\\": "\\134"}
+
+
+def _idl_escape(c: str) -> str:
+    code = ord(c)
+    return f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}" if code <= 0xFFFF else "?"
 
 
 def idl_string(text: str, *, comment: bool = False) -> str:
     """A double-quoted IDL string literal; in comments a backslash is written as an octal escape."""
-    out = ['"']
-    for c in text:
-        if c in _ESCAPES:
-            out.append(_ESCAPES[c])
-        elif c == "\\":
-            out.append("\\134" if comment else "\\\\")
-        elif c == " " or c.isprintable():
-            out.append(c)
-        else:
-            out.append(f"\\x{ord(c):02x}" if ord(c) < 0x100 else f"\\u{ord(c):04x}" if ord(c) <= 0xFFFF else "?")
-    out.append('"')
-    return "".join(out)
+    return quote(text, _COMMENT_ESCAPES if comment else _ESCAPES, _idl_escape)
 
 
 def idl_scalar(value: Scalar) -> str:
@@ -76,15 +73,26 @@ def idl_type(rt: RosType) -> str:
 
 @dataclass(frozen=True, slots=True)
 class IdlStruct:
-    """One struct of an IDL file: name and the section it holds."""
+    """One struct of an IDL file: name, the section it holds, and its ``@verbatim`` comment lines."""
 
     name: str
     section: RosSection
+    comments: list[str]
 
 
 def structs(ri: RosInterface) -> list[IdlStruct]:
-    """The structs of an interface file (``Foo``; ``Foo_Request``/``_Response``; ``Foo_Goal``/…)."""
-    return [IdlStruct(ri.name + suffix, sec) for suffix, sec in zip(_PART_SUFFIXES[ri.kind], ri.sections)]
+    """The structs of an interface file (``Foo``; ``Foo_Request``/``_Response``; ``Foo_Goal``/…).
+
+    As in rosidl, each struct carries its part's comment; the first one also the file's
+    (the definition's doc), a blank line before the part's own.
+    """
+    out = []
+    for i, (suffix, sec) in enumerate(zip(_PART_SUFFIXES[ri.kind], ri.sections)):
+        comments = list(sec.comments)
+        if i == 0 and ri.comments:
+            comments = [*ri.comments, *([""] if comments else []), *comments]
+        out.append(IdlStruct(ri.name + suffix, sec, comments))
+    return out
 
 
 def typedefs(ri: RosInterface) -> list[tuple[str, str, int]]:
@@ -127,4 +135,5 @@ FILTERS = {
     "idl_scalar": idl_scalar,
     "idl_default": idl_default,
     "idl_type": idl_type,
+    "idl_primitive": ROS_TO_IDL.__getitem__,
 }

@@ -14,6 +14,7 @@ from typing import Any
 from ... import model as m
 from ...compile import Compilation
 from ..base import GeneratedFile, Result, Target, TemplateSet
+from ..text import header_name
 from .build import call_rows, contract_item, endpoint_rows, fields_table, type_sections
 from .escape import code, md, paragraphs
 
@@ -42,19 +43,10 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         "state_names": [f.name for f in iface.state],
         "sections": type_sections(iface),
     }
-    name = Path(comp.path).name
-    text = ts.render("interface.md.j2", source_name=_comment_safe(name),
+    text = ts.render("interface.md.j2", source_name=header_name(comp.path),
                      open="<!--", close=" -->", **view)
     file_name = _file_name(iface)
     return Result(files=[GeneratedFile(file_name, text)])
-
-
-def _comment_safe(name: str) -> str:
-    """A file name that cannot end the HTML comment it is written into."""
-    text = " ".join(name.split())
-    while "--" in text:
-        text = text.replace("--", "- -")
-    return text or "interface"
 
 
 def _file_name(iface: m.Interface) -> str:

@@ -73,6 +73,13 @@ def fields_table(title: str, fields: list[m.Field], consts: list[m.Const] | None
     return t
 
 
+def part_table(title: str, sec: m.Section | None) -> Table:
+    """The table of a service or action part (fields, then constants), with the part's own doc comment."""
+    t = fields_table(title, sec.fields if sec else [], sec.consts if sec else [])
+    t.doc = (sec.doc if sec else None) or ""
+    return t
+
+
 def parts_text(sec: m.Section | None) -> str:
     """The fields of a section as ``name: type, …``."""
     if sec is None or not sec.fields:
@@ -134,8 +141,8 @@ def type_sections(iface: m.Interface) -> list[Section]:
                     t.doc = fn.doc or ""
                     s.tables.append(t)
             else:
-                s.tables.append(fields_table("Request", d.request.fields if d.request else []))
-                s.tables.append(fields_table("Response", d.response.fields if d.response else []))
+                s.tables.append(part_table("Request", d.request))
+                s.tables.append(part_table("Response", d.response))
                 if d.form == "flat":
                     s.note = "Written as plain fields, read as " + flat_reading(d) + "."
             if d.consts:
@@ -144,8 +151,7 @@ def type_sections(iface: m.Interface) -> list[Section]:
         elif isinstance(d, m.Action):
             s = Section("action", d.name, d.doc or "")
             for part in ("goal", "result", "feedback"):
-                sec = getattr(d, part)
-                s.tables.append(fields_table(part.capitalize(), sec.fields if sec else []))
+                s.tables.append(part_table(part.capitalize(), getattr(d, part)))
             if d.form == "flat":
                 s.note = "Written as plain fields, read as " + flat_reading(d) + "."
             out.append(s)

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import re
 
+from ..text import CONTROL
+
 _INLINE = re.compile(r"([\\`*_\[\]#|~!])")
 _LINE_START = re.compile(r"^(\s*)([-+=]|\d+[.)])")
-_CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f\x85]")
 
 
 def _inline(text: str) -> str:
-    text = _CONTROL.sub(" ", text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    text = CONTROL.sub(" ", text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
     return _INLINE.sub(r"\\\1", text)
 
 
@@ -46,6 +47,6 @@ def code(text: str | None) -> str:
     """An identifier or type in a code span; text a code span cannot hold is escaped instead."""
     if not text:
         return ""
-    if "`" in text or _CONTROL.search(text) or any(c in text for c in "\n\r\u2028\u2029"):
+    if "`" in text or CONTROL.search(text) or any(c in text for c in "\n\r\u2028\u2029"):
         return md(text)
     return "`" + text.replace("|", "\\|") + "`"

@@ -15,15 +15,15 @@ from typing import Any
 from ... import model as m
 from ...compile import Compilation
 from ...diagnostics import Diagnostic
-from ..base import GeneratedFile, Result, Target, TemplateSet, sorted_files
+from ..base import GeneratedFile, Result, Target, TemplateSet, sort_diagnostics, sorted_files
+from ..support import Owners
+from ..text import cpp_string, header_name, line_comment, yaml_string
 from .codes import CODES, diag
-from .escape import cpp_string, yaml_str
 from .messages import MessageBuilder
 from .module import ModuleBuilder
-from .support import Owners, source_name
 
 TEMPLATES = Path(__file__).parent / "templates"
-FILTERS = {"cpp_string": cpp_string, "yaml_str": yaml_str}
+FILTERS = {"cpp_string": cpp_string, "yaml_str": yaml_string, "comment": line_comment}
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
@@ -34,12 +34,11 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     modules = ModuleBuilder(comp, owners, messages.messages, messages.names)
     module = modules.build()
     diagnostics = [*messages.diagnostics, *modules.diagnostics, *_not_generated(comp.interface)]
-    diagnostics.sort(key=lambda d: (d.path, d.span.start, d.span.end, d.code))
-    result = Result(diagnostics=diagnostics)
+    result = Result(diagnostics=sort_diagnostics(diagnostics))
     if result.has_errors or module is None:
         return result
     ts = TemplateSet(TEMPLATES, "px4", filters=FILTERS, override=options.get("templates"))
-    common = {"source_name": source_name(comp), "close": ""}
+    common = {"source_name": header_name(comp.path), "close": ""}
     files = [GeneratedFile(f"msg/{msg.name}.msg", ts.render("msg.j2", msg=msg, open="#", **common))
              for msg in msgs]
     folder = f"src/modules/{module.module_name}"

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ...diagnostics import Severity
-from .support import CodeTable
+from ..base import CodeTable
 
 CODES: dict[str, tuple[Severity, str]] = {
     "px4-unsupported-type": (Severity.ERROR, "A field or constant type uORB cannot hold (string, map, set, "

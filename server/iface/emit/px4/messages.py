@@ -11,18 +11,23 @@ from ...diagnostics import Diagnostic
 from ...naming import ros_constant_name, ros_field_name
 from ...walk import resolve_typedefs, type_text
 from ..types import container, px4_base
+from ..support import Owners, camel, enum_of, literal, member_order, snake, upper
+from ..text import comment_lines, number, one_line
 from .codes import diag
-from .escape import comment_lines, number, one_line
-from .support import Owners, camel, enum_int_type, enum_of, literal, member_order, snake, upper
 
 #: External packages whose types are uORB messages that PX4 already has.
 PX4_PACKAGES = frozenset({"px4_msgs", "px4"})
 _UORB_TOPIC = re.compile(r"^[a-z][a-z0-9]*(_[a-z0-9]+)*$")
 _NUMERIC = frozenset({"bool", "char", "int8", "int16", "int32", "int64", "uint8", "uint16", "uint32", "uint64",
                       "float32", "float64"})
-_HINTS = {"string": ": use a fixed char[N] array", "wstring": ": use a fixed char[N] array",
-          "binary": ": use a fixed uint8[N] array"}
+#: Why uORB cannot hold a base type, and what to write instead.
+_REASONS = {"string": "uORB has no unbounded strings: write string<=N, which becomes char[N] (text in uORB is a "
+                      "char array, as in PX4's log_message)",
+            "wstring": "uORB has no wide strings: uORB text is 8-bit, write string<=N (char[N])",
+            "binary": "uORB has no binary type: use a fixed uint8[N] array"}
 TIMESTAMP_DOC = "time since system start (microseconds)"
+_INT_TYPES = (("uint8", 0, 2**8 - 1), ("int8", -(2**7), 2**7 - 1), ("uint16", 0, 2**16 - 1),
+              ("int16", -(2**15), 2**15 - 1), ("uint32", 0, 2**32 - 1), ("int32", -(2**31), 2**31 - 1))
 
 
 class Unsupported(Exception):
@@ -207,12 +212,13 @@ class MessageBuilder:
         r = resolve_typedefs(t)
         if isinstance(r, m.BaseType):
             if r.bound is not None:
-                raise Unsupported("px4-unsupported-type", f"uORB has no bounded strings ({type_text(r)}): "
-                                  "use a fixed char[N] array")
-            px = px4_base(r.name)
+                text = container("bounded_string", "px4", r.name, r.bound)
+                if text is not None:
+                    return text
+            px = px4_base(r.name) if r.bound is None else None
             if px is None:
-                hint = _HINTS.get(r.name, "")
-                raise Unsupported("px4-unsupported-type", f"uORB has no {r.spelling or r.name} type{hint}")
+                raise Unsupported("px4-unsupported-type",
+                                  _REASONS.get(r.name, f"uORB has no {r.spelling or r.name} type"))
             return px
         if isinstance(r, m.ArrayType):
             if r.array != "fixed":
@@ -307,3 +313,12 @@ def _enum_constants(enum: m.Enum) -> list[Line]:
             name = f"{prefix}_{name}"
         out.append(Line(ptype, name, str(v.value), one_line(v.doc)))
     return out
+
+
+def enum_int_type(enum: m.Enum) -> str:
+    """The smallest integer type (uORB spelling) that holds every value of ``enum``."""
+    values = [v.value for v in enum.values] or [0]
+    for name, lo, hi in _INT_TYPES:
+        if lo <= min(values) and max(values) <= hi:
+            return name
+    return "int64"

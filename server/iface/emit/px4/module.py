@@ -2,20 +2,19 @@
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 
 from ... import model as m
 from ...compile import Compilation
 from ...diagnostics import Diagnostic
 from ...walk import resolve_typedefs, type_text
+from ..support import (PARAM_NAME, Owners, camel, component_span, enum_of, humanize, literal, parameter_prefixes,
+                       snake, upper)
+from ..text import comment_lines, compact_number, number, one_line, summary
 from .codes import diag
-from .escape import comment_lines, number, one_line, summary
 from .messages import PX4_PACKAGES, UorbMessage, uorb_topic
-from .support import Owners, camel, configuration_blocks, enum_of, humanize, literal, snake, upper
 
 MAX_PARAM_NAME = 16
-_PARAM_NAME = re.compile(r"^[A-Z][A-Z0-9]*(_[A-Z0-9]+)*$")
 #: Units PX4's module.yaml schema accepts (validation/module_schema.yaml).
 PX4_UNITS = frozenset({
     "%", "Hz", "mAh", "rad", "%/rad", "rad/s", "rad/s^2", "%/rad/s", "rad s^2/m", "rad s/m", "bit/s", "B/s",
@@ -97,9 +96,8 @@ class ModuleBuilder:
         comp_decl = iface.component
         class_name = camel(iface.name)
         if class_name is None:
-            span = comp_decl.name_span if comp_decl else m.Span(0, 0)
             self.diagnostics.append(diag("px4-name-invalid", f"component name '{iface.name}' cannot be made a "
-                                         "C++ class name", iface.source, span))
+                                         "C++ class name", iface.source, component_span(iface)))
             return None
         doc = comment_lines(comp_decl.doc if comp_decl else None)
         group_ann = m.annotation(comp_decl.annotations, "px4.group") if comp_decl else None
@@ -141,15 +139,10 @@ class ModuleBuilder:
 
     # ---- parameters ------------------------------------------------------------------
     def _params(self, module: Px4Module) -> None:
-        comp_decl = self.iface.component
-        comp_prefix = m.annotation(comp_decl.annotations, "px4.prefix") if comp_decl else None
         src = self.iface.source
         taken: dict[str, m.Field] = {}
-        for block in configuration_blocks(self.iface):
-            ann = m.annotation(block.annotations, "px4.prefix") or comp_prefix
-            prefix = ann.text if ann else upper(self.iface.name)
-            if not _PARAM_NAME.match(prefix):
-                span = ann.span if ann else block.name_span
+        for block, prefix, span in parameter_prefixes(self.iface, "px4.prefix"):
+            if not PARAM_NAME.match(prefix):
                 self.diagnostics.append(diag("px4-param-name-invalid", f"parameter prefix '{prefix}' is not "
                                              "UPPER_CASE letters and digits (set px4.prefix)", src, span))
                 continue
@@ -171,7 +164,7 @@ class ModuleBuilder:
         name = explicit.text if explicit else f"{prefix}_{upper(f.name)}"
         span = explicit.span if explicit else f.name_span
         named = True
-        if not _PARAM_NAME.match(name):
+        if not PARAM_NAME.match(name):
             self.diagnostics.append(diag("px4-param-name-invalid", f"parameter '{f.name}': '{name}' is not a PX4 "
                                          "parameter name (UPPER_CASE)", src, span))
             named = False
@@ -190,8 +183,8 @@ class ModuleBuilder:
         rng = f.range
         if rng is not None and ptype in ("int32", "float", "enum"):
             lo, hi = rng
-            param.min = None if lo is None else _num(lo, ptype)
-            param.max = None if hi is None else _num(hi, ptype)
+            param.min = None if lo is None else _bound(lo, ptype)
+            param.max = None if hi is None else _bound(hi, ptype)
         if f.unit:
             if f.unit in PX4_UNITS:
                 param.unit = f.unit
@@ -249,7 +242,5 @@ class ModuleBuilder:
         return False
 
 
-def _num(value: float, ptype: str) -> str:
-    if ptype == "float":
-        return number(value)
-    return str(int(value)) if float(value).is_integer() else number(value)
+def _bound(value: float, ptype: str) -> str:
+    return number(value) if ptype == "float" else compact_number(value)

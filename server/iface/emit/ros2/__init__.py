@@ -10,12 +10,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import jinja2
-
 from ...compile import Compilation
-from ..base import GeneratedFile, GenerationError, Result, Target, TemplateSet, header_lines, sorted_files
+from ..base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
 from .codes import CODES
-from .lower import RosPackage, lower
+from .lower import RosPackage, lower_checked
 from .render import FILTERS, check_msg_values
 
 TEMPLATES = Path(__file__).parent / "templates"
@@ -50,19 +48,12 @@ def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFil
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Lower the compilation, refuse what .msg syntax cannot hold, render the package."""
-    result = Result()
-    pkg, diagnostics = lower(comp)
-    result.diagnostics.extend(diagnostics)
-    if pkg is not None:
-        result.diagnostics.extend(check_msg_values(pkg))
-    result.diagnostics.sort(key=lambda d: (d.path, d.span.start, d.span.end, d.code))
+    pkg, diagnostics = lower_checked(comp, check_msg_values)
+    result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result
     templates = TemplateSet(TEMPLATES, "ros2", filters=FILTERS, override=options.get("templates"))
-    try:
-        result.files = render_package(pkg, templates)
-    except jinja2.TemplateError as e:
-        raise GenerationError(f"ros2 templates: {e}") from e
+    result.files = render_package(pkg, templates)
     return result
 
 

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from ...diagnostics import CODES as CORE_CODES
-from ...diagnostics import Diagnostic, Severity
-from ...source import Source, Span
+from ...diagnostics import Severity
+from ..base import CodeTable
 
 #: Codes this package reports, with their severity and a summary (core codes are reused as they are).
 CODES: dict[str, tuple[Severity, str]] = {
@@ -22,10 +22,12 @@ CODES: dict[str, tuple[Severity, str]] = {
                               "cannot hold; a neutral value is written instead."),
     "idl-unwritable-string": (Severity.ERROR, "A string default or constant with a backslash, "
                               "which IDL readers decode differently."),
+    "idl-reserved-name": (Severity.ERROR, "A package, message, field or constant name that is an OMG IDL keyword "
+                          "(module, struct, string, default, Object…), which IDL compilers refuse."),
+    "idl-reserved-name-case": (Severity.WARNING, "A name that differs from an OMG IDL keyword only in case "
+                               "(DEFAULT, Module…), which strict IDL compilers refuse."),
 }
 
 
-def diag(code: str, message: str, source: Source, span: Span) -> Diagnostic:
-    """A diagnostic with one of this package's codes or a core code, at its default severity."""
-    severity = CODES[code][0] if code in CODES else CORE_CODES[code][0]
-    return Diagnostic(code, message, source, span, severity)
+#: A diagnostic with one of this package's codes or a core code, at its default severity.
+diag = CodeTable(CODES, CORE_CODES)

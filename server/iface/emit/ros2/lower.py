@@ -14,6 +14,7 @@ Values are decoded to Python values here; each target checks and writes them its
 from __future__ import annotations
 
 import re
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 
 from ... import model as m
@@ -25,6 +26,9 @@ from ...resolve import constant_value
 from ...source import Source, Span
 from ...walk import resolve_typedefs
 from .. import types
+from ..base import sort_diagnostics
+from ..support import Owners, component_span
+from ..text import doc_lines, header_name
 from .codes import diag
 
 Scalar = bool | int | float | str
@@ -102,11 +106,15 @@ class RosConst:
 
 @dataclass(slots=True)
 class RosSection:
-    """One part of an interface: the body of a message, a request, a goal…"""
+    """One part of an interface: the body of a message, a request, a goal…
+
+    ``comments`` are the lines of the part's own doc comment (``/** … */ response { … }``).
+    """
 
     name: str
     fields: list[RosField] = field(default_factory=list)
     consts: list[RosConst] = field(default_factory=list)
+    comments: list[str] = field(default_factory=list)
 
 
 @dataclass(slots=True)
@@ -144,6 +152,9 @@ class RosPackage:
     maintainer_email: str
     license: str
     source_name: str
+    #: Where the package name is stated (its ``namespace ros2``, else the start of the file).
+    name_source: Source
+    name_span: Span
     interfaces: list[RosInterface] = field(default_factory=list)
     depends: list[str] = field(default_factory=list)
     params: list[RosParam] = field(default_factory=list)
@@ -153,20 +164,8 @@ class RosPackage:
         return sorted((i for i in self.interfaces if i.kind == kind), key=lambda i: i.name)
 
 
-def comment_lines(doc: str | None) -> list[str]:
-    """A doc comment as lines (any line break splits, so nothing escapes a comment)."""
-    if not doc:
-        return []
-    lines = [line.rstrip() for line in doc.splitlines()]
-    while lines and not lines[0]:
-        lines.pop(0)
-    while lines and not lines[-1]:
-        lines.pop()
-    return lines
-
-
 def _field_comments(f: m.Field) -> list[str]:
-    lines = comment_lines(f.doc)
+    lines = doc_lines(f.doc)
     extra = []
     if f.unit:
         extra.append(f"unit: {f.unit}")
@@ -176,13 +175,15 @@ def _field_comments(f: m.Field) -> list[str]:
         extra.append(f"range: {lo}..{hi}")
     if extra:
         lines.append(", ".join(extra))
-    return comment_lines("\n".join(lines))
+    return doc_lines("\n".join(lines))
 
 
-def safe_source_name(path: str) -> str:
-    """The file name shown in headers, with anything that could break a comment replaced."""
-    name = path.replace("\\", "/").rpartition("/")[2]
-    return "".join(c if c.isprintable() and c not in "\"'<>&" else "_" for c in name).replace("--", "__")
+def _namespace_name_span(source: Source, ns: m.Namespace) -> Span:
+    """Where the name of ``namespace ros2 NAME`` stands (the whole statement if it cannot be found)."""
+    text = source.text
+    after_scope = text.find(ns.scope, ns.span.start, ns.span.end)
+    start = text.find(ns.name, after_scope + len(ns.scope), ns.span.end) if after_scope >= 0 else -1
+    return Span(start, start + len(ns.name)) if start >= 0 else ns.span
 
 
 class _Lowering:
@@ -192,13 +193,10 @@ class _Lowering:
         self.comp = comp
         self.iface = comp.interface
         self.diags: list[Diagnostic] = []
-        self.owner: dict[int, m.Interface] = {}
-        self.interfaces: list[m.Interface] = []
-        for c in comp.closure():
-            self.interfaces.append(c.interface)
-            for d in c.interface.definitions:
-                self.owner.setdefault(id(d), c.interface)
+        self.owners = Owners(comp)
+        self.interfaces: list[m.Interface] = [c.interface for c in comp.closure()]
         self._packages: dict[int, str | None] = {}
+        self._package_spans: dict[int, Span] = {}
         self._type_names: dict[int, str | None] = {}
         self.depends: set[str] = set()
 
@@ -224,7 +222,8 @@ class _Lowering:
             return self._packages[key]
         ns = next((n for n in iface.namespaces if n.scope == "ros2"), None)
         raw = ns.name if ns is not None else iface.source.path.replace("\\", "/").rpartition("/")[2].rsplit(".", 1)[0]
-        span = ns.span if ns is not None else Span(0, 0)
+        span = _namespace_name_span(iface.source, ns) if ns is not None else Span(0, 0)
+        self._package_spans[key] = span
         new = ros_field_name(raw) if _PACKAGE_CHARS.match(raw) else None
         if new is None:
             self.error("ros-name-invalid", f"package name '{raw}' cannot be made a valid ROS 2 package name "
@@ -239,7 +238,7 @@ class _Lowering:
         """The ROS name of a definition, reported once when it changes."""
         key = id(d)
         if key not in self._type_names:
-            owner = self.owner.get(key, self.iface)
+            owner = self.owners.of(d)
             new = ros_type_name(d.name)
             self._type_names[key] = self.renamed("type", d.name, new, owner.source, d.name_span)
         base = self._type_names[key]
@@ -284,6 +283,10 @@ class _Lowering:
             if not is_ros_type(local):
                 self.error("ros-name-invalid", f"'{t.name}' is not a ROS 2 type name", src, t.span)
                 return None
+            if not is_ros_field(t.external):  # rosidl's package names follow the field name pattern
+                self.error("ros-name-invalid", f"'{t.external}' is not a ROS 2 package name (lower-case letters, "
+                           f"digits and single underscores): rosidl refuses '{t.external}/{local}'", src, t.span)
+                return None
             self.depends.add(t.external)
             return RosType(package=t.external, name=local)
         target = t.target
@@ -294,7 +297,7 @@ class _Lowering:
                 enums.append(target)
             return RosType(primitive=ENUM_PRIMITIVE)
         if isinstance(target, m.Struct) and target.kind in ("message", "struct", "exception"):
-            defining = self.owner.get(id(target), owner)
+            defining = self.owners.of(target, owner)
             package = self.package_of(defining)
             name = self.type_name(target)
             if package is None or name is None:
@@ -324,7 +327,7 @@ class _Lowering:
             if isinstance(ref, m.EnumValue):
                 return self._check_int(ref.value, primitive, v, src)
             if isinstance(ref, m.Const):
-                return self.scalar(ref.value, primitive, None, self.owner.get(id(ref), owner), depth + 1)
+                return self.scalar(ref.value, primitive, None, self.owners.of(ref, owner), depth + 1)
             self.error("ros2-unsupported-default", f"'{name}' names no constant or enum value", src, v.span)
             return None
         if primitive == "bool":
@@ -382,9 +385,10 @@ class _Lowering:
         return out  # type: ignore[return-value]
 
     # ---- members -----------------------------------------------------------------
-    def section(self, name: str, fields: list[m.Field], consts: list[m.Const], owner: m.Interface) -> RosSection:
-        """A section from fields and constants; enum values used by the fields become constants."""
-        sec = RosSection(name)
+    def section(self, name: str, fields: list[m.Field], consts: list[m.Const], owner: m.Interface,
+                doc: str | None = None) -> RosSection:
+        """A section from fields, constants and a doc comment; enum values used by the fields become constants."""
+        sec = RosSection(name, comments=doc_lines(doc))
         enums: list[m.Enum] = []
         src = owner.source
         for c in consts:
@@ -425,11 +429,11 @@ class _Lowering:
         value = self.scalar(c.value, rt.primitive, enums[0] if enums else None, owner)
         if value is None:
             return None
-        return RosConst(name, rt.primitive, value, comment_lines(c.doc), src, c.name_span)
+        return RosConst(name, rt.primitive, value, doc_lines(c.doc), src, c.name_span)
 
     def enum_consts(self, e: m.Enum) -> list[RosConst]:
         """``<ENUM>_<VALUE>`` constants of ENUM_PRIMITIVE for the values of an enum."""
-        owner = self.owner.get(id(e), self.iface)
+        owner = self.owners.of(e)
         prefix = ros_constant_name(e.name)
         out = []
         for ev in e.values:
@@ -439,7 +443,7 @@ class _Lowering:
                            "constant name", owner.source, ev.name_span)
                 continue
             name = local if local.startswith(prefix + "_") else f"{prefix}_{local}"
-            comments = comment_lines(ev.doc) or ([f"{e.name}.{ev.name}"] if name != ev.name else [])
+            comments = doc_lines(ev.doc) or ([f"{e.name}.{ev.name}"] if name != ev.name else [])
             out.append(RosConst(name, ENUM_PRIMITIVE, ev.value, comments, owner.source, ev.name_span))
         return out
 
@@ -457,7 +461,7 @@ class _Lowering:
     def interfaces_of(self, d: m.Definition, owner: m.Interface) -> list[RosInterface]:
         """The ROS interfaces a definition becomes (none for enums, typedefs and constants)."""
         src = owner.source
-        doc = comment_lines(getattr(d, "doc", None))
+        doc = doc_lines(getattr(d, "doc", None))
         if isinstance(d, m.Struct):
             if d.kind in ("message", "struct", "exception"):
                 name = self.type_name(d)
@@ -481,7 +485,7 @@ class _Lowering:
                 sec: m.Section | None = getattr(d, part)
                 fields = sec.fields if sec else []
                 consts = (sec.consts if sec else []) + (extra if part == "goal" else [])
-                secs.append(self.section(part, fields, consts, owner))
+                secs.append(self.section(part, fields, consts, owner, sec.doc if sec else None))
             return [] if name is None else [RosInterface("action", name, secs, doc, src, d.name_span)]
         return []
 
@@ -490,9 +494,11 @@ class _Lowering:
         if d.form != "functions":
             name = self.type_name(d)
             req = self.section("request", d.request.fields if d.request else [],
-                               (d.request.consts if d.request else []) + list(d.consts), owner)
+                               (d.request.consts if d.request else []) + list(d.consts), owner,
+                               d.request.doc if d.request else None)
             res = self.section("response", d.response.fields if d.response else [],
-                               d.response.consts if d.response else [], owner)
+                               d.response.consts if d.response else [], owner,
+                               d.response.doc if d.response else None)
             return [] if name is None else [RosInterface("srv", name, [req, res], doc, src, d.name_span)]
         out = []
         base = self.type_name(d)
@@ -511,7 +517,7 @@ class _Lowering:
                 result = [m.Field("result", fn.returns, fn.returns.span, fn.returns.span)]
             res = self.section("response", result, [], owner)
             if base is not None:
-                comments = comment_lines(fn.doc) or doc
+                comments = doc_lines(fn.doc) or doc
                 out.append(RosInterface("srv", base + fname, [req, res], comments, src, fn.name_span))
         if d.consts and out:
             out[0].sections[0].consts.extend(c for c in (self.const(c, owner) for c in d.consts) if c)
@@ -525,20 +531,20 @@ class _Lowering:
         component = iface.name
         comp_type = ros_type_name(component)
         if comp_type is None:
-            span = iface.component.name_span if iface.component else Span(0, 0)
             self.error("ros-name-invalid", f"component name '{component}' cannot be made a ROS 2 type name",
-                       src, span)
+                       src, component_span(iface))
         node = self.node_name(component)
         if name is None or node is None:
             return None
         pkg = RosPackage(name=name, component=component, node=node, version=self.version(),
                          description=self.annotation("description") or (
-                             (comment_lines(iface.component.doc) if iface.component else []) or
+                             (doc_lines(iface.component.doc) if iface.component else []) or
                              [f"ROS 2 interfaces of the {component} component."])[0],
                          maintainer=self.annotation("maintainer") or "unknown",
                          maintainer_email=self.email(),
                          license=self.annotation("license") or "TODO",
-                         source_name=safe_source_name(src.path))
+                         source_name=header_name(src.path), name_source=src,
+                         name_span=self._package_spans[id(iface)])
         for other in self.interfaces:
             if other is not iface and self.package_of(other) != name:
                 continue
@@ -557,7 +563,7 @@ class _Lowering:
         if iface.state and comp_type is not None:
             states = [d for d in iface.definitions if isinstance(d, m.Struct) and d.kind == "state"]
             sec = self.section("message", iface.state, [c for s in states for c in s.consts], iface)
-            doc = next((comment_lines(s.doc) for s in states if s.doc), [f"The state of {component}."])
+            doc = next((doc_lines(s.doc) for s in states if s.doc), [f"The state of {component}."])
             pkg.interfaces.append(RosInterface("msg", comp_type + "State", [sec], doc, src, states[0].name_span))
         pkg.params = self.params()
         seen: dict[tuple[str, str], RosInterface] = {}
@@ -595,8 +601,8 @@ class _Lowering:
         """The node the parameters belong to: the component name, converted if ROS 2 refuses it."""
         if _NODE.match(component):
             return component
-        span = self.iface.component.name_span if self.iface.component else Span(0, 0)
-        return self.renamed("node", component, ros_field_name(component), self.iface.source, span)
+        return self.renamed("node", component, ros_field_name(component), self.iface.source,
+                            component_span(self.iface))
 
     def annotation(self, key: str) -> str | None:
         comp = self.iface.component
@@ -641,3 +647,16 @@ def lower(comp: Compilation) -> tuple[RosPackage | None, list[Diagnostic]]:
     run = _Lowering(comp)
     pkg = run.package()
     return pkg, run.diags
+
+
+#: A check of a lowered package: what a target's output syntax cannot hold.
+PackageCheck = Callable[[RosPackage], Iterable[Diagnostic]]
+
+
+def lower_checked(comp: Compilation, *checks: PackageCheck) -> tuple[RosPackage | None, list[Diagnostic]]:
+    """``lower``, then every check over the package; the diagnostics sorted."""
+    pkg, diagnostics = lower(comp)
+    if pkg is not None:
+        for check in checks:
+            diagnostics.extend(check(pkg))
+    return pkg, sort_diagnostics(diagnostics)

@@ -8,15 +8,11 @@ from collections.abc import Iterator
 from xml.sax.saxutils import escape as xml_escape
 
 from ...diagnostics import Diagnostic
+from ..text import line_comment, yaml_string
 from .codes import diag
 from .lower import PyValue, RosPackage, RosType, Scalar
 
 _YAML_SPECIAL_KEY = re.compile(r"^(y|yes|n|no|true|false|on|off|null|~|\.inf|\.nan|[-+]?[0-9].*)$", re.IGNORECASE)
-
-
-def comment(line: str) -> str:
-    """One comment line of a .msg/.srv/.action/CMake/YAML file (``line`` holds no line break)."""
-    return f"# {line}" if line else "#"
 
 
 def msg_scalar(value: Scalar) -> str:
@@ -98,28 +94,6 @@ def yaml_key(key: str) -> str:
     return f'"{key}"' if _YAML_SPECIAL_KEY.match(key) else key
 
 
-def yaml_string(text: str) -> str:
-    """A double-quoted YAML scalar: every non-printable character escaped, so it loads back exactly."""
-    out = ['"']
-    for c in text:
-        if c == '"':
-            out.append('\\"')
-        elif c == "\\":
-            out.append("\\\\")
-        elif c == "\n":
-            out.append("\\n")
-        elif c == "\t":
-            out.append("\\t")
-        elif c == " " or c.isprintable():
-            out.append(c)
-        elif ord(c) <= 0xFFFF:
-            out.append(f"\\u{ord(c):04x}")
-        else:
-            out.append(f"\\U{ord(c):08x}")
-    out.append('"')
-    return "".join(out)
-
-
 def yaml_float(value: float) -> str:
     """A float that both YAML 1.1 (PyYAML) and 1.2 (yaml-cpp) read as a float."""
     if math.isnan(value):
@@ -160,7 +134,7 @@ def xml(text: str) -> str:
 
 
 FILTERS = {
-    "comment": comment,
+    "comment": line_comment,
     "msg_value": msg_value,
     "msg_scalar": msg_scalar,
     "msg_type": msg_type,

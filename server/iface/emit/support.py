@@ -1,32 +1,21 @@
-"""Model helpers the PX4 and ArduPilot targets share: owners, values, names, code tables."""
+"""Model helpers targets share: which file owns a definition, values as Python data, name styles."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
-from pathlib import Path
 
-from ... import model as m
-from ...compile import Compilation
-from ...diagnostics import Diagnostic, Severity
-from ...naming import ros_type_name, words
-from ...resolve import constant_value
-from ...source import Source, Span
-from ...walk import resolve_typedefs
-from .escape import one_line
+from .. import model as m
+from ..compile import Compilation
+from ..naming import ros_type_name, words
+from ..resolve import constant_value
+from ..source import Source, Span
+from ..walk import resolve_typedefs
 
 #: A Python value read from an interface value: what templates format.
 Literal = int | float | bool | str | list["Literal"] | None
-
-
-class CodeTable:
-    """A target's diagnostic codes: each with a default severity and a summary."""
-
-    def __init__(self, codes: dict[str, tuple[Severity, str]]) -> None:
-        self.codes = codes
-
-    def __call__(self, code: str, message: str, source: Source, span: Span) -> Diagnostic:
-        """A located diagnostic with ``code`` at its default severity."""
-        return Diagnostic(code, message, source, span, self.codes[code][0])
+#: A PX4 or ArduPilot parameter name (and prefix): UPPER_CASE letters and digits.
+PARAM_NAME = re.compile(r"^[A-Z][A-Z0-9]*(_[A-Z0-9]+)*$")
 
 
 class Owners:
@@ -39,18 +28,13 @@ class Owners:
             for d in c.interface.definitions:
                 self._by_id[id(d)] = c.interface
 
-    def of(self, defn: m.Definition) -> m.Interface:
-        """The interface that defines ``defn`` (the root one when unknown)."""
-        return self._by_id.get(id(defn), self.root)
+    def of(self, defn: object, default: m.Interface | None = None) -> m.Interface:
+        """The interface that defines ``defn``; ``default`` (else the root one) when it is no definition."""
+        return self._by_id.get(id(defn), default if default is not None else self.root)
 
     def source(self, defn: m.Definition) -> Source:
         """The source file of ``defn``."""
         return self.of(defn).source
-
-
-def source_name(comp: Compilation) -> str:
-    """The file name shown in generated headers (never a full path: output must not depend on it)."""
-    return one_line(Path(comp.path).name) or "interface"
 
 
 def literal(iface: m.Interface, v: m.Value, depth: int = 0) -> Literal:
@@ -112,14 +96,19 @@ def configuration_blocks(iface: m.Interface) -> Iterator[m.Struct]:
             yield d
 
 
-_INT_TYPES = (("uint8", 0, 2**8 - 1), ("int8", -(2**7), 2**7 - 1), ("uint16", 0, 2**16 - 1),
-              ("int16", -(2**15), 2**15 - 1), ("uint32", 0, 2**32 - 1), ("int32", -(2**31), 2**31 - 1))
+def component_span(iface: m.Interface) -> Span:
+    """Where the component is named (the start of the file when it has no declaration)."""
+    return iface.component.name_span if iface.component is not None else Span(0, 0)
 
 
-def enum_int_type(enum: m.Enum) -> str:
-    """The smallest integer type (uORB/ROS spelling) that holds every value of ``enum``."""
-    values = [v.value for v in enum.values] or [0]
-    for name, lo, hi in _INT_TYPES:
-        if lo <= min(values) and max(values) <= hi:
-            return name
-    return "int64"
+def parameter_prefixes(iface: m.Interface, key: str) -> Iterator[tuple[m.Struct, str, Span]]:
+    """Each configuration block with its parameter name prefix and where the prefix is stated.
+
+    The prefix is the block's ``key`` annotation, else the component's, else the
+    component name in UPPER_CASE (located at the block's name).
+    """
+    decl = iface.component
+    stated = m.annotation(decl.annotations, key) if decl is not None else None
+    for block in configuration_blocks(iface):
+        ann = m.annotation(block.annotations, key) or stated
+        yield block, (ann.text if ann else upper(iface.name)), (ann.span if ann else block.name_span)
