@@ -10,7 +10,6 @@ argument is answered with an error that says what is wrong.
 
 from __future__ import annotations
 
-import json
 import os
 from typing import TYPE_CHECKING, Any
 
@@ -86,11 +85,15 @@ class Runner:
         return os.path.join(chosen, target)
 
     def _generate(self, comp: Compilation, target: str) -> tuple[list[Any], list[str]]:
+        """The target's files, or none and the errors when the interface or the target has errors."""
         from ...emit import generate
 
+        errors = [d.format() for d in comp.all_diagnostics() if int(d.severity) == 1]
+        if errors:
+            return [], errors
         result = generate(comp, target)
         errors = [d.format() for d in result.diagnostics if int(d.severity) == 1]
-        return result.files, errors
+        return ([] if errors else result.files), errors
 
     async def preview(self, arguments: Any) -> dict[str, Any]:
         """``iface.preview [uri, target]``: the generated files, not written."""
@@ -135,20 +138,15 @@ class Runner:
 
         def run() -> dict[str, Any]:
             from ...emit.write import write_files
-            from ...emit.base import GeneratedFile
-            try:
-                from ...jsonform import to_json
-            except ImportError as e:
-                raise JsonRpcInternalError(message="JSON export is not installed (iface.jsonform)") from e
+
             assert snap.comp is not None
-            if snap.comp.has_errors:
-                return {"written": [], "unchanged": [], "refused": [], "files": [], "folder": out,
-                        "errors": [d.format() for d in snap.comp.diagnostics if int(d.severity) == 1]}
-            name = os.path.splitext(os.path.basename(snap.path))[0] + ".json"
-            text = json.dumps(to_json(snap.comp.interface), indent=2, ensure_ascii=False) + "\n"
-            report = write_files([GeneratedFile(name, text)], out)
+            files, errors = self._generate(snap.comp, "json")
+            if errors:
+                return {"written": [], "unchanged": [], "refused": [], "files": [], "folder": out, "errors": errors}
+            report = write_files(files, out)
             return {"written": report.written, "unchanged": report.unchanged, "refused": report.refused,
-                    "errors": report.errors, "folder": out, "files": [{"path": os.path.join(out, name), "text": text}]}
+                    "errors": report.errors, "folder": out,
+                    "files": [{"path": os.path.join(out, f.path), "text": f.text} for f in files]}
 
         return await self.project.run(run)
 
