@@ -63,7 +63,7 @@ def split(text: str) -> list[Chunk]:
         s = match.start()
         c = text[s]
         if c == "/" and text.startswith("/**", s) and not text.startswith("/**/", s):
-            target = _SPACE.match(text, match.end()).end()
+            target = _SPACE.match(text, match.end()).end()  # type: ignore[union-attr]  # \s* always matches
             docs.append((s, target, clean_doc(match.group())))
             pending_doc = s
             continue

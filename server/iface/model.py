@@ -8,7 +8,7 @@ Cross references (``NamedType.target``) are filled in by ``resolve``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal, Union
+from typing import Any, Literal, Union
 
 from .source import Source, Span
 
@@ -142,7 +142,7 @@ class Value:
     """
 
     kind: ValueKind
-    value: object
+    value: Any
     span: Span
     text: str = ""
 

@@ -85,14 +85,14 @@ class _ChunkParser:
         self.parser = build_parser(self.builder)
         self.lock = threading.Lock()
 
-    def parse(self, text: str, docs: dict[int, str], record: bool = True) -> ChunkResult:
-        """Parse one chunk; ``record`` keeps its spans so that it can be moved later."""
+    def parse(self, text: str, docs: dict[int, str], keep_spans: bool = True) -> ChunkResult:
+        """Parse one chunk; ``keep_spans`` records its spans so that it can be moved later."""
         with self.lock:
-            return self._parse(text, docs, record)
+            return self._parse(text, docs, keep_spans)
 
-    def _parse(self, text: str, docs: dict[int, str], record: bool) -> ChunkResult:
+    def _parse(self, text: str, docs: dict[int, str], keep_spans: bool) -> ChunkResult:
         b = self.builder
-        b.reset(docs, record)
+        b.reset(docs, keep_spans)
         problems: list[Problem] = []
         state = {"open": False, "errors": 0}
 
@@ -276,7 +276,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         docs: dict[int, str] = {}
         for ch in chunks:
             docs.update({k + ch.start: v for k, v in ch.docs.items()})
-        whole = parser.parse(text, docs, record=False)
+        whole = parser.parse(text, docs, keep_spans=False)
         if not whole.problems:
             return ParseResult(whole.items, [], [whole])
     results: list[ChunkResult] = []
