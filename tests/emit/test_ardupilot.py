@@ -194,5 +194,32 @@ def test_injection_docs_stay_comments(tmp_path: Path) -> None:
 
 def test_injection_strings_escaped_or_refused() -> None:
     result = run(DATA / "injection_strings.iface")
-    assert any(d.code == "ap-param-name-too-long" and "'mode'" in d.message for d in result.diagnostics)
-    assert result.files == []
+    # a string parameter is left out for its type, and gets no further diagnostic (its name would be too long)
+    about_mode = [d.code for d in result.diagnostics if "'mode'" in d.message]
+    assert about_mode == ["ap-param-unsupported-type"]
+    assert not result.has_errors
+    assert "injection_strings/msg/Texts" in idl_types(result)
+    idl = next(t for p, t in files(result).items() if p.endswith("Texts.idl"))
+    assert '@default (value="*/ \\" # <x> ../ | `tick` \\n end")' in idl
+    assert not any(p.endswith((".h", ".cpp")) for p in files(result))
+
+
+# ---- unsupported parameter types ------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("field", "detail"), [
+    ("u32 an_unsupported_long_name", "u32 values above 2147483647 do not fit AP_Int32 (use i32)"),
+    ("i64 an_unsupported_long_name", "a 64-bit integer does not fit"),
+    ("string an_unsupported_long_name", ""),
+])
+def test_a_parameter_left_out_for_its_type_gets_no_name_diagnostic(tmp_path: Path, field: str,
+                                                                   detail: str) -> None:
+    path = tmp_path / "skip.iface"
+    path.write_text(f"component skip\nconfiguration c (ap.prefix = \"SKIP\") {{ 1: float gain, 2: {field} }}\n")
+    result = run(path)
+    about = [d for d in result.diagnostics if "an_unsupported_long_name" in d.message]
+    assert [d.code for d in about] == ["ap-param-unsupported-type"]
+    (d,) = about
+    assert "AP_Param holds signed integers of up to 32 bits (AP_Int8, AP_Int16, AP_Int32) and 32-bit " \
+           "floats (AP_Float)" in d.message and detail in d.message
+    assert not result.has_errors and entries(result) == {"GAIN": 1}

@@ -303,3 +303,105 @@ def test_text_uorb_cannot_hold_is_an_error_naming_the_field(tmp_path: Path, fiel
     name = field.split()[-1]
     found = [d for d in result.diagnostics if d.code == "px4-unsupported-type"]
     assert len(found) == 1 and f"field '{name}'" in found[0].message and reason in found[0].message
+
+
+# ---- topics of messages PX4 already has, through the uXRCE-DDS bridge ------------------------
+
+BRIDGE = """component att
+external px4_msgs
+subscribes px4_msgs.VehicleAttitude on "/fmu/out/vehicle_attitude"
+subscribes px4_msgs.VehicleCommand on "/px4_1/fmu/in/vehicle_command"
+publishes px4_msgs.VehicleGlobalPosition on "/fmu/out/estimator_global_position"
+subscribes px4_msgs.SensorGps on "/gps"
+subscribes px4_msgs.VehicleLocalPosition on "vehicle_local_position"
+"""
+
+
+def compile_px4(tmp_path: Path, text: str, name: str = "att.iface") -> tuple[Result, str]:
+    path = tmp_path / name
+    path.write_text(text)
+    return run(path), text
+
+
+def test_bridge_names_map_to_their_uorb_topic(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, BRIDGE)
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    header = files(result)["src/modules/att/Att.hpp"]
+    orb_ids = sorted(re.findall(r"ORB_ID\((\w+)\)", header))
+    assert orb_ids == ["estimator_global_position", "sensor_gps", "vehicle_attitude", "vehicle_command",
+                       "vehicle_local_position"]
+    assert "fmu" not in header
+    assert "uORB::Publication<vehicle_global_position_s> _estimator_global_position_pub" in header
+
+
+def test_other_names_of_px4_msgs_types_warn_that_the_topic_is_assumed(tmp_path: Path) -> None:
+    result, text = compile_px4(tmp_path, BRIDGE)
+    assumed = [d for d in result.diagnostics if d.code == "px4-topic-assumed"]
+    # "/gps" is assumed to be sensor_gps; "vehicle_local_position" already says the assumed name
+    assert [text[d.span.start:d.span.end] for d in assumed] == ['"/gps"']
+    assert "'sensor_gps'" in assumed[0].message and "/fmu/out/<topic>" in assumed[0].message
+    assert CODES["px4-topic-assumed"][0] == 2
+
+
+def test_a_bridge_name_of_the_components_own_message(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, "component arm\nmessage ArmStatus { u64 timestamp, u8 mode }\n"
+                            'publishes ArmStatus on "/fmu/out/arm_status"\n', "arm.iface")
+    out = files(ok_result(result))
+    assert topics_of(out["msg/ArmStatus.msg"], "ArmStatus") == ["arm_status"]
+    assert "ORB_ID(arm_status)" in out["src/modules/arm/Arm.hpp"]
+
+
+def test_a_bridge_name_with_a_bad_topic_is_invalid(tmp_path: Path) -> None:
+    result, text = compile_px4(tmp_path, 'component att\nexternal px4_msgs\n'
+                               'subscribes px4_msgs.VehicleAttitude on "/fmu/out/VehicleAttitude"\n')
+    (d,) = [d for d in result.diagnostics if d.code == "px4-topic-invalid"]
+    assert text[d.span.start:d.span.end] == '"/fmu/out/VehicleAttitude"'
+
+
+def test_bridge_header_compiles(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, BRIDGE + "message Marker { u64 timestamp }\n"
+                            'publishes Marker on "/fmu/in/marker"\n')
+    # PX4's own topic headers, as PX4 generates them for the messages the module uses (stubs)
+    px4_topics = {"vehicle_attitude": ["vehicle_attitude"], "vehicle_command": ["vehicle_command"],
+                  "vehicle_global_position": ["estimator_global_position"], "sensor_gps": ["sensor_gps"],
+                  "vehicle_local_position": ["vehicle_local_position"]}
+    topics = tmp_path / "inc" / "uORB" / "topics"
+    topics.mkdir(parents=True)
+    for stem, names in px4_topics.items():
+        (topics / f"{stem}.h").write_text("#pragma once\n#include <uORB/uORB.h>\n"
+                                          f"struct {stem}_s {{ unsigned long long timestamp; }};\n"
+                                          + "".join(f"extern const orb_metadata __orb_{t};\n" for t in names))
+    check_header(ok_result(result), tmp_path)
+
+
+def ok_result(result: Result) -> Result:
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    return result
+
+
+# ---- message libraries ------------------------------------------------------------------------
+
+
+def test_a_message_library_gets_no_module(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, "message PositionPoint { u64 timestamp, float32 x }\n"
+                            "message VehicleThing { u64 timestamp, PositionPoint p }\n", "px4_msgs.iface")
+    assert sorted(files(ok_result(result))) == ["msg/PositionPoint.msg", "msg/VehicleThing.msg"]
+    assert [d.code for d in result.diagnostics] == ["px4-message-library"]
+
+
+def test_a_parameter_alone_makes_a_module(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, "component tuner\nconfiguration c { float gain = 1 }\n", "tuner.iface")
+    assert sorted(files(ok_result(result))) == ["src/modules/tuner/Tuner.hpp", "src/modules/tuner/module.yaml"]
+
+
+def test_imported_px4_messages_generate_back_without_a_module(tmp_path: Path) -> None:
+    from tests.conftest import run_cli
+
+    src = ROOT / "tests" / "importers" / "data" / "px4" / "msg"
+    assert run_cli("import", "--from", "px4", str(src), "--out", str(tmp_path / "iface"), "-q").returncode == 0
+    (imported,) = (tmp_path / "iface").glob("*.iface")
+    out = tmp_path / "out"
+    proc = run_cli("generate", str(imported), "-t", "px4", "-o", str(out), "-q")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    written = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
+    assert written and all(p.startswith("msg/") for p in written)

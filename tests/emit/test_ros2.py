@@ -10,7 +10,7 @@ import pytest
 from iface.emit.ros2.lower import lower
 
 from .golden_util import check_golden
-from .helpers import CASES, codes, compile_file, compile_text, run
+from .helpers import CASES, ROOT, codes, compile_file, compile_text, run
 from .oracles import catkin_package, load_yaml, rosbags_parse, rosidl_parse
 
 _INTERFACE = re.compile(r"^([a-z0-9_]+)/(msg|srv|action)/([A-Za-z0-9]+)\.(msg|srv|action)$")
@@ -294,3 +294,32 @@ def test_names_rosidl_checks_are_the_ones_lowering_enforces() -> None:
         assert is_ros_field(s) == rosidl.is_valid_field_name(s) == rosidl.is_valid_package_name(s), s
         assert is_ros_constant(s) == rosidl.is_valid_constant_name(s), s
         assert is_ros_type(s) == rosidl.is_valid_message_name(s), s
+
+
+def test_the_diagnostics_service_is_converted_without_a_warning() -> None:
+    src = ("component probe\n/** Health of the probe. */\n"
+           "service diagnostics { request { bool verbose } response { string report } }\n"
+           "service other_thing { request { i32 a } response { i32 b } }\n")
+    comp = compile_text(src, "probe.iface")
+    # the core checks exempt the diagnostics service and convert other_thing with a warning, like the target
+    assert [d.code for d in comp.all_diagnostics() if d.code.startswith("ros-")] == ["ros-naming"]
+    result = run("ros2", comp)
+    assert not result.has_errors
+    assert "srv/Diagnostics.srv" in {f.path.split("/", 1)[1] for f in result.files}
+    warned = [comp.interface.source.text[d.span.start:d.span.end] for d in result.diagnostics
+              if d.code == "ros-naming"]
+    assert warned == ["other_thing"]  # any other name is still converted with a warning
+    specs = parsed({f.path: f.text for f in result.files})
+    assert [f.name for f in specs["srv/Diagnostics"][0].fields] == ["verbose"]
+
+
+def test_the_docs_example_generates_without_warnings(tmp_path: Path) -> None:
+    src = (ROOT / "docs" / "language.md").read_text()
+    block = src[src.index("\nservice diagnostics {") + 1:]
+    block = block[:block.index("\n}\n") + 3]
+    comp = compile_text("component robot\n" + block, "robot.iface", tmp_path)
+    assert not comp.has_errors, [d.format() for d in comp.diagnostics]
+    result = run("ros2", comp)
+    assert not result.has_errors and [f.path for f in result.files if "/srv/" in f.path] == [
+        "robot/srv/Diagnostics.srv"]
+    assert [d.format() for d in result.diagnostics] == []

@@ -1,7 +1,8 @@
 """``iface-lsp generate FILE... --target T [--out DIR] [--dry-run] [--check] [--force] [-q]``
 
 Exit 0 on success; 1 when the input has errors (nothing is written), when ``--check``
-finds files that differ, or when a hand-edited file is refused; 2 on usage or I/O errors.
+finds files that differ, or when a hand-edited file is refused; 2 on usage or I/O errors,
+including an output path the file system cannot hold (found before anything is written).
 """
 
 from __future__ import annotations
@@ -82,10 +83,12 @@ def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedF
 def _report(report: WriteReport, args: argparse.Namespace, total: int) -> int:
     """Print what happened; the exit code."""
     out = args.out
-    for e in report.errors:
-        print(f"iface-lsp generate: {e}", file=sys.stderr)
     if report.errors:
-        return 1
+        for e in report.errors:
+            print(f"iface-lsp generate: {e}", file=sys.stderr)
+        if not report.written:
+            print("iface-lsp generate: nothing was written", file=sys.stderr)
+        return 2
     if args.check:
         for p in report.differing:
             print(f"differs: {os.path.join(out, p)}")

@@ -5,6 +5,8 @@ its targets from here, so the guard holds everywhere: a target that raises
 never shows a traceback. A template error becomes ``GenerationError`` (the
 caller reports it as a usage error: the templates are the user's or broken);
 any other exception becomes an ``internal-error`` diagnostic naming the target.
+The guard also refuses output names no file system holds (``output-name-too-long``),
+at the definition they come from, before anything is written.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import jinja2
 from ..compile import Compilation
 from ..diagnostics import Severity
 from ..source import Span
-from .base import CodeTable, GenerationError, Result, Target
+from .base import NAME_MAX, CodeTable, GenerationError, Result, Target, long_names, sort_diagnostics
 
 GROUP = "iface.targets"
 
@@ -26,6 +28,8 @@ GROUP = "iface.targets"
 CODES: dict[str, tuple[Severity, str]] = {
     "internal-error": (Severity.ERROR, "A target failed with an unexpected exception (a bug in the target); "
                        "nothing is generated."),
+    "output-name-too-long": (Severity.ERROR, "A generated file or folder name longer than 255 bytes, which "
+                             "file systems cannot hold; nothing is generated."),
 }
 _diag = CodeTable(CODES)
 
@@ -36,7 +40,7 @@ def guarded(target: Target) -> Target:
 
     def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         try:
-            return inner(comp, options)
+            return check_names(inner(comp, options), comp)
         except GenerationError:
             raise
         except jinja2.TemplateError as e:
@@ -47,6 +51,30 @@ def guarded(target: Target) -> Target:
             return Result(diagnostics=[_diag("internal-error", message, comp.interface.source, Span(0, 0))])
 
     return dataclasses.replace(target, generate=generate)
+
+
+def _shortened(name: str) -> str:
+    """A long name cut in the middle, for messages."""
+    return name if len(name) <= 40 else f"{name[:24]}…{name[-12:]}"
+
+
+def check_names(result: Result, comp: Compilation) -> Result:
+    """``result``, with an error (and no files) for each file whose path has a name too long to write.
+
+    The error stands at the definition the file comes from (else at the start of the file).
+    """
+    found = []
+    for f in result.files:
+        source, span = f.origin or (comp.interface.source, Span(0, 0))
+        for part, size in long_names(f.path):
+            found.append(_diag("output-name-too-long", f"the generated file or folder name '{_shortened(part)}' is "
+                               f"{size} bytes long; file systems hold names of at most {NAME_MAX} bytes: shorten "
+                               "the name it comes from", source, span))
+    if found:
+        result.diagnostics.extend(found)
+        sort_diagnostics(result.diagnostics)
+        result.files = []
+    return result
 
 
 def targets() -> dict[str, Target]:

@@ -1,21 +1,41 @@
-"""Writing generated files: atomic, inside the output folder, never over hand edits."""
+"""Writing generated files: checked as a set first, each one atomic, inside the output folder, never over hand edits.
+
+``write_files`` checks every target path before it writes anything (inside the
+output folder, each name short enough for the file system, no file where a
+folder must go), so a path problem found up front writes no file at all. Each
+file is then written to a short temporary name in its own folder and renamed
+into place, so a reader never sees half a file. An I/O error in the middle of
+writing (a full disk) stops the run: the files already written are complete,
+the others are left as they were.
+"""
 
 from __future__ import annotations
 
 import os
 import re
 import tempfile
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from .base import GENERATED_MARK, GeneratedFile, content_hash
 
 _STAMP = re.compile(r" \(iface-hash: ([0-9a-f]{16})\)")
+#: Used when the file system does not say (the Linux and POSIX limits).
+DEFAULT_NAME_MAX = 255
+DEFAULT_PATH_MAX = 4096
+#: The temporary file of an atomic write: short, so that every name that fits has a temporary that fits.
+TEMP_PREFIX = ".iface-"
+TEMP_SUFFIX = ".tmp"
 
 
 @dataclass(slots=True)
 class WriteReport:
-    """What happened to each file: written, unchanged, refused (hand-edited), or differing (check)."""
+    """What happened to each file: written, unchanged, refused (hand-edited), or differing (check).
+
+    ``errors`` are path problems found before writing (nothing was written then) or
+    the I/O error that stopped the run.
+    """
 
     written: list[str] = field(default_factory=list)
     unchanged: list[str] = field(default_factory=list)
@@ -38,6 +58,69 @@ def safe_join(out_dir: Path, rel: str) -> Path:
     if root != full and root not in full.parents:
         raise UnsafePath(rel)
     return full
+
+
+def _exists(path: Path) -> bool:
+    """``path.exists()``, False where the system cannot even look (a name too long…)."""
+    try:
+        os.stat(path)
+    except (OSError, ValueError):
+        return False
+    return True
+
+
+def _existing_ancestor(path: Path) -> Path:
+    """The nearest folder of ``path`` (or ``path`` itself) that exists."""
+    for p in (path, *path.parents):
+        if _exists(p):
+            return p
+    return Path(path.anchor or ".")
+
+
+def _limit(folder: Path, name: str, default: int) -> int:
+    """``os.pathconf(folder, name)``, or ``default`` where the system does not tell."""
+    try:
+        value = os.pathconf(folder, name)
+    except (OSError, ValueError, AttributeError):
+        return default
+    return value if value and value > 0 else default
+
+
+def path_problem(full: Path) -> str | None:
+    """Why the file ``full`` cannot be written, as far as can be told without writing; None when it can.
+
+    Checked: each name at most NAME_MAX bytes (UTF-8), the whole path at most PATH_MAX,
+    no existing file where a folder must be, no folder where the file must be.
+    """
+    ancestor = _existing_ancestor(full.parent)
+    name_max = _limit(ancestor, "PC_NAME_MAX", DEFAULT_NAME_MAX)
+    path_max = _limit(ancestor, "PC_PATH_MAX", DEFAULT_PATH_MAX)
+    for part in full.parts[1:]:
+        size = len(part.encode("utf-8", "surrogateescape"))
+        if size > name_max:
+            return f"the name '{part[:40]}…' is {size} bytes long; the file system allows {name_max}"
+    size = len(str(full).encode("utf-8", "surrogateescape"))
+    if size >= path_max:
+        return f"the path is {size} bytes long; the file system allows {path_max - 1}"
+    for folder in reversed(full.parents):
+        if _exists(folder) and not folder.is_dir():
+            return f"{folder} exists and is not a folder"
+    if _exists(full) and not full.is_file():
+        return "a folder (or other non-file) is in its place"
+    return None
+
+
+def _folder_conflicts(paths: Iterable[tuple[str, Path]]) -> list[str]:
+    """Files of the set that another file of the set needs as a folder (``a`` and ``a/b``)."""
+    planned = dict(paths)
+    files = {full: rel for rel, full in planned.items()}
+    out = []
+    for rel, full in planned.items():
+        for folder in full.parents:
+            if folder in files:
+                out.append(f"{rel}: refused: {files[folder]} is generated as a file, so it cannot be a folder")
+                break
+    return out
 
 
 def stamp(text: str) -> str:
@@ -65,9 +148,9 @@ def hand_edited(existing: str) -> bool:
 
 
 def atomic_write(path: Path, text: str) -> None:
-    """Write via a temporary file in the same folder and rename it into place."""
+    """Write via a short-named temporary file in the same folder and rename it into place."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
             f.write(text)
@@ -80,25 +163,40 @@ def atomic_write(path: Path, text: str) -> None:
         raise
 
 
-def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool = False,
-                dry_run: bool = False, check: bool = False) -> WriteReport:
-    """Write (or, with ``check``, compare) files under ``out_dir``.
-
-    Every path is checked before anything is written, so a bad path writes nothing.
-    """
-    out = Path(out_dir)
-    report = WriteReport()
-    planned: list[tuple[GeneratedFile, Path, str]] = []
+def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFile, Path]], list[str]]:
+    """Each file with its full path, and every path problem (when there is one, nothing may be written)."""
+    planned: list[tuple[GeneratedFile, Path]] = []
+    errors: list[str] = []
     for f in files:
         try:
             full = safe_join(out, f.path)
         except UnsafePath:
-            report.errors.append(f"{f.path}: refused: the path leaves the output folder")
+            errors.append(f"{f.path}: refused: the path leaves the output folder")
             continue
-        planned.append((f, full, stamp(f.text)))
+        problem = path_problem(full)
+        if problem is not None:
+            errors.append(f"{f.path}: cannot be written: {problem}")
+            continue
+        planned.append((f, full))
+    errors.extend(_folder_conflicts((f.path, full) for f, full in planned))
+    return planned, errors
+
+
+def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool = False,
+                dry_run: bool = False, check: bool = False) -> WriteReport:
+    """Write (or, with ``check``, compare) files under ``out_dir``: all of them or, on a path problem, none.
+
+    Every path is checked before anything is written. An I/O error while writing
+    stops the run and is reported in ``errors``; the files written before it are
+    complete (each write is atomic), the rest are untouched.
+    """
+    out = Path(out_dir)
+    report = WriteReport()
+    planned, report.errors = plan(files, out)
     if report.errors:
         return report
-    for f, full, text in planned:
+    for f, full in planned:
+        text = stamp(f.text)
         existing = None
         if full.is_file():
             try:
@@ -115,6 +213,11 @@ def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool 
             report.refused.append(f.path)
             continue
         if not dry_run:
-            atomic_write(full, text)
+            try:
+                atomic_write(full, text)
+            except OSError as e:
+                report.errors.append(f"{f.path}: cannot write: {e.strerror or e}; stopped after "
+                                     f"{len(report.written)} file(s), the others are unchanged")
+                return report
         report.written.append(f.path)
     return report

@@ -21,7 +21,9 @@ from ..idl import render_package
 from ..idl import templates as idl_templates
 from ..idl.render import check_idl_values
 from ..idl.reserved import check_idl_names
+from ..keywords import c_family_keyword
 from ..ros2.lower import RosPackage, lower_checked
+from ..support import component_span
 from ..text import cpp_string, header_name, one_line
 from .codes import CODES, diag
 from .params import ParamBuilder
@@ -36,7 +38,7 @@ FILTERS = {"cpp_string": cpp_string, "one_line": one_line}
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """IDL files for messages and services, and the AP_Param class; errors mean no files."""
-    pkg, lowered = lower_checked(comp, check_idl_values, check_idl_names, _no_actions)
+    pkg, lowered = lower_checked(comp, check_idl_values, check_idl_names, _no_keywords, _no_actions)
     # package.xml is the ros2 target's business, not ArduPilot's
     diagnostics = [d for d in lowered if d.code not in IGNORED]
     params = ParamBuilder(comp)
@@ -47,15 +49,28 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         return result
     ts = TemplateSet(TEMPLATES, "ardupilot", filters=FILTERS, override=options.get("templates"))
     common = {"source_name": header_name(comp.path), "open": "//", "close": ""}
-    files = [GeneratedFile(f"{IDL_ROOT}/{f.path}", f.text) for f in render_package(pkg, idl_templates())
+    files = [GeneratedFile(f"{IDL_ROOT}/{f.path}", f.text, f.origin) for f in render_package(pkg, idl_templates())
              if "/action/" not in f.path]
     if table.params:
         folder = f"libraries/{table.library}"
-        files.append(GeneratedFile(f"{folder}/{table.class_name}.h", ts.render("params.h.j2", table=table, **common)))
+        named = (comp.interface.source, component_span(comp.interface))
+        files.append(GeneratedFile(f"{folder}/{table.class_name}.h", ts.render("params.h.j2", table=table, **common),
+                                   named))
         files.append(GeneratedFile(f"{folder}/{table.class_name}.cpp",
-                                   ts.render("params.cpp.j2", table=table, **common)))
+                                   ts.render("params.cpp.j2", table=table, **common), named))
     result.files = sorted_files(files)
     return result
+
+
+def _no_keywords(pkg: RosPackage) -> Iterator[Diagnostic]:
+    """An error for each name that is a C or C++ keyword: the code built from the IDL would not compile."""
+    seen: set[tuple[str, int, int]] = set()
+    for what, name, source, span in pkg.identifiers():
+        key = (source.path, span.start, span.end)
+        if c_family_keyword(name) and key not in seen:
+            seen.add(key)
+            yield diag("ap-reserved-name", f"{what} is a C/C++ keyword: the code ArduPilot's build generates from "
+                       "the IDL declares it as an identifier, which does not compile; rename it", source, span)
 
 
 def _no_actions(pkg: RosPackage) -> Iterator[Diagnostic]:

@@ -7,6 +7,8 @@ from ..base import CodeTable
 
 CODES: dict[str, tuple[Severity, str]] = {
     "ap-name-invalid": (Severity.ERROR, "A component name that cannot be made a C++ class name."),
+    "ap-reserved-name": (Severity.ERROR, "A package, message, field or constant named like a C or C++ keyword "
+                         "(class, delete…): the code built from the IDL would not compile."),
     "ap-no-actions": (Severity.WARNING, "AP_DDS has no actions: they are not generated."),
     "ap-param-unsupported-type": (Severity.WARNING, "A parameter type AP_Param cannot hold: left out of the table."),
     "ap-param-precision": (Severity.WARNING, "A float64 parameter: AP_Float is 32-bit."),

@@ -137,6 +137,10 @@ class ParamBuilder:
         return sorted(out, key=lambda p: p.index)
 
     def _param(self, f: m.Field, prefix: str) -> ApParam | None:
+        # the type first: a parameter left out for its type gets no further diagnostics
+        ap_type, values = self._type(f)
+        if ap_type is None:
+            return None
         explicit = m.annotation(f.annotations, "ap.name")
         name = explicit.text if explicit else upper(f.name)
         span = explicit.span if explicit else f.name_span
@@ -151,8 +155,7 @@ class ParamBuilder:
                                          f"{len(full)} characters: ArduPilot parameter names have at most {MAX_NAME} "
                                          "(shorten it or set ap.name / ap.prefix)", self.src, span))
             named = False
-        ap_type, values = self._type(f)
-        if ap_type is None or not named:
+        if not named:
             return None
         default = self._default(f, ap_type)
         if default is None:
@@ -189,8 +192,8 @@ class ParamBuilder:
                                              "AP_Float stores 32 bits", self.src, f.type.span))
             return _AP_TYPES[t.name], ("0:Disabled,1:Enabled" if t.name == "bool" else None)
         self.diagnostics.append(diag("ap-param-unsupported-type", f"parameter '{f.name}' is {type_text(f.type)}: "
-                                     "AP_Param holds integers up to 32 bits and floats; it is left out of the "
-                                     "ArduPilot parameter table", self.src, f.type.span))
+                                     f"{_why_not(t, enum)}; it is left out of the ArduPilot parameter table",
+                                     self.src, f.type.span))
         return None, None
 
     def _default(self, f: m.Field, ap_type: str) -> str | None:
@@ -209,3 +212,19 @@ class ParamBuilder:
                                      self.src, f.default.span))
         return None
 
+
+#: What AP_Param can hold, said in every unsupported-type message.
+_HOLDS = ("AP_Param holds signed integers of up to 32 bits (AP_Int8, AP_Int16, AP_Int32) and 32-bit floats "
+          "(AP_Float)")
+
+
+def _why_not(t: m.TypeRef, enum: m.Enum | None) -> str:
+    """Why AP_Param cannot hold a (typedef-resolved) type, with what would fit when there is such a type."""
+    if enum is not None:
+        return f"{_HOLDS}, and the values of enum '{enum.name}' do not fit AP_Int32"
+    if isinstance(t, m.BaseType) and t.bound is None:
+        if t.name == "u32":
+            return f"{_HOLDS}, and u32 values above 2147483647 do not fit AP_Int32 (use i32)"
+        if t.name in ("i64", "u64"):
+            return f"{_HOLDS}; a 64-bit integer does not fit"
+    return _HOLDS

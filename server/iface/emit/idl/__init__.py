@@ -13,6 +13,8 @@ from typing import Any
 
 from ...compile import Compilation
 from ..base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
+from ..ros2.keywords import check_keywords
+from ..ros2.filenames import check_rosidl_names
 from ..ros2.lower import RosPackage, lower_checked
 from .render import FILTERS, check_idl_values, includes, structs, typedefs
 from .reserved import check_idl_names
@@ -30,13 +32,13 @@ def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFil
         for ri in pkg.of_kind(kind):
             text = templates.render("interface.idl.j2", interface=ri, package=pkg.name, header=header,
                                     structs=structs(ri), typedefs=typedefs(ri), includes=includes(ri))
-            files.append(GeneratedFile(f"{pkg.name}/{kind}/{ri.name}.idl", text))
+            files.append(GeneratedFile(f"{pkg.name}/{kind}/{ri.name}.idl", text, (ri.source, ri.span)))
     return sorted_files(files)
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Lower the compilation as for ROS 2, refuse what IDL readers misread or refuse, render."""
-    pkg, diagnostics = lower_checked(comp, check_idl_values, check_idl_names)
+    pkg, diagnostics = lower_checked(comp, check_idl_values, check_idl_names, check_keywords, check_rosidl_names)
     result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result

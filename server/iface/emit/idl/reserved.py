@@ -12,7 +12,6 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Diagnostic
-from ...source import Source, Span
 from ..ros2.codes import diag
 from ..ros2.lower import RosPackage
 
@@ -33,23 +32,10 @@ def keyword_of(name: str) -> str | None:
     return _FOLDED.get(name.lower())
 
 
-def _names(pkg: RosPackage) -> Iterator[tuple[str, str, Source, Span]]:
-    """(what, name, source, span) of every identifier the IDL files declare from the model."""
-    yield f"package '{pkg.name}'", pkg.name, pkg.name_source, pkg.name_span
-    for ri in pkg.interfaces:
-        if ri.kind == "msg":  # service and action structs carry a suffix (_Request, _Goal…)
-            yield f"message '{ri.name}'", ri.name, ri.source, ri.span
-        for sec in ri.sections:
-            for f in sec.fields:
-                yield f"field '{f.name}' of {ri.kind}/{ri.name}", f.name, f.source, f.span
-            for c in sec.consts:
-                yield f"constant '{c.name}' of {ri.kind}/{ri.name}", c.name, c.source, c.span
-
-
 def check_idl_names(pkg: RosPackage) -> Iterator[Diagnostic]:
     """An error for each name that is an IDL keyword, a warning for each that differs from one only in case."""
     seen: set[tuple[str, int, int]] = set()
-    for what, name, source, span in _names(pkg):
+    for what, name, source, span in pkg.identifiers():
         keyword = keyword_of(name)
         key = (source.path, span.start, span.end)
         if keyword is None or key in seen:

@@ -14,6 +14,7 @@ from typing import Any
 from ... import model as m
 from ...compile import Compilation
 from ..base import GeneratedFile, Result, Target, TemplateSet
+from ..support import component_span
 from ..text import header_name
 from .build import call_rows, contract_item, endpoint_rows, fields_table, type_sections
 from .escape import code, md, paragraphs
@@ -46,7 +47,7 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     text = ts.render("interface.md.j2", source_name=header_name(comp.path),
                      open="<!--", close=" -->", **view)
     file_name = _file_name(iface)
-    return Result(files=[GeneratedFile(file_name, text)])
+    return Result(files=[GeneratedFile(file_name, text, (iface.source, component_span(iface)))])
 
 
 def _file_name(iface: m.Interface) -> str:

@@ -16,7 +16,7 @@ from ... import model as m
 from ...compile import Compilation
 from ...diagnostics import Diagnostic
 from ..base import GeneratedFile, Result, Target, TemplateSet, sort_diagnostics, sorted_files
-from ..support import Owners
+from ..support import Owners, component_span
 from ..text import cpp_string, header_name, line_comment, yaml_string
 from .codes import CODES, diag
 from .messages import MessageBuilder
@@ -31,21 +31,24 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     owners = Owners(comp)
     messages = MessageBuilder(comp, owners)
     msgs = messages.build()
-    modules = ModuleBuilder(comp, owners, messages.messages, messages.names)
+    modules = ModuleBuilder(comp, owners, messages.messages, messages.names, messages.wired)
     module = modules.build()
     diagnostics = [*messages.diagnostics, *modules.diagnostics, *_not_generated(comp.interface)]
     result = Result(diagnostics=sort_diagnostics(diagnostics))
-    if result.has_errors or module is None:
+    if result.has_errors:
         return result
     ts = TemplateSet(TEMPLATES, "px4", filters=FILTERS, override=options.get("templates"))
     common = {"source_name": header_name(comp.path), "close": ""}
-    files = [GeneratedFile(f"msg/{msg.name}.msg", ts.render("msg.j2", msg=msg, open="#", **common))
+    files = [GeneratedFile(f"msg/{msg.name}.msg", ts.render("msg.j2", msg=msg, open="#", **common),
+                           (owners.source(msg.struct), msg.struct.name_span))
              for msg in msgs]
-    folder = f"src/modules/{module.module_name}"
-    files.append(GeneratedFile(f"{folder}/{module.class_name}.hpp",
-                               ts.render("module.hpp.j2", module=module, open="//", **common)))
-    files.append(GeneratedFile(f"{folder}/module.yaml", ts.render("module.yaml.j2", module=module, open="#",
-                                                                   **common)))
+    if module is not None:
+        folder = f"src/modules/{module.module_name}"
+        named = (comp.interface.source, component_span(comp.interface))
+        files.append(GeneratedFile(f"{folder}/{module.class_name}.hpp",
+                                   ts.render("module.hpp.j2", module=module, open="//", **common), named))
+        files.append(GeneratedFile(f"{folder}/module.yaml", ts.render("module.yaml.j2", module=module, open="#",
+                                                                       **common), named))
     result.files = sorted_files(files)
     return result
 

@@ -15,10 +15,17 @@ CODES: dict[str, tuple[Severity, str]] = {
     "px4-timestamp-type": (Severity.ERROR, "A field named timestamp whose type is not u64."),
     "px4-name-invalid": (Severity.ERROR, "A name that cannot be made a uORB message, field or module name."),
     "px4-name-conflict": (Severity.ERROR, "Two definitions that become one uORB message name."),
+    "px4-reserved-name": (Severity.ERROR, "A field or constant named like a C++ keyword (class, delete…): the C++ "
+                          "struct PX4 generates from the message would not compile."),
     "px4-topic-invalid": (Severity.ERROR, "A topic name with no uORB topic counterpart."),
+    "px4-topic-assumed": (Severity.WARNING, "A topic of a px4_msgs type that is not a uXRCE-DDS bridge name "
+                          "(/fmu/out/<topic>, /fmu/in/<topic>): the uORB topic is assumed to be the snake_case "
+                          "message name."),
     "px4-topic-conflict": (Severity.ERROR, "One uORB topic used for two message types."),
     "px4-no-services": (Severity.WARNING, "PX4 has no services or actions: they are not generated."),
     "px4-no-state": (Severity.INFORMATION, "PX4 has no state set: state is not generated."),
+    "px4-message-library": (Severity.INFORMATION, "No topic wired and no parameter: only the uORB messages are "
+                            "generated, no module."),
     "px4-param-type": (Severity.ERROR, "A parameter type PX4 parameters cannot hold (INT32 and FLOAT only)."),
     "px4-param-precision": (Severity.WARNING, "A float64 parameter: PX4 stores FLOAT (32-bit)."),
     "px4-param-name-too-long": (Severity.ERROR, "A PX4 parameter name longer than 16 characters."),

@@ -10,14 +10,17 @@ from ...compile import Compilation
 from ...diagnostics import Diagnostic
 from ...naming import ros_constant_name, ros_field_name
 from ...walk import resolve_typedefs, type_text
-from ..types import container, px4_base
+from ..keywords import c_family_keyword
 from ..support import Owners, camel, enum_of, literal, member_order, snake, upper
+from ..types import container, px4_base
 from ..text import comment_lines, number, one_line
 from .codes import diag
 
 #: External packages whose types are uORB messages that PX4 already has.
 PX4_PACKAGES = frozenset({"px4_msgs", "px4"})
 _UORB_TOPIC = re.compile(r"^[a-z][a-z0-9]*(_[a-z0-9]+)*$")
+#: The ROS 2 name the uXRCE-DDS bridge gives a uORB topic: ``[/<vehicle namespace>]/fmu/(in|out)/<topic>``.
+_BRIDGE_NAME = re.compile(r"^/?(?:[A-Za-z][A-Za-z0-9_]*/)?fmu/(?:in|out)/(?P<topic>[^/]+)$")
 _NUMERIC = frozenset({"bool", "char", "int8", "int16", "int32", "int64", "uint8", "uint16", "uint32", "uint64",
                       "float32", "float64"})
 #: Why uORB cannot hold a base type, and what to write instead.
@@ -77,6 +80,17 @@ def uorb_topic(name: str) -> str | None:
     return topic if _UORB_TOPIC.match(topic) else None
 
 
+def bridge_topic(name: str) -> str | None:
+    """The uORB topic in a uXRCE-DDS bridge name (``/fmu/out/vehicle_attitude`` → ``vehicle_attitude``), else None.
+
+    The bridge publishes uORB topic ``t`` to ROS 2 as ``/fmu/out/t`` and subscribes
+    ``/fmu/in/t``, behind a namespace such as ``/px4_1`` when several vehicles share
+    a network. The part after ``/fmu/in|out/`` is returned as written, valid or not.
+    """
+    m = _BRIDGE_NAME.match(name)
+    return m.group("topic") if m else None
+
+
 class MessageBuilder:
     """Collects the messages a component needs and converts them, reporting what uORB cannot hold."""
 
@@ -88,6 +102,8 @@ class MessageBuilder:
         self.names: dict[int, str | None] = {}
         self._queue: list[m.Struct] = []
         self.topics: dict[str, tuple[UorbMessage | None, str]] = {}
+        #: The uORB topic of each publishes/subscribes wiring, by ``id`` of the wiring.
+        self.wired: dict[int, str] = {}
 
     # ---- collection ------------------------------------------------------------------
     def build(self) -> list[UorbMessage]:
@@ -151,6 +167,12 @@ class MessageBuilder:
                                              f"'{struct.name}' cannot be made a uORB field name",
                                              src, member.name_span))
                 continue
+            if c_family_keyword(fname):
+                self.diagnostics.append(diag("px4-reserved-name", f"field '{member.name}' of message "
+                                             f"'{struct.name}' is a C++ keyword: PX4 generates a C++ struct member "
+                                             f"'{fname}' from it, which does not compile; rename it",
+                                             src, member.name_span))
+                continue
             if member.default is not None:
                 self.diagnostics.append(diag("px4-default", f"field '{member.name}' of message '{struct.name}' "
                                              f"has a default ({member.default.text or member.default.value}): "
@@ -195,6 +217,11 @@ class MessageBuilder:
         if name is None:
             self.diagnostics.append(diag("px4-name-invalid", f"constant '{c.name}' cannot be made a uORB constant "
                                          "name", src, c.name_span))
+            return None
+        if c_family_keyword(name):
+            self.diagnostics.append(diag("px4-reserved-name", f"constant '{c.name}' of message '{struct.name}' is a "
+                                         "C++ keyword: PX4 generates a C++ constant of that name, which does not "
+                                         "compile; rename it", src, c.name_span))
             return None
         value = literal(owner, c.value)
         if isinstance(value, bool) or ptype == "bool":
@@ -260,16 +287,48 @@ class MessageBuilder:
         for w in self.iface.wirings:
             if w.direction not in ("publishes", "subscribes"):
                 continue
-            topic = uorb_topic(w.topic)
+            topic = self._wired_topic(w)
             if topic is None:
-                self.diagnostics.append(diag("px4-topic-invalid", f"topic '{w.topic}' has no uORB name: uORB "
-                                             "topics are snake_case names without namespaces or substitutions",
-                                             src, w.topic_span))
                 continue
+            self.wired[id(w)] = topic
             target = w.type.target
             msg = self.messages.get(self.names.get(id(target)) or "") if isinstance(target, m.Struct) else None
             type_name = msg.name if msg else w.type.name
             self._claim(topic, msg, type_name, src, w.topic_span)
+
+    def _wired_topic(self, w: m.Wiring) -> str | None:
+        """The uORB topic of a wiring (reporting why there is none, or what is assumed).
+
+        A bridge name ``[/ns]/fmu/in|out/<topic>`` names the uORB topic ``<topic>``.
+        Any other name of a message PX4 already has (``px4_msgs.X``) cannot name a
+        uORB topic, whose names PX4 fixes: the topic is taken to be the snake_case
+        message name, with a warning unless the name says just that. The name of a
+        topic of the component's own messages is made a uORB name
+        (``/arm/jointState`` → ``arm_joint_state``).
+        """
+        src = self.iface.source
+        bridged = bridge_topic(w.topic)
+        if bridged is not None:
+            if _UORB_TOPIC.match(bridged):
+                return bridged
+            self.diagnostics.append(diag("px4-topic-invalid", f"topic '{w.topic}': '{bridged}' is not a uORB topic "
+                                         "name (snake_case)", src, w.topic_span))
+            return None
+        if w.type.target is None and w.type.external in PX4_PACKAGES:
+            assumed = snake(w.type.local_name)
+            if uorb_topic(w.topic) != assumed:
+                self.diagnostics.append(diag("px4-topic-assumed", f"topic '{w.topic}' is not a uXRCE-DDS bridge name "
+                                             f"(/fmu/out/<topic>, /fmu/in/<topic>): the uORB topic of {w.type.name} "
+                                             f"is assumed to be '{assumed}', its snake_case name (write "
+                                             "'/fmu/out/<topic>' or '/fmu/in/<topic>' to name another uORB topic)",
+                                             src, w.topic_span))
+            return assumed
+        topic = uorb_topic(w.topic)
+        if topic is None:
+            self.diagnostics.append(diag("px4-topic-invalid", f"topic '{w.topic}' has no uORB name: uORB "
+                                         "topics are snake_case names without namespaces or substitutions",
+                                         src, w.topic_span))
+        return topic
 
     def _annotated_topics(self) -> None:
         for name in sorted(self.messages):

@@ -12,7 +12,7 @@ from ..support import (PARAM_NAME, Owners, camel, component_span, enum_of, human
                        snake, upper)
 from ..text import comment_lines, compact_number, number, one_line, summary
 from .codes import diag
-from .messages import PX4_PACKAGES, UorbMessage, uorb_topic
+from .messages import PX4_PACKAGES, UorbMessage
 
 MAX_PARAM_NAME = 16
 #: Units PX4's module.yaml schema accepts (validation/module_schema.yaml).
@@ -83,17 +83,23 @@ class ModuleBuilder:
     """Builds the module view, reporting parameters PX4 cannot hold."""
 
     def __init__(self, comp: Compilation, owners: Owners, messages: dict[str, UorbMessage],
-                 names: dict[int, str | None]) -> None:
+                 names: dict[int, str | None], wired: dict[int, str]) -> None:
         self.iface = comp.interface
         self.owners = owners
         self.messages = messages
         self.names = names
+        self.wired = wired
         self.diagnostics: list[Diagnostic] = []
 
     def build(self) -> Px4Module | None:
-        """The module, or None when the component name cannot name a C++ class."""
+        """The module; None for a message library (no topic wired, no parameter) or a name no class can have."""
         iface = self.iface
         comp_decl = iface.component
+        if not iface.parameters and not any(w.direction in ("publishes", "subscribes") for w in iface.wirings):
+            self.diagnostics.append(diag("px4-message-library", f"'{iface.name}' wires no topic and has no "
+                                         "parameter: only its uORB messages are generated (a message library, "
+                                         "no module)", iface.source, component_span(iface)))
+            return None
         class_name = camel(iface.name)
         if class_name is None:
             self.diagnostics.append(diag("px4-name-invalid", f"component name '{iface.name}' cannot be made a "
@@ -114,7 +120,7 @@ class ModuleBuilder:
         for w in self.iface.wirings:
             if w.direction not in ("publishes", "subscribes"):
                 continue
-            topic = uorb_topic(w.topic)
+            topic = self.wired.get(id(w))
             stem = self._message_stem(w.type)
             if topic is None or stem is None or (w.direction, topic) in seen:
                 continue

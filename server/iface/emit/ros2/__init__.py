@@ -14,6 +14,8 @@ from ...compile import Compilation
 from ..base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
 from .codes import CODES
 from .lower import RosPackage, lower_checked
+from .filenames import check_rosidl_names
+from .keywords import check_keywords
 from .render import FILTERS, check_msg_values
 
 TEMPLATES = Path(__file__).parent / "templates"
@@ -33,22 +35,23 @@ def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFil
             interface_files.append(rel)
             text = templates.render(f"{kind}.j2", interface=ri, package=pkg.name,
                                     header=header_lines("#", pkg.source_name).rstrip("\n"))
-            files.append(GeneratedFile(f"{root}/{rel}", text))
+            files.append(GeneratedFile(f"{root}/{rel}", text, (ri.source, ri.span)))
+    named = (pkg.name_source, pkg.name_span)
     xml_header = header_lines("<!--", pkg.source_name, end=" -->").rstrip("\n")
     files.append(GeneratedFile(f"{root}/package.xml", templates.render("package.xml.j2", package=pkg,
-                                                                      header=xml_header)))
+                                                                      header=xml_header), named))
     hash_header = header_lines("#", pkg.source_name).rstrip("\n")
     files.append(GeneratedFile(f"{root}/CMakeLists.txt", templates.render(
-        "CMakeLists.txt.j2", package=pkg, files=interface_files, header=hash_header)))
+        "CMakeLists.txt.j2", package=pkg, files=interface_files, header=hash_header), named))
     if pkg.params:
         files.append(GeneratedFile(f"{root}/config/{pkg.node}.params.yaml", templates.render(
-            "params.yaml.j2", package=pkg, header=hash_header)))
+            "params.yaml.j2", package=pkg, header=hash_header), (pkg.name_source, pkg.node_span)))
     return sorted_files(files)
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Lower the compilation, refuse what .msg syntax cannot hold, render the package."""
-    pkg, diagnostics = lower_checked(comp, check_msg_values)
+    pkg, diagnostics = lower_checked(comp, check_msg_values, check_keywords, check_rosidl_names)
     result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result

@@ -17,7 +17,18 @@ CODES: dict[str, tuple[Severity, str]] = {
     "ros2-unsupported-default": (Severity.ERROR, "A default ROS 2 cannot state (on a nested message, "
                                  "a map, a value of the wrong kind)."),
     "ros2-name-clash": (Severity.ERROR, "Two names that become the same after conversion to ROS 2 rules."),
-    "ros2-param-type": (Severity.ERROR, "A configuration field whose type a ROS 2 parameter cannot have."),
+    "ros2-reserved-name": (Severity.WARNING, "A package, message, field or constant named like a C or C++ keyword "
+                           "(class, delete, restrict…): rosidl's C++ code for it does not compile."),
+    "ros2-python-keyword": (Severity.WARNING, "A name that is a Python keyword (from, lambda…): rosidl_generator_py "
+                            "does not support it; the Python module cannot be imported."),
+    "ros2-name-too-long": (Severity.ERROR, "A type name whose rosidl-generated file names would be longer than "
+                           "file systems allow."),
+    "ros2-param-type": (Severity.ERROR, "A configuration field whose type a ROS 2 parameter cannot have "
+                        "(a message, map, set, nested array)."),
+    "ros2-param-value": (Severity.ERROR, "A parameter default ROS 2 cannot hold: an integer outside int64."),
+    "ros2-param-empty-list": (Severity.WARNING, "An empty list as a parameter default, which ROS 2 cannot load "
+                              "from YAML: written as a comment (no default)."),
+    "ros2-param-uint64": (Severity.WARNING, "A u64 parameter: ROS 2 integer parameters are int64."),
     "ros2-package-metadata": (Severity.WARNING, "A component version or maintainer e-mail package.xml "
                               "cannot hold; a neutral value is written instead."),
     "idl-unwritable-string": (Severity.ERROR, "A string default or constant with a backslash, "

@@ -14,7 +14,7 @@ Values are decoded to Python values here; each target checks and writes them its
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 
 from ... import model as m
@@ -24,7 +24,7 @@ from ...naming import (is_ros_constant, is_ros_field, is_ros_type, ros_constant_
                        ros_type_name)
 from ...resolve import constant_value
 from ...source import Source, Span
-from ...walk import resolve_typedefs
+from ...walk import resolve_typedefs, type_text
 from .. import types
 from ..base import sort_diagnostics
 from ..support import Owners, component_span
@@ -131,12 +131,13 @@ class RosInterface:
 
 @dataclass(slots=True)
 class RosParam:
-    """A parameter of the node: name as written, type, default (None: no default)."""
+    """A parameter of the node: name as written, type, default (None: no default, for the reason in ``note``)."""
 
     name: str
     type: RosType
     value: PyValue | None
     comments: list[str]
+    note: str = "no default; set it at launch"
 
 
 @dataclass(slots=True)
@@ -158,10 +159,28 @@ class RosPackage:
     interfaces: list[RosInterface] = field(default_factory=list)
     depends: list[str] = field(default_factory=list)
     params: list[RosParam] = field(default_factory=list)
+    #: Where the component (hence the node) is named, in ``name_source``.
+    node_span: Span = field(default_factory=lambda: Span(0, 0))
 
     def of_kind(self, kind: str) -> list[RosInterface]:
         """The interfaces of one kind, by name."""
         return sorted((i for i in self.interfaces if i.kind == kind), key=lambda i: i.name)
+
+    def identifiers(self) -> Iterator[tuple[str, str, Source, Span]]:
+        """(what, name, source, span) of every identifier generated code declares from the model.
+
+        The package, each message, and every field and constant; service and action
+        types carry a suffix (``_Request``, ``_Goal``…) and are left out.
+        """
+        yield f"package '{self.name}'", self.name, self.name_source, self.name_span
+        for ri in self.interfaces:
+            if ri.kind == "msg":
+                yield f"message '{ri.name}'", ri.name, ri.source, ri.span
+            for sec in ri.sections:
+                for f in sec.fields:
+                    yield f"field '{f.name}' of {ri.kind}/{ri.name}", f.name, f.source, f.span
+                for c in sec.consts:
+                    yield f"constant '{c.name}' of {ri.kind}/{ri.name}", c.name, c.source, c.span
 
 
 def _field_comments(f: m.Field) -> list[str]:
@@ -235,12 +254,19 @@ class _Lowering:
         return new
 
     def type_name(self, d: m.Definition, *, suffix: str = "") -> str | None:
-        """The ROS name of a definition, reported once when it changes."""
+        """The ROS name of a definition, reported once when it changes.
+
+        The diagnostics service Δ is named by the language (``service diagnostics``),
+        so its conversion (``Diagnostics``) is silent, as in the core checks.
+        """
         key = id(d)
         if key not in self._type_names:
             owner = self.owners.of(d)
             new = ros_type_name(d.name)
-            self._type_names[key] = self.renamed("type", d.name, new, owner.source, d.name_span)
+            if isinstance(d, m.Service) and d.is_diagnostics and new is not None:
+                self._type_names[key] = new
+            else:
+                self._type_names[key] = self.renamed("type", d.name, new, owner.source, d.name_span)
         base = self._type_names[key]
         return None if base is None else base + suffix
 
@@ -544,7 +570,7 @@ class _Lowering:
                          maintainer_email=self.email(),
                          license=self.annotation("license") or "TODO",
                          source_name=header_name(src.path), name_source=src,
-                         name_span=self._package_spans[id(iface)])
+                         name_span=self._package_spans[id(iface)], node_span=component_span(iface))
         for other in self.interfaces:
             if other is not iface and self.package_of(other) != name:
                 continue
@@ -580,22 +606,55 @@ class _Lowering:
         return pkg
 
     def params(self) -> list[RosParam]:
-        """The parameters P with their decoded defaults."""
+        """The parameters P with their decoded defaults, refusing what a ROS 2 parameter cannot hold.
+
+        ROS 2 parameters are bool, int64, double, string, byte[] and arrays of bool,
+        int64, double or string; a YAML file cannot state an empty array (its type
+        is unknown), nor an integer outside int64.
+        """
         out = []
+        src = self.iface.source
         for f in self.iface.parameters:
+            problem = _param_type_problem(f.type)
+            if problem is not None:
+                self.error("ros2-param-type", f"parameter '{f.name}' is {type_text(f.type)}: {problem}; a ROS 2 "
+                           "parameter is a bool, integer (int64), double, string, or an array of one of those",
+                           src, f.type.span)
+                continue
             enums: list[m.Enum] = []
             rt = self.ros_type(f.type, self.iface, enums)
             if rt is None:
                 continue
-            if rt.primitive is None:
-                self.error("ros2-param-type", f"parameter '{f.name}': a ROS 2 parameter is a bool, integer, "
-                           "double, string, or an array of one of those", self.iface.source, f.type.span)
-                continue
-            value = None
+            if rt.primitive == "uint64":
+                self.error("ros2-param-uint64", f"parameter '{f.name}' is {type_text(f.type)}: ROS 2 integer "
+                           "parameters are int64, so values above 9223372036854775807 cannot be set",
+                           src, f.type.span)
+            param = RosParam(f.name, rt, None, _field_comments(f))
             if f.default is not None:
                 value = self.value(f.default, rt, enums[0] if enums else None, self.iface)
-            out.append(RosParam(f.name, rt, value, _field_comments(f)))
+                param.value = self._param_value(f, value)
+                if value == []:
+                    param.note = ("no default: ROS 2 cannot load an empty list from YAML (its type is unknown); "
+                                  "the node's own default applies")
+            out.append(param)
         return out
+
+    def _param_value(self, f: m.Field, value: PyValue | None) -> PyValue | None:
+        """``value`` when a ROS 2 parameter file can state it; None (reported) when not."""
+        assert f.default is not None
+        src = self.iface.source
+        if value == []:
+            self.error("ros2-param-empty-list", f"parameter '{f.name}': ROS 2 cannot load an empty list from a "
+                       "parameter file (it cannot tell its type); the default is written as a comment instead",
+                       src, f.default.span)
+            return None
+        items = value if isinstance(value, list) else [value]
+        lo, hi = _INT64
+        if any(isinstance(x, int) and not isinstance(x, bool) and not lo <= x <= hi for x in items):
+            self.error("ros2-param-value", f"parameter '{f.name}': the default {f.default.text or value} does not fit "
+                       f"int64 ({lo}..{hi}), the type of every ROS 2 integer parameter", src, f.default.span)
+            return None
+        return value
 
     def node_name(self, component: str) -> str | None:
         """The node the parameters belong to: the component name, converted if ROS 2 refuses it."""
@@ -633,6 +692,29 @@ class _Lowering:
             return "0.0.0"
         parts = comp.version.split(".")
         return ".".join(str(int(p)) for p in parts + ["0"] * (3 - len(parts)))
+
+
+_INT64 = m.INT_RANGES["i64"]
+
+
+def _param_type_problem(t: m.TypeRef) -> str | None:
+    """Why a ROS 2 parameter cannot have type ``t`` (typedefs followed), None when it can."""
+    r = resolve_typedefs(t)
+    if isinstance(r, m.MapType):
+        return "ROS 2 parameters have no maps (use one parameter per key, or two arrays)"
+    if isinstance(r, m.SetType):
+        return "ROS 2 parameters have no sets (use an array)"
+    element: m.TypeRef = r
+    if isinstance(r, m.ArrayType):
+        element = resolve_typedefs(r.element)
+        nested = isinstance(element, (m.ArrayType, m.SetType, m.MapType)) or (
+            isinstance(element, m.BaseType) and element.name in ("binary", "uuid"))
+        if nested:
+            return "ROS 2 parameters have no arrays of arrays"
+    if isinstance(element, m.NamedType) and not isinstance(element.target, m.Enum):
+        what = "arrays of messages" if element is not r else "message types"
+        return f"ROS 2 parameters have no {what}"
+    return None
 
 
 _INT_RANGE: dict[str, tuple[int, int]] = {

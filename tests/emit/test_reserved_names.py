@@ -1,0 +1,84 @@
+"""Language keywords as names: refused for px4 and ardupilot, warned about for ros2 and idl; rosidl file names."""
+
+from __future__ import annotations
+
+import keyword
+from pathlib import Path
+
+import pytest
+
+from iface.emit import generate
+from iface.emit.keywords import C_FAMILY_KEYWORDS, CPP_KEYWORDS, PYTHON_KEYWORDS
+
+from .helpers import compile_text
+
+KW = "component kw\nmessage Kw { u64 timestamp, i32 class, i32 sequence, float32 delete }\npublishes Kw on \"/kw\"\n"
+
+
+def at(comp, result, code: str) -> list[str]:
+    """The source text at each diagnostic ``code``."""
+    text = comp.interface.source.text
+    return sorted(text[d.span.start:d.span.end] for d in result.diagnostics if d.code == code)
+
+
+def test_the_keyword_tables() -> None:
+    assert {"class", "delete", "co_await", "char8_t", "requires", "and_eq", "consteval"} <= CPP_KEYWORDS
+    assert len(CPP_KEYWORDS) == 92  # C++20 [lex.key] (81) and the 11 alternative tokens
+    assert "restrict" in C_FAMILY_KEYWORDS - CPP_KEYWORDS
+    assert PYTHON_KEYWORDS == frozenset(keyword.kwlist)
+
+
+def test_px4_refuses_cpp_keyword_fields_at_the_field() -> None:
+    comp = compile_text(KW, "kw.iface")
+    result = generate(comp, "px4")
+    assert result.has_errors and result.files == []
+    assert at(comp, result, "px4-reserved-name") == ["class", "delete"]
+    assert all("C++ keyword" in d.message for d in result.diagnostics if d.code == "px4-reserved-name")
+
+
+def test_px4_refuses_a_cpp_keyword_constant() -> None:
+    comp = compile_text("component kw\nmessage K { u64 timestamp, const i32 and = 1 }\npublishes K on \"/k\"\n",
+                        "kw.iface")
+    result = generate(comp, "px4")
+    # uORB constants are UPPER_CASE (AND), which no keyword is: nothing to refuse
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    assert "int32 AND = 1" in next(f.text for f in result.files if f.path == "msg/K.msg")
+
+
+def test_ardupilot_refuses_cpp_keyword_fields_at_the_field() -> None:
+    comp = compile_text(KW, "kw.iface")
+    result = generate(comp, "ardupilot")
+    assert result.has_errors and result.files == []
+    assert at(comp, result, "ap-reserved-name") == ["class", "delete"]
+    assert at(comp, result, "idl-reserved-name") == ["sequence"]
+
+
+@pytest.mark.parametrize("target", ["ros2", "idl"])
+def test_ros2_warns_about_cpp_and_python_keywords(target: str) -> None:
+    src = "component kw\nmessage Kw { i32 class, i32 restrict, i32 lambda, i32 fine }\n"
+    comp = compile_text(src, "kw.iface")
+    result = generate(comp, target)
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    assert at(comp, result, "ros2-reserved-name") == ["class", "restrict"]
+    assert at(comp, result, "ros2-python-keyword") == ["lambda"]
+    (d,) = [d for d in result.diagnostics if d.code == "ros2-python-keyword"]
+    assert "rosidl_generator_py" in d.message
+    assert all(d.severity == 2 for d in result.diagnostics if d.code.startswith("ros2-"))
+
+
+def test_a_package_named_like_a_keyword_is_warned_about(tmp_path: Path) -> None:
+    comp = compile_text("message M { i32 x }\n", "delete.iface", tmp_path)
+    result = generate(comp, "ros2")
+    assert any(d.code == "ros2-reserved-name" and "package 'delete'" in d.message for d in result.diagnostics)
+
+
+def test_ros2_refuses_a_type_name_too_long_for_rosidl_files() -> None:
+    fits, too_long = "A" * 213, "A" * 214
+    ok = generate(compile_text(f"component c\nmessage {fits} {{ i32 x }}\n", "names.iface"), "ros2")
+    assert not ok.has_errors, [d.format() for d in ok.diagnostics]
+    comp = compile_text(f"component c\nmessage {too_long} {{ i32 x }}\n", "names.iface")
+    result = generate(comp, "ros2")
+    assert result.has_errors and result.files == []
+    assert at(comp, result, "ros2-name-too-long") == [too_long]
+    camel = "Ab" * 107  # 214 characters, 320 in snake_case (ab_ab_…)
+    assert generate(compile_text(f"component c\nmessage {camel} {{ i32 x }}\n", "names.iface"), "ros2").has_errors
