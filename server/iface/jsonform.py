@@ -43,7 +43,7 @@ def to_json(iface: m.Interface) -> dict[str, Any]:
         "file": Path(iface.path).name,
         "name": iface.name,
         "version": iface.version,
-        "component": _component(iface.component),
+        "component": None if iface.component is None else _component(iface.component),
         "includes": [{"path": i.path, "cpp": i.cpp} for i in iface.includes],
         "namespaces": [{"scope": n.scope, "name": n.name} for n in iface.namespaces],
         "externals": [e.name for e in iface.externals],
@@ -59,9 +59,7 @@ def canonical(iface: m.Interface) -> dict[str, Any]:
     return out
 
 
-def _component(c: m.ComponentDecl | None) -> dict[str, Any] | None:
-    if c is None:
-        return None
+def _component(c: m.ComponentDecl) -> dict[str, Any]:
     return {"name": c.name, "version": c.version, "annotations": _anns(c.annotations), "doc": c.doc}
 
 
@@ -71,9 +69,9 @@ def _anns(anns: list[m.Annotation]) -> list[dict[str, Any]]:
 
 def _value(v: m.Value) -> dict[str, Any]:
     if v.kind == "list":
-        inner: Any = [_value(x) for x in v.value]  # type: ignore[union-attr]
+        inner: Any = [_value(x) for x in v.value]
     elif v.kind == "map":
-        inner = [{"key": _value(k), "value": _value(x)} for k, x in v.value]  # type: ignore[union-attr]
+        inner = [{"key": _value(k), "value": _value(x)} for k, x in v.value]
     else:
         inner = v.value
     out: dict[str, Any] = {"kind": v.kind, "value": inner}
@@ -151,7 +149,7 @@ def _item(x: m.Item) -> dict[str, Any]:
     if isinstance(x, m.Namespace):
         return {"kind": "namespace", "scope": x.scope, "name": x.name, "annotations": _anns(x.annotations)}
     if isinstance(x, m.ComponentDecl):
-        return {"kind": "component", **_component(x)}  # type: ignore[dict-item]
+        return {"kind": "component", **_component(x)}
     if isinstance(x, m.External):
         return {"kind": "external", "name": x.name}
     if isinstance(x, m.Wiring):
@@ -254,7 +252,7 @@ class _Reader:
         if kind == "double":
             raw = float(raw)
         text = self.get(obj, "text", where, str, optional=True) or ""
-        return m.Value(kind, raw, self.span(), text)  # type: ignore[arg-type]
+        return m.Value(kind, raw, self.span(), text)
 
     def annotations(self, obj: Any, where: str) -> list[m.Annotation]:
         out = []
@@ -281,7 +279,7 @@ class _Reader:
             if array not in ("fixed", "bounded", "unbounded"):
                 raise FormError(f"{where}/array", f"unknown array kind '{array}'")
             t = m.ArrayType(self.type(self.get(obj, "element", where, dict), f"{where}/element"), self.span(),
-                            array, self.get(obj, "size", where, int, optional=True),  # type: ignore[arg-type]
+                            array, self.get(obj, "size", where, int, optional=True),
                             bool(self.get(obj, "list", where, bool, optional=True)))
         elif kind == "set":
             t = m.SetType(self.type(self.get(obj, "element", where, dict), f"{where}/element"), self.span())
@@ -344,7 +342,7 @@ class _Reader:
             direction = self.get(obj, "direction", where, str)
             if direction not in ("publishes", "subscribes", "provides", "calls"):
                 raise FormError(f"{where}/direction", f"unknown direction '{direction}'")
-            return m.Wiring(direction, m.NamedType(self.get(obj, "type", where, str), self.span()),  # type: ignore[arg-type]
+            return m.Wiring(direction, m.NamedType(self.get(obj, "type", where, str), self.span()),
                             self.get(obj, "topic", where, str), self.span(), Span(0, 0),
                             self.annotations(obj, where), doc)
         if kind == "const":
@@ -360,12 +358,12 @@ class _Reader:
                                           self.annotations(v, w), self.get(v, "doc", w, str, optional=True)))
             return m.Enum(name(), self.span(), Span(0, 0), values, self.annotations(obj, where), doc)
         if kind == "senum":
-            values = [self.value(v, w) for w, v in self.list_of(obj, "values", where)]
-            return m.Senum(name(), self.span(), Span(0, 0), values, self.annotations(obj, where), doc)  # type: ignore[arg-type]
+            strings = [self.value(v, w) for w, v in self.list_of(obj, "values", where)]
+            return m.Senum(name(), self.span(), Span(0, 0), strings, self.annotations(obj, where), doc)
         if kind in ("struct", "union", "exception", "message", "configuration", "state"):
             consts = [self.const(x, w) for w, x in self.list_of(obj, "consts", where)]
             fields = [self.field(x, w) for w, x in self.list_of(obj, "fields", where)]
-            return m.Struct(kind, name(), self.span(), Span(0, 0), fields, consts,  # type: ignore[arg-type]
+            return m.Struct(kind, name(), self.span(), Span(0, 0), fields, consts,
                             self.annotations(obj, where), doc)
         if kind in ("service", "action"):
             return self.body(kind, obj, where, name(), doc)
@@ -378,6 +376,7 @@ class _Reader:
         consts = [self.const(x, w) for w, x in self.list_of(obj, "consts", where)]
         sections = [self.section(x, w) for w, x in self.list_of(obj, "sections", where)]
         d: m.Service | m.Action
+        reading: tuple[str, ...]
         if kind == "service":
             d = m.Service(name, self.span(), Span(0, 0), consts=consts, annotations=self.annotations(obj, where),
                           doc=doc)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 from lark import Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
@@ -94,23 +94,27 @@ class _ChunkParser:
         b = self.builder
         b.reset(docs, keep_spans)
         problems: list[Problem] = []
-        state = {"open": False, "errors": 0}
+        open_at_end = False
+        errors = 0
 
         def record(start: int, end: int, message: str) -> None:
+            nonlocal errors
             # one report per chunk: what follows inside it is usually an echo of the first
             if not problems:
                 problems.append(Problem("syntax-error", message, b.span(start, max(end, start))))
-            state["errors"] += 1
+            errors += 1
 
         def on_error(e: UnexpectedInput) -> bool:
-            if state["errors"] >= _MAX_ERRORS_PER_CHUNK:
+            nonlocal open_at_end
+            if errors >= _MAX_ERRORS_PER_CHUNK:
                 return False
             if isinstance(e, UnexpectedToken) and e.token.type == "$END":
-                state["open"] = True
+                open_at_end = True
                 record(len(text), len(text), _describe_eof(e))
                 return _close(e, len(text))
             if isinstance(e, UnexpectedCharacters):
-                record(e.pos_in_stream, e.pos_in_stream + 1, _describe_chars(text, e))
+                pos = _char_pos(e)
+                record(pos, pos + 1, _describe_chars(text, e))
                 return True
             assert isinstance(e, UnexpectedToken)
             tok = e.token
@@ -118,21 +122,22 @@ class _ChunkParser:
             _resync(e)
             return True
 
+        # with the model builder inline, lark returns the builder's list of items, not a tree
+        parsed: object
         try:
-            items = self.parser.parse(text, on_error=on_error)
+            parsed = self.parser.parse(text, on_error=on_error)
         except UnexpectedInput as e:
-            items = []
+            parsed = []
             if not problems:
                 pos = getattr(e, "pos_in_stream", None) or len(text)
                 problems.append(Problem("syntax-error", "cannot parse this definition", b.span(pos, pos)))
         except RecursionError:
-            items = []
+            parsed = []
             problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.span(0, 0)))
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
-        if not isinstance(items, list):
-            items = []
-        return ChunkResult(text, items, b.spans, problems, 0, state["open"])
+        items: list[Any] = parsed if isinstance(parsed, list) else []
+        return ChunkResult(text, items, b.spans, problems, 0, open_at_end)
 
 
 def _unwind_to_body(ip: Any) -> bool:
@@ -224,11 +229,18 @@ def _describe_eof(e: UnexpectedToken) -> str:
     return f"unexpected end of definition; expected {_expected(e.expected)}"
 
 
+def _char_pos(e: UnexpectedCharacters) -> int:
+    """Where the unlexable character is."""
+    # lark declares ``pos_in_stream = None`` on UnexpectedInput; UnexpectedCharacters always sets the lexer position
+    return cast(int, e.pos_in_stream)
+
+
 def _describe_chars(text: str, e: UnexpectedCharacters) -> str:
-    c = text[e.pos_in_stream]
+    pos = _char_pos(e)
+    c = text[pos]
     if c in "\"'":
         return "unterminated string: a string must close on the line it opens"
-    if text.startswith("/*", e.pos_in_stream):
+    if text.startswith("/*", pos):
         return "unterminated comment: '/*' has no closing '*/'"
     return f"unexpected character {c!r}"
 

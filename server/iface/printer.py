@@ -89,7 +89,7 @@ def value_text(v: m.Value) -> str:
     if kind == "double":
         if v.text and (_DOUBLE.match(v.text) or _INT.match(v.text)):
             return v.text
-        number = float(v.value)  # type: ignore[arg-type]
+        number = float(v.value)
         if number != number or number in (float("inf"), float("-inf")):
             raise PrintError(f"{number} cannot be written as an iface number")
         text = repr(number)
@@ -100,8 +100,8 @@ def value_text(v: m.Value) -> str:
     if kind == "name":
         return str(v.value)
     if kind == "list":
-        return "[" + ", ".join(value_text(x) for x in v.value) + "]"  # type: ignore[union-attr]
-    return "{" + ", ".join(f"{value_text(k)}: {value_text(x)}" for k, x in v.value) + "}"  # type: ignore[union-attr]
+        return "[" + ", ".join(value_text(x) for x in v.value) + "]"
+    return "{" + ", ".join(f"{value_text(k)}: {value_text(x)}" for k, x in v.value) + "}"
 
 
 def _int_of(text: str) -> int:

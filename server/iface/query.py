@@ -170,9 +170,9 @@ def _in_value(iface: m.Interface, v: m.Value, offset: int, owner: m.Definition) 
         if x.kind == "name":
             return Hit("value", x.span, x, owner, constant_value(iface, str(x.value)))
         if x.kind == "list":
-            stack.extend(x.value)  # type: ignore[arg-type]
+            stack.extend(x.value)
         elif x.kind == "map":
-            for k, val in x.value:  # type: ignore[union-attr]
+            for k, val in x.value:
                 stack.extend((k, val))
     return None
 
@@ -248,9 +248,9 @@ def value_references(iface: m.Interface) -> Iterator[m.Value]:
         if v.kind == "name":
             yield v
         elif v.kind == "list":
-            stack.extend(v.value)  # type: ignore[arg-type]
+            stack.extend(v.value)
         elif v.kind == "map":
-            for k, val in v.value:  # type: ignore[union-attr]
+            for k, val in v.value:
                 stack.extend((k, val))
 
 
@@ -277,7 +277,7 @@ def references(target: object, home: m.Interface, interfaces: Iterable[m.Interfa
             out.append(Reference(iface, span, decl))
 
     if include_declaration and hasattr(target, "name_span"):
-        add(home, target.name_span, True)  # type: ignore[attr-defined]
+        add(home, target.name_span, True)
     for iface in interfaces:
         scopes = [home, *iface.included.values()] if iface.path != home.path else [home]
         if isinstance(target, (m.Const, m.EnumValue)):
@@ -313,8 +313,8 @@ def highlights(iface: m.Interface, hit: Hit) -> list[Span]:
         assert hit.wiring is not None
         return [w.topic_span for w in iface.wirings if w.topic == hit.wiring.topic]
     if target is None or hit.kind == "base-type":
-        if hit.kind == "base-type":
-            name = hit.node.name  # type: ignore[attr-defined]
+        if hit.kind == "base-type" and isinstance(hit.node, m.BaseType):
+            name = hit.node.name
             return [t.span for t in _base_types(iface) if t.name == name]
         return [hit.span]
     if hit.kind == "field" or hit.kind == "section" or hit.kind == "function":
@@ -356,7 +356,7 @@ def rename_problem(new_name: str, hit: Hit, iface: m.Interface) -> str | None:
         return None
     if isinstance(target, (m.Field, m.Const)) and hit.owner is not None:
         for _, fields, consts in bodies(hit.owner):
-            members = [*fields, *consts]
+            members: list[m.Field | m.Const] = [*fields, *consts]
             if target in members and any(x.name == new_name and x is not target for x in members):
                 return f"'{new_name}' is already a member of '{hit.owner.name}'"
         return None
@@ -500,12 +500,14 @@ def selection_chain(iface: m.Interface, offset: int, text_length: int) -> list[S
         if isinstance(d, (m.Service, m.Action)):
             for sec in d.sections:
                 if _touches(sec.span, offset):
-                    for f in [*sec.fields, *sec.consts]:
+                    section_members: list[m.Field | m.Const] = [*sec.fields, *sec.consts]
+                    for f in section_members:
                         if _touches(f.span, offset):
                             chain.append(f.span)
                     chain.append(sec.span)
         for _, fields, consts in bodies(d):
-            for f in (*fields, *consts):
+            members: tuple[m.Field | m.Const, ...] = (*fields, *consts)
+            for f in members:
                 if _touches(f.span, offset):
                     chain.append(f.span)
         if isinstance(d, m.Enum):

@@ -165,7 +165,7 @@ class ModelBuilder:
         return m.Typedef(str(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
                          self.docs.get(kw.start_pos))
 
-    def enum_value(self, c: list[Any]) -> _Tagged:
+    def enum_value(self, c: list[Any]) -> m.EnumValue:
         name = c[0]
         value = None
         ann: list[m.Annotation] = []
@@ -179,7 +179,7 @@ class ModelBuilder:
                 end = self._ann_end
         ev = m.EnumValue(str(name), value if value is not None else 0, self.span(name.start_pos, end),
                          self.tok_span(name), value is not None, ann, self.docs.get(name.start_pos))
-        return ev  # type: ignore[return-value]
+        return ev
 
     def enum(self, c: list[Any]) -> m.Enum:
         kw, name = c[0], c[1]
@@ -335,7 +335,7 @@ class ModelBuilder:
                 ftype = x
         assert name is not None and ftype is not None and start is not None
         return m.Field(str(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
-                       req, default, ann, self.docs.get(start), reference)  # type: ignore[arg-type]
+                       req, default, ann, self.docs.get(start), reference)
 
     flat_field = field
 

@@ -18,7 +18,7 @@ from .naming import ros_constant_name, ros_field_name, ros_type_name, is_ros_con
 from .qos import problem as qos_problem
 from .normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
 from .resolve import constant_value
-from .walk import all_consts, bodies, resolve_typedefs
+from .walk import all_consts, bodies, resolve_typedefs, type_text
 
 Rule = Callable[[m.Interface], Iterator[Diagnostic]]
 LocalRule = Callable[[Source, m.Definition], Iterator[Diagnostic]]
@@ -94,7 +94,8 @@ def duplicate_members(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
     for label, fields, consts in bodies(d):
         names: dict[str, m.Field | m.Const] = {}
         ids: dict[int, m.Field] = {}
-        for f in (*fields, *consts):
+        members: tuple[m.Field | m.Const, ...] = (*fields, *consts)
+        for f in members:
             first = names.get(f.name)
             if first is not None:
                 yield make("duplicate-field", f"'{f.name}' is already declared in '{label}'", src,
@@ -146,7 +147,7 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
     src = iface.source
     t = resolve_typedefs(t)
     kind = t.kind
-    if v.kind == "name" and not (kind == "base" and t.name == "bool" and v.value in ("true", "false")):  # type: ignore[union-attr]
+    if v.kind == "name" and not (isinstance(t, m.BaseType) and t.name == "bool" and v.value in ("true", "false")):
         if isinstance(t, m.NamedType) and isinstance(t.target, m.Enum):
             # Thrift reads `Other.VALUE` for an enum-typed value as VALUE of the field's own enum
             local = str(v.value).rpartition(".")[2]
@@ -164,7 +165,7 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
                 yield make("invalid-default", f"{what}: {name} needs an integer, not {_show(v)}", src, v.span)
                 return
             lo, hi = m.INT_RANGES[name]
-            if not lo <= int(v.value) <= hi:  # type: ignore[call-overload]
+            if not lo <= int(v.value) <= hi:
                 yield make("int-out-of-range", f"{what}: {v.text} does not fit in {name} ({lo}..{hi})",
                            src, v.span)
         elif name in m.FLOAT_TYPES:
@@ -191,7 +192,7 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
         if v.kind != "list":
             yield make("invalid-default", f"{what}: a sequence needs a list like [1, 2], not {_show(v)}", src, v.span)
             return
-        items: list[m.Value] = v.value  # type: ignore[assignment]
+        items: list[m.Value] = v.value
         if isinstance(t, m.ArrayType) and t.size is not None:
             if t.array == "fixed" and len(items) != t.size:
                 yield make("invalid-default", f"{what}: the array holds exactly {t.size} elements, "
@@ -199,15 +200,16 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
             elif t.array == "bounded" and len(items) > t.size:
                 yield make("invalid-default", f"{what}: the array holds at most {t.size} elements, "
                            f"the list has {len(items)}", src, v.span)
+        assert isinstance(t, (m.ArrayType, m.SetType))
         for item in items:
-            yield from check_value(iface, t.element, item, what)  # type: ignore[union-attr]
+            yield from check_value(iface, t.element, item, what)
         return
     if kind == "map":
         if v.kind != "map":
             yield make("invalid-default", f"{what}: a map needs {{key: value}}, not {_show(v)}", src, v.span)
             return
         assert isinstance(t, m.MapType)
-        for key, val in v.value:  # type: ignore[union-attr]
+        for key, val in v.value:
             yield from check_value(iface, t.key, key, what)
             yield from check_value(iface, t.element, val, what)
         return
@@ -336,7 +338,7 @@ def functions(iface: m.Interface) -> Iterator[Diagnostic]:
                 target = resolve_typedefs(t.type)
                 if isinstance(target, m.NamedType) and target.target is not None and not (
                         isinstance(target.target, m.Struct) and target.target.kind == "exception"):
-                    yield make("throws-not-exception", f"'{t.type.name}' is not an exception",  # type: ignore[union-attr]
+                    yield make("throws-not-exception", f"'{type_text(t.type)}' is not an exception",
                                src, t.type.span)
 
 
@@ -403,7 +405,7 @@ def parameter_ranges(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
         if lo is not None and hi is not None and lo > hi:
             yield make("param-range", f"'{f.name}': the range {lo}..{hi} is empty", src, keys[0].span)
         elif f.default is not None and f.default.kind in ("int", "double"):
-            val = float(f.default.value)  # type: ignore[arg-type]
+            val = float(f.default.value)
             if (lo is not None and val < lo) or (hi is not None and val > hi):
                 yield make("param-range", f"'{f.name}': the default {f.default.text} lies outside its range",
                            src, f.default.span)

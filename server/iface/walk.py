@@ -71,32 +71,31 @@ def type_roots(item: m.Item) -> Iterator[m.TypeRef]:
 
 def named_types(t: m.TypeRef) -> Iterator[m.NamedType]:
     """Every named type inside a type reference (iteratively: types may nest deeply)."""
+    # hot (every reference is resolved through here): one read of the kind tag, which mypy cannot narrow through
     stack = [t]
     while stack:
         x = stack.pop()
         kind = x.kind
         if kind == "named":
-            yield x  # type: ignore[misc]
+            yield x  # type: ignore[misc]  # kind "named": a NamedType
         elif kind == "map":
-            stack.append(x.key)  # type: ignore[union-attr]
-            stack.append(x.element)  # type: ignore[union-attr]
+            stack.append(x.key)  # type: ignore[union-attr]  # kind "map": a MapType
+            stack.append(x.element)  # type: ignore[union-attr]  # kind "map": a MapType
         elif kind != "base":
-            stack.append(x.element)  # type: ignore[union-attr]
+            stack.append(x.element)  # type: ignore[union-attr]  # an ArrayType or a SetType
 
 
 def type_text(t: m.TypeRef) -> str:
     """The type written back in iface syntax."""
-    kind = t.kind
-    if kind == "base":
-        name = t.spelling or t.name  # type: ignore[union-attr]
-        return f"{name}<={t.bound}" if t.bound is not None else name  # type: ignore[union-attr]
-    if kind == "named":
-        return t.name  # type: ignore[union-attr]
-    if kind == "map":
-        return f"map<{type_text(t.key)}, {type_text(t.element)}>"  # type: ignore[union-attr]
-    if kind == "set":
-        return f"set<{type_text(t.element)}>"  # type: ignore[union-attr]
-    assert isinstance(t, m.ArrayType)
+    if isinstance(t, m.BaseType):
+        name = t.spelling or t.name
+        return f"{name}<={t.bound}" if t.bound is not None else name
+    if isinstance(t, m.NamedType):
+        return t.name
+    if isinstance(t, m.MapType):
+        return f"map<{type_text(t.key)}, {type_text(t.element)}>"
+    if isinstance(t, m.SetType):
+        return f"set<{type_text(t.element)}>"
     if t.spelled_list:
         return f"list<{type_text(t.element)}>"
     if t.array == "fixed":

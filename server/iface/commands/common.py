@@ -38,14 +38,14 @@ def compile_files(paths: Sequence[str], include_paths: Iterable[str] = ()) -> li
 
 def gather(comps: Sequence[Compilation]) -> list[Diagnostic]:
     """Diagnostics of the compilations and their includes, each file once, in file order."""
-    seen: set[str] = set()
+    seen: set[tuple[str, int, int, str, str]] = set()
     out: list[Diagnostic] = []
     for c in comps:
         for d in c.all_diagnostics():
             key = (d.path, d.span.start, d.span.end, d.code, d.message)
-            if key in seen:  # type: ignore[comparison-overlap]
+            if key in seen:
                 continue
-            seen.add(key)  # type: ignore[arg-type]
+            seen.add(key)
             out.append(d)
     return out
 

@@ -115,7 +115,7 @@ def build(comps: list[Compilation]) -> Graph:
         kind, name = key.split(":", 1)
         senders = [p for p in ports if _sender(p)]
         receivers = [p for p in ports if not _sender(p)]
-        types = {}
+        types: dict[str, Port] = {}
         for p in ports:
             types.setdefault(wire_type(p), p)
         if len(types) > 1:
@@ -151,10 +151,10 @@ def build(comps: list[Compilation]) -> Graph:
                     g.checks.append(_check("graph-unprovided-service", s, f"{s.component.name} calls {kind} "
                                            f"'{name}', which no component of the system provides"))
             if len(receivers) > 1:
-                names = ", ".join(r.component.name for r in receivers)
+                providers = ", ".join(r.component.name for r in receivers)
                 for r in receivers:
                     g.checks.append(_check("graph-duplicate-provider", r, f"{kind} '{name}' is provided by "
-                                           f"{len(receivers)} components: {names}"))
+                                           f"{len(receivers)} components: {providers}"))
     g.checks.sort(key=lambda d: (d.path, d.span.start, d.code, d.message))
     return g
 

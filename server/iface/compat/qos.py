@@ -18,11 +18,13 @@ from ..qos import ORDERS, duration
 
 #: Policies that take part in matching, with their ROS 2 defaults.
 DURATIONS = ("deadline", "liveliness_lease_duration")
-DEFAULTS: dict[str, object] = {"reliability": "reliable", "durability": "volatile", "liveliness": "automatic",
+#: A policy's value: a level name (reliability, durability, liveliness) or a duration in seconds.
+Policy = str | float
+DEFAULTS: dict[str, Policy] = {"reliability": "reliable", "durability": "volatile", "liveliness": "automatic",
                                "deadline": math.inf, "liveliness_lease_duration": math.inf}
 
 
-def policies(qos: dict[str, str]) -> dict[str, object]:
+def policies(qos: dict[str, str]) -> dict[str, Policy]:
     """The matching-relevant policies with defaults filled in; unreadable values are left at the default."""
     out = dict(DEFAULTS)
     for key, raw in qos.items():
@@ -38,17 +40,17 @@ def policies(qos: dict[str, str]) -> dict[str, object]:
     return out
 
 
-def _stronger_or_equal(key: str, a: object, b: object) -> bool:
+def _stronger_or_equal(key: str, a: Policy, b: Policy) -> bool:
     """True when value ``a`` of policy ``key`` is at least as strong as ``b``."""
     if key in ORDERS:
         order = ORDERS[key]
         return order.index(str(a)) >= order.index(str(b))
-    return float(a) <= float(b)  # type: ignore[arg-type]
+    return float(a) <= float(b)
 
 
-def _show(key: str, v: object) -> str:
+def _show(key: str, v: Policy) -> str:
     if key in DURATIONS:
-        f = float(v)  # type: ignore[arg-type]
+        f = float(v)
         return "infinite" if f == math.inf else f"{f:g}s"
     return str(v)
 

@@ -64,17 +64,15 @@ class Side:
         """A canonical spelling of a type: aliases, ``list<T>``/``T[]`` and prefixes unified."""
         if t is None:
             return "void"
-        kind = t.kind
-        if kind == "base":
-            return f"{t.name}<={t.bound}" if t.bound is not None else t.name  # type: ignore[union-attr]
-        if kind == "named":
-            target = t.target  # type: ignore[union-attr]
-            return self.qualname(target) if target is not None else t.name  # type: ignore[union-attr]
-        if kind == "map":
-            return f"map<{self.type_key(t.key)},{self.type_key(t.element)}>"  # type: ignore[union-attr]
-        if kind == "set":
-            return f"set<{self.type_key(t.element)}>"  # type: ignore[union-attr]
-        assert isinstance(t, m.ArrayType)
+        if isinstance(t, m.BaseType):
+            return f"{t.name}<={t.bound}" if t.bound is not None else t.name
+        if isinstance(t, m.NamedType):
+            target = t.target
+            return self.qualname(target) if target is not None else t.name
+        if isinstance(t, m.MapType):
+            return f"map<{self.type_key(t.key)},{self.type_key(t.element)}>"
+        if isinstance(t, m.SetType):
+            return f"set<{self.type_key(t.element)}>"
         inner = self.type_key(t.element)
         if t.array == "fixed":
             return f"{inner}[{t.size}]"

@@ -19,11 +19,11 @@ def value_key(v: m.Value | None) -> Any:
     if v is None:
         return None
     if v.kind == "list":
-        return ["list", [value_key(x) for x in v.value]]  # type: ignore[union-attr]
+        return ["list", [value_key(x) for x in v.value]]
     if v.kind == "map":
-        return ["map", [[value_key(k), value_key(x)] for k, x in v.value]]  # type: ignore[union-attr]
+        return ["map", [[value_key(k), value_key(x)] for k, x in v.value]]
     if v.kind == "double":
-        return ["double", repr(float(v.value))]  # type: ignore[arg-type]
+        return ["double", repr(float(v.value))]
     return [v.kind, v.value]
 
 

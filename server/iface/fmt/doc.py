@@ -118,26 +118,31 @@ def split_trailing(doc: Doc) -> tuple[Doc, list[Doc]]:
     if isinstance(doc, TrailComment):
         return [], [doc]
     if isinstance(doc, list):
-        parts = list(doc)
-        moved: list[Doc] = []
-        while parts:
-            last, trail = split_trailing(parts[-1])
-            if not trail:
-                break
-            moved[:0] = trail
-            if last == []:
-                parts.pop()  # the part was only comments: look further back
-                continue
-            parts[-1] = last
-            break
-        return parts, moved
+        return _split_parts(doc)
     if isinstance(doc, (Group, Nest)):
-        inner, moved = split_trailing(doc.parts)
+        inner, moved = _split_parts(doc.parts)
         if not moved:
             return doc, []
-        rebuilt: Doc = Group(inner) if isinstance(doc, Group) else Nest(inner)  # type: ignore[arg-type]
+        rebuilt: Doc = Group(inner) if isinstance(doc, Group) else Nest(inner)
         return rebuilt, moved
     return doc, []
+
+
+def _split_parts(doc: list[Doc]) -> tuple[list[Doc], list[Doc]]:
+    """``split_trailing`` of a list of parts: the list stays a list."""
+    parts = list(doc)
+    moved: list[Doc] = []
+    while parts:
+        last, trail = split_trailing(parts[-1])
+        if not trail:
+            break
+        moved[:0] = trail
+        if last == []:
+            parts.pop()  # the part was only comments: look further back
+            continue
+        parts[-1] = last
+        break
+    return parts, moved
 
 
 _FLAT, _BREAK = 0, 1

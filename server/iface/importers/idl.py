@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .rosidl import PRIMITIVE_TYPES, Element, Part, RosFile, RosType
+from .rosidl import PRIMITIVE_TYPES, ArrayKind, Element, Part, RosFile, RosType
 
 #: rosbags' base type names → ROS .msg primitive names.
 _BASE = {name: name for name in PRIMITIVE_TYPES} | {"octet": "byte"}
@@ -22,7 +22,7 @@ def _type(desc: Any, module: str) -> RosType:
         element = _type(inner, module)
         if kind == "ARRAY":
             return RosType(element.name, element.package, element.primitive, element.string_bound, "fixed", count)
-        array = "bounded" if count else "unbounded"
+        array: ArrayKind = "bounded" if count else "unbounded"
         return RosType(element.name, element.package, element.primitive, element.string_bound, array,
                        count or None)
     if kind == "NAME":

@@ -55,8 +55,8 @@ def parse_message(name: str, text: str) -> tuple[Part, list[tuple[int, str]]]:
     for number, raw in enumerate(lines[head:], start=head + 1):
         if raw.startswith(TOPICS):
             continue
-        code, hash_at, comment = raw.partition("#")
-        comment = comment.lstrip("#") if hash_at else None  # type: ignore[assignment]
+        code, hash_at, after = raw.partition("#")
+        comment = after.lstrip("#") if hash_at else None
         if not code.strip():
             if comment is not None:
                 if code and last is not None:
@@ -142,7 +142,7 @@ def import_folder(folder: Path, result: ImportResult) -> None:
     externals: set[str] = set()
     defs: list[tuple[Path, m.Struct]] = []
     for path, part, text in parsed:
-        problems: list[tuple[int, str]] = []
+        member_problems: list[tuple[int, str]] = []
 
         def name_of(t: RosType, _path: Path = path) -> str:
             if t.package is None or t.package in PX4_PACKAGES:
@@ -157,10 +157,10 @@ def import_folder(folder: Path, result: ImportResult) -> None:
                                                f"external reference (`external {package}`)", "note"))
             return f"{package}.{t.name}"
 
-        fields, consts = members(part, name_of, spans, problems=problems)
-        for line, message in problems:
+        fields, consts = members(part, name_of, spans, problems=member_problems)
+        for line, message in member_problems:
             result.problems.append(Problem(str(path), line, message))
-        if problems:
+        if member_problems:
             continue
         topics = topics_of(text)
         annotations = [m.Annotation("px4.topics", m.Value("string", " ".join(topics), spans(),

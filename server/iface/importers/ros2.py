@@ -21,7 +21,7 @@ from ..emit.base import GeneratedFile
 from ..normalize import normalize_action, normalize_service
 from ..printer import PrintError, print_items
 from ..source import Span
-from . import ImportResult, Importer, InputError, Origin, Problem
+from . import ImportResult, Importer, InputError, Origin, Problem, Severity
 from .rosidl import Kind, RosFile, RosSyntaxError, RosType, clean_comments, is_package_name, parse_file
 from .rosmodel import PRIMITIVES, Spans, members
 
@@ -91,9 +91,9 @@ def find_packages(inputs: list[str], problems: list[Problem]) -> list[Package]:
             sub = folder / kind
             if sub.is_dir():
                 pkg.files.extend((kind, p) for p in sorted(sub.glob(f"*.{kind}")) if p.is_file())
-        for sub in IDL_FOLDERS:
-            if (folder / sub).is_dir():
-                pkg.idl.extend(p for p in sorted((folder / sub).glob("*.idl")) if p.is_file())
+        for idl_dir in IDL_FOLDERS:
+            if (folder / idl_dir).is_dir():
+                pkg.idl.extend(p for p in sorted((folder / idl_dir).glob("*.idl")) if p.is_file())
         if not pkg.files and not pkg.idl:
             problems.append(Problem(str(folder), 0, "no msg/, srv/ or action/ interface files: not imported",
                                     "warning"))
@@ -128,8 +128,8 @@ class _PackageImport:
         self.externals_seen = externals_seen
         self.spans = Spans()
 
-    def problem(self, path: Path, line: int, message: str, severity: str = "error") -> None:
-        self.result.problems.append(Problem(str(path), line, message, severity))  # type: ignore[arg-type]
+    def problem(self, path: Path, line: int, message: str, severity: Severity = "error") -> None:
+        self.result.problems.append(Problem(str(path), line, message, severity))
 
     def reachable(self, start: str, goal: str) -> bool:
         stack, seen = [start], set()
@@ -249,7 +249,7 @@ class _PackageImport:
             self.result.origins.append(Origin(str(path), out, d.name, _kind(d)))
 
 
-def _kind(d: m.Definition) -> str:
+def _kind(d: m.Definition) -> Kind:
     return "srv" if isinstance(d, m.Service) else "action" if isinstance(d, m.Action) else "msg"
 
 

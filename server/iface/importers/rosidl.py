@@ -31,6 +31,7 @@ _CONSTANT = re.compile(r"^[A-Z]([A-Z0-9_]?[A-Z0-9]+)*$")
 _SUFFIXES = ("_Request", "_Response", "_Goal", "_Result", "_Feedback")
 
 Kind = Literal["msg", "srv", "action"]
+ArrayKind = Literal["fixed", "bounded", "unbounded"]
 Scalar = bool | int | float | str
 PARTS: dict[str, tuple[str, ...]] = {"msg": ("",), "srv": ("_Request", "_Response"),
                                      "action": ("_Goal", "_Result", "_Feedback")}
@@ -48,7 +49,7 @@ class RosType:
     package: str | None = None
     primitive: bool = True
     string_bound: int | None = None
-    array: Literal["fixed", "bounded", "unbounded"] | None = None
+    array: ArrayKind | None = None
     size: int | None = None
 
     def text(self) -> str:
@@ -122,7 +123,7 @@ def is_message_name(name: str) -> bool:
 
 def parse_type(text: str) -> RosType:
     """A type string: ``int32``, ``string<=5``, ``pkg/Msg``, ``Msg``, each optionally ``[]``, ``[N]``, ``[<=N]``."""
-    array = None
+    array: ArrayKind | None = None
     size = None
     if text.endswith("]"):
         index = text.rfind("[")
@@ -137,14 +138,14 @@ def parse_type(text: str) -> RosType:
                                      "optionally prefixed with '<='")
         text = text[:index]
     if text in PRIMITIVE_TYPES:
-        return RosType(text, array=array, size=size)  # type: ignore[arg-type]
+        return RosType(text, array=array, size=size)
     if text in ROS1_TYPES:
         raise RosSyntaxError(f"'{text}' is a ROS 1 type that ROS 2 does not generate: use "
                              f"builtin_interfaces/{text.capitalize()}")
     for base in ("string", "wstring"):
         if text.startswith(base + "<="):
             bound = _positive(text[len(base) + 2:], f"the bound of the string type '{text}' must be an integer > 0")
-            return RosType(base, string_bound=bound, array=array, size=size)  # type: ignore[arg-type]
+            return RosType(base, string_bound=bound, array=array, size=size)
     parts = text.split("/")
     if len(parts) > 2 or not all(parts):
         raise RosSyntaxError(f"'{text}' is not a type: write TYPE, PACKAGE/TYPE or a primitive type")
@@ -156,7 +157,7 @@ def parse_type(text: str) -> RosType:
     if not is_message_name(name):
         raise RosSyntaxError(f"'{name}' is not a valid message name (CamelCase letters and digits) and not a "
                              "primitive type")
-    return RosType(name, package, primitive=False, array=array, size=size)  # type: ignore[arg-type]
+    return RosType(name, package, primitive=False, array=array, size=size)
 
 
 def _positive(text: str, message: str) -> int:

@@ -255,8 +255,8 @@ def describe(hit: Hit, iface: m.Interface, text: str, interfaces: list[m.Interfa
         owner = hit.owner.name if hit.kind == "enum-value" and hit.owner is not None else ""
         name = f"{owner}.{target.name}" if owner else target.name
         return f"**enum value** {_code(name)} = {target.value}" + (f"\n\n{target.doc}" if target.doc else "")
-    if hit.kind == "value":
-        return f"{_code(str(node.value))} names no constant or enum value"  # type: ignore[attr-defined]
+    if hit.kind == "value" and isinstance(node, m.Value):
+        return f"{_code(str(node.value))} names no constant or enum value"
     if hit.kind == "section" and isinstance(node, m.Section):
         fields = ", ".join(f"{_code(type_text(f.type))} {f.name}" for f in node.fields) or "nothing"
         return f"**{node.name}** of {_code(hit.owner.name if hit.owner else '?')}: {fields}"

@@ -45,7 +45,9 @@ class IfaceProtocol(LanguageServerProtocol):
         chosen = result.capabilities.position_encoding or lsp.PositionEncodingKind.Utf16
         server = self._server
         assert isinstance(server, IfaceServer)
-        server.project.encoding = {v: k for k, v in ENCODINGS.items()}.get(chosen, UTF16)
+        # lsprotocol types the choice as PositionEncodingKind | str; its members are str and hash as their value
+        by_kind: dict[str, str] = {v: k for k, v in ENCODINGS.items()}
+        server.project.encoding = by_kind.get(chosen, UTF16)
         return result
 
     # The project keeps its own documents (LSP line breaks, code point offsets),

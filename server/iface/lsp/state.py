@@ -361,7 +361,8 @@ class Project:
         self._install(doc, snap)
         uri_of = path_to_uri
         found = [*comp.diagnostics, *self._compat(path, comp)]
-        pubs = [(uri, state.version, [convert.diagnostic(d, index, uri_of, self.index_of) for d in found])]
+        pubs: list[tuple[str, int | None, list[Any]]] = [
+            (uri, state.version, [convert.diagnostic(d, index, uri_of, self.index_of) for d in found])]
         for inc in comp.closure()[1:]:
             inc_uri = path_to_uri(inc.path)
             if inc_uri in self.docs:

@@ -106,7 +106,8 @@ class Items:
         self.offset = offset
         self.snippets = snippets
         self.markdown = markdown
-        self.candidates: list[tuple[str, str, str, str, str | None, bool, int | None]] = []
+        # (sort key, label, kind, detail, doc, insert text, snippet, replace from)
+        self.candidates: list[tuple[str, str, str, str, str, str | None, bool, int | None]] = []
         self.seen: set[str] = set()
         self.prefix = ctx.prefix.lower()
 
@@ -119,7 +120,7 @@ class Items:
             return
         self.seen.add(label)
         self.candidates.append((f"{sort}{label}", label, kind, detail, doc if self.markdown else "",
-                                insert, snippet and self.snippets, replace_from))  # type: ignore[arg-type]
+                                insert, snippet and self.snippets, replace_from))
 
     def build(self, limit: int) -> tuple[list[lsp.CompletionItem], bool]:
         """LSP items for the ``limit`` best candidates, and whether some were left out."""

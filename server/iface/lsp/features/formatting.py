@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from lsprotocol import types as lsp
 from pygls.exceptions import JsonRpcInternalError
@@ -10,10 +10,19 @@ from pygls.exceptions import JsonRpcInternalError
 from .. import convert
 
 if TYPE_CHECKING:
+    from ...format import TextEdit
     from ..server import IfaceServer
 
 
-def _formatter() -> object:
+class _Formatter(Protocol):
+    """What this feature uses of ``iface.format``."""
+
+    def format_text(self, text: str) -> str: ...
+
+    def format_range(self, text: str, start: int, end: int) -> list[TextEdit]: ...
+
+
+def _formatter() -> _Formatter:
     try:
         from ... import format as fmt
     except ImportError as e:
@@ -24,7 +33,7 @@ def _formatter() -> object:
 def whole(text: str, index: convert.LineIndex) -> list[lsp.TextEdit]:
     """One edit covering what the formatter changed (the common head and tail are kept)."""
     fmt = _formatter()
-    new = fmt.format_text(text)  # type: ignore[attr-defined]
+    new = fmt.format_text(text)
     if new == text:
         return []
     head = 0
@@ -62,7 +71,7 @@ def register(server: IfaceServer) -> None:
 
         def run() -> list[lsp.TextEdit]:
             fmt = _formatter()
-            edits = fmt.format_range(state.text, start, end)  # type: ignore[attr-defined]
+            edits = fmt.format_range(state.text, start, end)
             return [convert.text_edit(index, e.start, e.end, e.new_text) for e in edits]
 
         return await project.run(run) or None

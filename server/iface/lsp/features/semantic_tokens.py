@@ -70,19 +70,20 @@ def tokens(iface: Interface, text: str) -> dict[int, tuple[int, int, int]]:
             elif word in keywords:
                 out[s] = (e, _T["keyword"], 0)
 
-    def put(span: object, token: str, mods: int = 0) -> None:
-        s, e = span.start, span.end  # type: ignore[attr-defined]
+    def put(span: m.Span, token: str, mods: int = 0) -> None:
+        s, e = span.start, span.end
         if e > s:
             out[s] = (e, _T[token], mods)
 
     decl = _M["declaration"]
+    definitions = (m.Struct, m.Service, m.Action, m.Enum, m.Senum, m.Typedef, m.Const)
     for item in iface.items:
         if isinstance(item, m.ComponentDecl):
             put(item.name_span, "namespace", decl)
         elif isinstance(item, m.Wiring):
             for a in item.annotations:
                 put(m.Span(a.span.start, a.span.start + len(a.key)), "decorator")
-        if not hasattr(item, "kind") or isinstance(item, m.Wiring):
+        if not isinstance(item, definitions):
             continue
         d = item
         put(d.name_span, KIND_TOKEN.get(d.kind, "type"), decl | (_M["readonly"] if d.kind == "const" else 0))
@@ -111,8 +112,9 @@ def tokens(iface: Interface, text: str) -> dict[int, tuple[int, int, int]]:
         if t.qualifier:
             put(m.Span(t.span.start, local.start - 1), "namespace")
         put(local, token)
-    for v in value_references(iface):
-        out[v.span.start] = (v.span.end, _T["enumMember"] if "." in str(v.value) else _T["variable"], _M["readonly"])
+    for ref in value_references(iface):
+        out[ref.span.start] = (ref.span.end, _T["enumMember"] if "." in str(ref.value) else _T["variable"],
+                               _M["readonly"])
     return out
 
 
