@@ -323,7 +323,7 @@ class ModelBuilder:
             elif isinstance(x, Token):
                 if x.type == "IDENTIFIER":
                     name = x
-                    end = x.end_pos
+                    end = x.end_pos  # type: ignore[assignment]  # lark types positions as Optional
                 elif x.type == "AMP":
                     reference = True
                 else:

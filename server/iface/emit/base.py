@@ -116,16 +116,15 @@ class TemplateSet:
                  override: str | None = None) -> None:
         env_override = os.environ.get(f"IFACE_TEMPLATES_{target.upper()}")
         paths = [p for p in (override, env_override) if p] + [str(folder)]
+        shared = Path(__file__).parent / "templates"
         self.env = jinja2.Environment(
-            loader=jinja2.FileSystemLoader(paths),
+            loader=jinja2.ChoiceLoader([jinja2.FileSystemLoader(paths), jinja2.FileSystemLoader(str(shared))]),
             undefined=jinja2.StrictUndefined,
             keep_trailing_newline=True,
             trim_blocks=True,
             lstrip_blocks=True,
             autoescape=False,
         )
-        shared = Path(__file__).parent / "templates"
-        self.env.loader = jinja2.ChoiceLoader([self.env.loader, jinja2.FileSystemLoader(str(shared))])
         if filters:
             self.env.filters.update(filters)
 

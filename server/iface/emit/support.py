@@ -42,7 +42,7 @@ def literal(iface: m.Interface, v: m.Value, depth: int = 0) -> Literal:
     if depth > 32:
         return None
     if v.kind in ("int", "double", "string"):
-        return v.value  # type: ignore[return-value]
+        return v.value
     if v.kind == "name":
         if v.value in ("true", "false"):
             return v.value == "true"
@@ -53,7 +53,7 @@ def literal(iface: m.Interface, v: m.Value, depth: int = 0) -> Literal:
             return literal(iface, ref.value, depth + 1)
         return None
     if v.kind == "list":
-        return [literal(iface, x, depth + 1) for x in v.value]  # type: ignore[union-attr]
+        return [literal(iface, x, depth + 1) for x in v.value]
     return None
 
 

@@ -10,7 +10,7 @@ stable from field ids; see docs/targets-px4-ardupilot.md.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +33,7 @@ IDL_ROOT = "libraries/AP_DDS/Idl"
 IGNORED = frozenset({"ros2-package-metadata"})
 
 
-FILTERS = {"cpp_string": cpp_string, "one_line": one_line}
+FILTERS: dict[str, Callable[..., Any]] = {"cpp_string": cpp_string, "one_line": one_line}
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:

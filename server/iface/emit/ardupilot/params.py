@@ -163,7 +163,7 @@ class ParamBuilder:
         index_ann = m.annotation(f.annotations, "ap.index")
         index = -1
         if index_ann is not None and index_ann.value is not None and index_ann.value.kind == "int":
-            index = int(index_ann.value.value)  # type: ignore[call-overload]
+            index = int(index_ann.value.value)
         elif f.id is not None:
             index = f.id
         user = m.annotation(f.annotations, "ap.user")

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from typing import Any
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 from ...diagnostics import Diagnostic
@@ -129,7 +130,7 @@ def check_idl_values(pkg: RosPackage) -> Iterator[Diagnostic]:
                                f.source, f.span)
 
 
-FILTERS = {
+FILTERS: dict[str, Callable[..., Any]] = {
     "idl_string": idl_string,
     "idl_comment": lambda text: idl_string(text, comment=True),
     "idl_scalar": idl_scalar,

@@ -8,6 +8,8 @@ start a heading, close a table cell or inject HTML.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +22,7 @@ from .build import call_rows, contract_item, endpoint_rows, fields_table, type_s
 from .escape import code, md, paragraphs
 
 TEMPLATES = Path(__file__).parent / "templates"
-FILTERS = {"md": md, "code": code, "paragraphs": paragraphs}
+FILTERS: dict[str, Callable[..., Any]] = {"md": md, "code": code, "paragraphs": paragraphs}
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:

@@ -40,9 +40,9 @@ def value_text(v: m.Value | None) -> str:
     if v.kind == "string":
         return json.dumps(v.value, ensure_ascii=False)
     if v.kind == "list":
-        return "[" + ", ".join(value_text(x) for x in v.value) + "]"  # type: ignore[union-attr]
+        return "[" + ", ".join(value_text(x) for x in v.value) + "]"
     if v.kind == "map":
-        return "{" + ", ".join(f"{value_text(k)}: {value_text(x)}" for k, x in v.value) + "}"  # type: ignore[union-attr, misc]
+        return "{" + ", ".join(f"{value_text(k)}: {value_text(x)}" for k, x in v.value) + "}"
     return v.text or str(v.value)
 
 

@@ -8,7 +8,7 @@ in silence; see docs/targets-px4-ardupilot.md.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +23,7 @@ from .messages import MessageBuilder
 from .module import ModuleBuilder
 
 TEMPLATES = Path(__file__).parent / "templates"
-FILTERS = {"cpp_string": cpp_string, "yaml_str": yaml_string, "comment": line_comment}
+FILTERS: dict[str, Callable[..., Any]] = {"cpp_string": cpp_string, "yaml_str": yaml_string, "comment": line_comment}
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:

@@ -232,7 +232,7 @@ class MessageBuilder:
             self.diagnostics.append(diag("px4-unsupported-type", f"constant '{c.name}' of message "
                                          f"'{struct.name}' has no numeric value", src, c.value.span))
             return None
-        return Line(ptype, name, text, one_line(c.doc))  # type: ignore[arg-type]
+        return Line(ptype, name, text, one_line(c.doc))
 
     def field_type(self, t: m.TypeRef) -> str:
         """The uORB spelling of a field type; Unsupported says why there is none."""

@@ -361,10 +361,10 @@ class _Lowering:
                 return bool(v.value)
         elif primitive in _INT_PRIMITIVES:
             if v.kind == "int":
-                return self._check_int(int(v.value), primitive, v, src)  # type: ignore[arg-type]
+                return self._check_int(int(v.value), primitive, v, src)
         elif primitive in _FLOAT_PRIMITIVES:
             if v.kind in ("int", "double"):
-                return float(v.value)  # type: ignore[arg-type]
+                return float(v.value)
         elif primitive in _STRING_PRIMITIVES:
             if v.kind == "string":
                 return str(v.value)
@@ -396,7 +396,7 @@ class _Lowering:
             self.error("ros2-unsupported-default", f"the default of an array must be a list [a, b, …], "
                        f"not {v.text or v.kind}", src, v.span)
             return None
-        items = list(v.value)  # type: ignore[call-overload]
+        items: list[m.Value] = list(v.value)
         if rt.array == "fixed" and len(items) != rt.size:
             self.error("ros2-unsupported-default", f"a default for a [{rt.size}] array must list exactly "
                        f"{rt.size} values, not {len(items)}", src, v.span)
@@ -405,10 +405,9 @@ class _Lowering:
             self.error("ros2-unsupported-default", f"a default for a [<={rt.size}] array may list at most "
                        f"{rt.size} values, not {len(items)}", src, v.span)
             return None
-        out = [self.scalar(x, rt.primitive, enum, owner) for x in items]
-        if any(x is None for x in out):
-            return None
-        return out  # type: ignore[return-value]
+        decoded = [self.scalar(x, rt.primitive, enum, owner) for x in items]
+        values = [x for x in decoded if x is not None]
+        return values if len(values) == len(decoded) else None
 
     # ---- members -----------------------------------------------------------------
     def section(self, name: str, fields: list[m.Field], consts: list[m.Const], owner: m.Interface,
@@ -507,11 +506,10 @@ class _Lowering:
             name = self.type_name(d)
             extra = list(d.consts)
             secs = []
-            for part in ("goal", "result", "feedback"):
-                sec: m.Section | None = getattr(d, part)
-                fields = sec.fields if sec else []
-                consts = (sec.consts if sec else []) + (extra if part == "goal" else [])
-                secs.append(self.section(part, fields, consts, owner, sec.doc if sec else None))
+            for part, part_sec in (("goal", d.goal), ("result", d.result), ("feedback", d.feedback)):
+                fields = part_sec.fields if part_sec else []
+                consts = (part_sec.consts if part_sec else []) + (extra if part == "goal" else [])
+                secs.append(self.section(part, fields, consts, owner, part_sec.doc if part_sec else None))
             return [] if name is None else [RosInterface("action", name, secs, doc, src, d.name_span)]
         return []
 

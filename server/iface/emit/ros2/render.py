@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterator
+from typing import Any
+from collections.abc import Callable, Iterator
 from xml.sax.saxutils import escape as xml_escape
 
 from ...diagnostics import Diagnostic
@@ -133,7 +134,7 @@ def xml(text: str) -> str:
     return xml_escape(text, {'"': "&quot;"})
 
 
-FILTERS = {
+FILTERS: dict[str, Callable[..., Any]] = {
     "comment": line_comment,
     "msg_value": msg_value,
     "msg_scalar": msg_scalar,
