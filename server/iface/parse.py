@@ -19,6 +19,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 from . import model as m
 from .chunks import Chunk, split
 from .grammar import build_parser, terminal_descriptions
+from .lexer import FastScanner, ScanError, parse_fast
 from .source import Span
 from .transform import ModelBuilder
 
@@ -84,6 +85,22 @@ class _ChunkParser:
         self.builder = ModelBuilder()
         self.parser = build_parser(self.builder)
         self.lock = threading.Lock()
+        self.scanner: FastScanner | None = None
+
+    def parse_clean(self, text: str, docs: dict[int, str]) -> list[Any] | None:
+        """The items of a text that has no problem at all, read by the fast scanner; else None."""
+        with self.lock:
+            if self.scanner is None:
+                self.scanner = FastScanner(self.parser)
+            b = self.builder
+            b.reset(docs, False)
+            try:
+                items = parse_fast(self.parser, self.scanner, text)
+            except (ScanError, UnexpectedInput, RecursionError):
+                return None
+            if b.problems or not isinstance(items, list):
+                return None
+            return items
 
     def parse(self, text: str, docs: dict[int, str], keep_spans: bool = True) -> ChunkResult:
         """Parse one chunk; ``keep_spans`` records its spans so that it can be moved later."""
@@ -278,9 +295,10 @@ class ChunkCache:
 def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
     """Parse a whole text; with ``cache``, unchanged chunks are not parsed again.
 
-    Without a cache the text is first parsed in one piece (the fast path for a
-    clean file); only if that finds a problem is it parsed chunk by chunk,
-    which keeps every independent syntax error and models the rest.
+    Without a cache the text is first parsed in one piece with the fast scanner
+    (``lexer.py``; the path for a clean file); only if that finds a problem is it
+    parsed chunk by chunk with lark's lexer, which keeps every independent syntax
+    error and models the rest.
     """
     parser = chunk_parser()
     chunks = split(text)
@@ -288,9 +306,9 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         docs: dict[int, str] = {}
         for ch in chunks:
             docs.update({k + ch.start: v for k, v in ch.docs.items()})
-        whole = parser.parse(text, docs, keep_spans=False)
-        if not whole.problems:
-            return ParseResult(whole.items, [], [whole])
+        clean = parser.parse_clean(text, docs)
+        if clean is not None:
+            return ParseResult(clean, [], [ChunkResult(text, clean, [], [])])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)

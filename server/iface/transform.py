@@ -47,6 +47,8 @@ def decode_literal(text: str) -> str:
 
 def parse_int(text: str) -> int:
     """An INT token's value (decimal or hex, optionally signed)."""
+    if "x" not in text and "X" not in text:
+        return int(text, 10)
     sign = -1 if text.startswith("-") else 1
     digits = text.lstrip("+-")
     if digits[:2].lower() == "0x":
@@ -138,9 +140,6 @@ class ModelBuilder:
     def external(self, c: list[Any]) -> m.External:
         return m.External(str(c[1]), self.span(c[0].start_pos, c[1].end_pos))
 
-    def direction(self, c: list[Any]) -> Token:
-        return c[0]
-
     def wiring(self, c: list[Any]) -> m.Wiring:
         d, name, topic = c[0], c[1], c[2]
         ann = c[3] if len(c) > 3 else []
@@ -151,7 +150,7 @@ class ModelBuilder:
 
     # ---- definitions -------------------------------------------------------------
     def const(self, c: list[Any]) -> m.Const:
-        kw, ftype, name = c[0], c[1], c[2]
+        kw, ftype, name = c[0], self._type(c[1]), c[2]
         value = c[4]
         return m.Const(str(name), ftype, value, self.span(kw.start_pos, value.span.end),
                        self.tok_span(name), [], self.docs.get(kw.start_pos))
@@ -159,7 +158,7 @@ class ModelBuilder:
     member_const = const
 
     def typedef(self, c: list[Any]) -> m.Typedef:
-        kw, ftype, name = c[0], c[1], c[2]
+        kw, ftype, name = c[0], self._type(c[1]), c[2]
         ann = c[3] if len(c) > 3 and isinstance(c[3], list) else []
         end = self._ann_end if ann else name.end_pos
         return m.Typedef(str(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
@@ -200,9 +199,6 @@ class ModelBuilder:
         ann, end = self._body_tail(c)
         return m.Senum(str(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
                        self.docs.get(kw.start_pos))
-
-    def struct_kw(self, c: list[Any]) -> Token:
-        return c[0]
 
     def struct(self, c: list[Any]) -> m.Struct:
         kw, name = c[0], c[1]
@@ -252,12 +248,6 @@ class ModelBuilder:
         act.span.start, act.span.end = kw.start_pos, end
         return act
 
-    def oneway(self, c: list[Any]) -> Token:
-        return c[0]
-
-    def void(self, c: list[Any]) -> Token:
-        return c[0]
-
     def throws(self, c: list[Any]) -> _Tagged:
         return _Tagged(("throws", [x for x in c if isinstance(x, m.Field)]))
 
@@ -269,7 +259,7 @@ class ModelBuilder:
             oneway = True
             i = 1
         ret = c[i]
-        returns = None if isinstance(ret, Token) else ret
+        returns = None if isinstance(ret, Token) and ret.type == "VOID" else self._type(ret)
         name = c[i + 1]
         params: list[m.Field] = []
         throws: list[m.Field] = []
@@ -290,62 +280,51 @@ class ModelBuilder:
                           throws, oneway, ann, self.docs.get(start))
 
     # ---- fields --------------------------------------------------------------------
-    def field_id(self, c: list[Any]) -> _Tagged:
-        tok = c[0]
-        return _Tagged(("id", parse_int(tok), self.tok_span(tok)))
-
-    def requiredness(self, c: list[Any]) -> Token:
-        return c[0]
-
-    def default(self, c: list[Any]) -> _Tagged:
-        return _Tagged(("default", c[0]))
-
     def field(self, c: list[Any]) -> m.Field:
-        fid = None
-        fid_span = None
+        # [id INT] [requiredness] type [&] name [default Value] [annotations]
+        i = 0
+        first = c[0]
+        fid = fid_span = None
+        if type(first) is Token and first.type == "INT":
+            fid = parse_int(first)
+            fid_span = self.tok_span(first)
+            i = 1
+        start = _start(first)
         req = None
-        ftype = None
-        name = None
+        x = c[i]
+        if type(x) is Token and (x.type == "REQUIRED" or x.type == "OPTIONAL"):
+            req = str(x)
+            i += 1
+        ftype = self._type(c[i])
+        i += 1
+        reference = False
+        if type(c[i]) is Token and c[i].type == "AMP":
+            reference = True
+            i += 1
+        name = c[i]
+        end = name.end_pos
         default = None
         ann: list[m.Annotation] = []
-        reference = False
-        start = None
-        end = 0
-        for x in c:
-            if start is None:
-                start = _start(x) if not isinstance(x, _Tagged) else x[2].start
-            if isinstance(x, _Tagged):
-                if x[0] == "id":
-                    fid, fid_span = x[1], x[2]
-                else:
-                    default = x[1]
-                    end = default.span.end
-            elif isinstance(x, Token):
-                if x.type == "IDENTIFIER":
-                    name = x
-                    end = x.end_pos  # type: ignore[assignment]  # lark types positions as Optional
-                elif x.type == "AMP":
-                    reference = True
-                else:
-                    req = str(x)
-            elif isinstance(x, list):
+        for x in c[i + 1:]:
+            if type(x) is list:
                 ann = x
                 end = self._ann_end
             else:
-                ftype = x
-        assert name is not None and ftype is not None and start is not None
+                default = x
+                end = x.span.end
         return m.Field(str(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
                        req, default, ann, self.docs.get(start), reference)
 
     flat_field = field
 
     # ---- types ---------------------------------------------------------------------
-    def base_type(self, c: list[Any]) -> m.BaseType:
-        tok = c[0]
-        return m.BaseType(m.BASE_ALIASES[str(tok)], self.tok_span(tok), str(tok))
-
-    def named_type(self, c: list[Any]) -> m.NamedType:
-        return m.NamedType(str(c[0]), self.tok_span(c[0]))
+    def _type(self, x: Any) -> Any:
+        """The model type of a type child: lone BASE_TYPE and IDENTIFIER tokens arrive as tokens."""
+        if type(x) is not Token:
+            return x
+        if x.type == "BASE_TYPE":
+            return m.BaseType(m.BASE_ALIASES[str(x)], self.tok_span(x), str(x))
+        return m.NamedType(str(x), self.tok_span(x))
 
     def bounded_string(self, c: list[Any]) -> m.BaseType:
         kw, bound = c[0], c[1]
@@ -374,20 +353,25 @@ class ModelBuilder:
         self._depth[id(t)] = depth
         return t
 
+    def _element_types(self, c: list[Any]) -> list[Any]:
+        """The type children of a container rule (its keyword and brackets left out)."""
+        return [self._type(x) for x in c
+                if x is not None and (not isinstance(x, Token) or x.type in ("BASE_TYPE", "IDENTIFIER"))]
+
     def map_type(self, c: list[Any]) -> Any:
-        types = [x for x in c if x is not None and not isinstance(x, Token)]
+        types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
         t = m.MapType(types[0], types[1], self.span(c[0].start_pos, end))
         return self._container(t, types[0], types[1])
 
     def set_type(self, c: list[Any]) -> Any:
-        types = [x for x in c if x is not None and not isinstance(x, Token)]
+        types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
         t = m.SetType(types[0], self.span(c[0].start_pos, end))
         return self._container(t, types[0])
 
     def list_type(self, c: list[Any]) -> Any:
-        types = [x for x in c if x is not None and not isinstance(x, Token)]
+        types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
         t = m.ArrayType(types[0], self.span(c[0].start_pos, end), "unbounded", None, True)
         return self._container(t, types[0])
@@ -402,7 +386,7 @@ class ModelBuilder:
         return _Tagged(("bounded", parse_int(c[1]), c[-1].end_pos))
 
     def field_type(self, c: list[Any]) -> Any:
-        t = c[0]
+        t = self._type(c[0])
         if len(c) == 1:
             return t
         for x in c[1:]:

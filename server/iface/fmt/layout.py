@@ -255,7 +255,10 @@ class Layout:
         prev: Child | None = None
         types_seen = 0
         for c in self.kept(tree):
-            is_type = prev is not None and isinstance(c, Tree) and not _is_rule(c, "cpp_type")
+            # a lone base type or name arrives as its token (``?field_type`` in the grammar)
+            is_type = prev is not None and (
+                (isinstance(c, Tree) and not _is_rule(c, "cpp_type"))
+                or (isinstance(c, Token) and c.type in ("BASE_TYPE", "IDENTIFIER")))
             if is_type and types_seen == 1:  # the separator between a map's key and value types
                 key, trail = split_trailing(parts.pop())
                 parts += [key, Text(","), *trail, SPACE]

@@ -1,0 +1,90 @@
+"""A fast scanner for clean files, feeding lark's LALR parser directly.
+
+lark's contextual lexer tries the terminals of the parser's state one by one
+for every token; this scanner matches all of them with one compiled pattern
+built from the same terminals of grammar.lark, and makes the same contextual
+choice between a keyword and a name by asking the parser's current state
+which of the two it accepts. It is used only for the whole-file fast path:
+anything it cannot read raises ``ScanError``, and the caller falls back to
+lark's own lexer with error recovery.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from typing import Any
+
+from lark import Lark, Token
+from lark.lexer import Lexer, LexerState, LexerThread
+
+_SKIP = ("WS", "COMMENT")
+#: Terminals matched by pattern, in the order Python's first-match alternation needs.
+_PATTERNS = ("WS", "COMMENT", "LITERAL", "INT", "DOUBLE", "IDENTIFIER")
+
+
+class ScanError(Exception):
+    """The fast scanner met something it does not read; use lark's lexer instead."""
+
+
+class FastScanner(Lexer):
+    """One-regex scanner with contextual keywords, for a parser built from grammar.lark."""
+
+    def __init__(self, parser: Lark) -> None:
+        terminals = {t.name: t for t in parser.terminals}
+        parts = [f"(?P<{name}>{terminals[name].pattern.to_regexp()})" for name in _PATTERNS]
+        words: dict[str, str] = {}
+        punct: list[tuple[str, str]] = []
+        for t in parser.terminals:
+            if t.pattern.type != "str":
+                continue
+            value = t.pattern.value
+            if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", value):
+                words[value] = t.name
+            else:
+                punct.append((t.name, value))
+        base = re.search(r"\(([a-z0-9|]+)\)", terminals["BASE_TYPE"].pattern.value)
+        assert base is not None, "BASE_TYPE is an alternation of words"
+        for word in base.group(1).split("|"):
+            words[word] = "BASE_TYPE"
+        # separators are one terminal, a pattern in the grammar
+        punct += [("_SEP", ","), ("_SEP", ";")]
+        punct.sort(key=lambda p: -len(p[1]))  # "<=" before "<"
+        self.punct = {value: name for name, value in punct}
+        parts.append("(?P<PUNCT>" + "|".join(re.escape(v) for _, v in punct) + ")")
+        self.pattern = re.compile("|".join(parts))
+        self.words = words
+
+    def lex(self, lexer_state: LexerState, parser_state: Any) -> Iterator[Token]:
+        """Tokens of the whole text; raises ScanError at anything unexpected."""
+        text = lexer_state.text.text
+        states = parser_state.parse_conf.parse_table.states
+        words = self.words
+        punct = self.punct
+        new = Token._future_new  # the constructor without the deprecated-argument shim
+        pos = 0
+        for m in self.pattern.finditer(text):
+            start = m.start()
+            if start != pos:
+                raise ScanError(start)
+            pos = m.end()
+            kind = m.lastgroup
+            if kind == "WS" or kind == "COMMENT":
+                continue
+            value = m.group()
+            if kind == "IDENTIFIER":
+                keyword = words.get(value)
+                if keyword is not None:
+                    accepted = states[parser_state.position]
+                    if keyword in accepted or "IDENTIFIER" not in accepted:
+                        kind = keyword
+            elif kind == "PUNCT":
+                kind = punct[value]
+            yield new(kind, value, start, None, None, None, None, pos)
+        if pos != len(text):
+            raise ScanError(pos)
+
+
+def parse_fast(parser: Lark, scanner: FastScanner, text: str) -> Any:
+    """Parse ``text`` with ``parser`` (its transformer runs inline), tokens from ``scanner``."""
+    return parser.parser.parser.parse(LexerThread.from_text(scanner, text), "start")
