@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import os
 from typing import Any
 
 from . import model as m
@@ -64,6 +65,8 @@ def _node(node: Any, src: Source) -> Any:
         if f.name in _SKIP:
             continue
         value = getattr(node, f.name)
+        if isinstance(node, m.Include) and f.name == "resolved" and value:
+            value = os.path.relpath(value, os.path.dirname(src.path))  # stable wherever the tree lives
         if value is None or value == [] or value is False or (f.name == "implicit" and not value):
             continue
         out[f.name] = _node(value, src)

@@ -84,16 +84,20 @@ class Runner:
         chosen = chosen if os.path.isabs(chosen) else os.path.join(base, chosen)
         return os.path.join(chosen, target)
 
-    def _generate(self, comp: Compilation, target: str) -> tuple[list[Any], list[str]]:
-        """The target's files, or none and the errors when the interface or the target has errors."""
+    def _generate(self, comp: Compilation, target: str, *, strict: bool = True) -> tuple[list[Any], list[str]]:
+        """The target's files and the errors; ``strict``: no files at all when there is an error.
+
+        A preview is not strict: it shows what the target makes of the text so far beside the
+        errors; generating and exporting write nothing from input with errors.
+        """
         from ...emit import generate
 
         errors = [d.format() for d in comp.all_diagnostics() if int(d.severity) == 1]
-        if errors:
+        if errors and strict:
             return [], errors
         result = generate(comp, target)
-        errors = [d.format() for d in result.diagnostics if int(d.severity) == 1]
-        return ([] if errors else result.files), errors
+        errors += [d.format() for d in result.diagnostics if int(d.severity) == 1]
+        return ([] if errors and strict else result.files), errors
 
     async def preview(self, arguments: Any) -> dict[str, Any]:
         """``iface.preview [uri, target]``: the generated files, not written."""
@@ -103,7 +107,7 @@ class Runner:
 
         def run() -> dict[str, Any]:
             assert snap.comp is not None
-            files, errors = self._generate(snap.comp, target)
+            files, errors = self._generate(snap.comp, target, strict=False)
             return {"target": target, "files": [{"path": f.path, "text": f.text} for f in files], "errors": errors}
 
         return await self.project.run(run)
