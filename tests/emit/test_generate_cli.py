@@ -129,3 +129,19 @@ def test_every_target_generates_the_robot_arm(tmp_path: Path) -> None:
         result = generate(compile_file(CASES["robot_arm"]), name)
         assert not result.has_errors, (name, [d.format() for d in result.diagnostics])
         assert result.files
+
+
+def test_a_package_split_over_two_files_generates_in_one_command(tmp_path: Path) -> None:
+    """The ROS 2 importer puts a message and an action of one name into two files of one package."""
+    pkg = tmp_path / "dock_msgs"
+    (pkg / "msg").mkdir(parents=True)
+    (pkg / "action").mkdir()
+    (pkg / "msg" / "Dock.msg").write_text("int32 id\n")
+    (pkg / "action" / "Dock.action").write_text("int32 goal\n---\nbool ok\n---\nfloat32 progress\n")
+    assert run_cli("import", "--from", "ros2", str(pkg), "--out", str(tmp_path / "ifc")).returncode == 0
+    inputs = sorted(str(p) for p in (tmp_path / "ifc").glob("*.iface"))
+    assert len(inputs) == 2
+    r = run_cli("generate", *inputs, "--target", "ros2", "--out", str(tmp_path / "gen"))
+    assert r.returncode == 0, r.stderr
+    cmake = (tmp_path / "gen" / "dock_msgs" / "CMakeLists.txt").read_text()
+    assert '"msg/Dock.msg"' in cmake and '"action/Dock.action"' in cmake

@@ -43,18 +43,28 @@ def _fail(message: str) -> int:
     return 2
 
 
-def _merge(per_input: Sequence[tuple[str, list[GeneratedFile]]]) -> tuple[list[GeneratedFile], list[str]]:
-    """All files, once each; a path two inputs generate differently is a conflict."""
-    by_path: dict[str, tuple[str, GeneratedFile]] = {}
+Input = tuple[str, frozenset[str], list[GeneratedFile]]  # (shown path, files it includes, its files)
+
+
+def _merge(per_input: Sequence[Input]) -> tuple[list[GeneratedFile], list[str]]:
+    """All files, once each; a path two inputs generate differently is a conflict.
+
+    When one input includes the other (a package split over two files, as the ROS 2
+    importer writes a message and a service of one name), the including input's
+    version wins: it was rendered with everything the included one has.
+    """
+    by_path: dict[str, tuple[str, frozenset[str], GeneratedFile]] = {}
     conflicts = []
-    for source, files in per_input:
+    for source, includes, files in per_input:
         for f in files:
             seen = by_path.get(f.path)
-            if seen is None:
-                by_path[f.path] = (source, f)
-            elif seen[1].text != f.text:
+            if seen is None or seen[2].text == f.text:
+                by_path.setdefault(f.path, (source, includes, f))
+            elif seen[0] in includes:
+                by_path[f.path] = (source, includes, f)
+            elif source not in seen[1]:
                 conflicts.append(f"{f.path}: generated differently from {seen[0]} and {source}")
-    return [f for _, f in sorted(by_path.values(), key=lambda sf: sf[1].path)], conflicts
+    return [f for _, _, f in sorted(by_path.values(), key=lambda sf: sf[2].path)], conflicts
 
 
 def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedFile], list[Diagnostic], int]:
@@ -71,7 +81,8 @@ def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedF
     for comp in comps:
         result = target.generate(comp, options)
         found.extend(result.diagnostics)
-        per_input.append((display_path(comp.path), result.files))
+        included = frozenset(display_path(c.path) for c in comp.closure()[1:])
+        per_input.append((display_path(comp.path), included, result.files))
     if has_errors(found):
         return [], found, 1
     files, conflicts = _merge(per_input)
