@@ -11,27 +11,22 @@ def bodies(defn: m.Definition) -> Iterator[tuple[str, list[m.Field], list[m.Cons
     """(label, fields, consts) for every field list a definition holds."""
     if isinstance(defn, m.Struct):
         yield defn.name, defn.fields, defn.consts
-    elif isinstance(defn, m.Service):
-        if defn.form == "functions":
-            for fn in defn.functions:
-                yield f"{defn.name}.{fn.name}", fn.params, []
-                if fn.throws:
-                    yield f"{defn.name}.{fn.name} throws", fn.throws, []
-        elif defn.form == "explicit":
-            for sec in defn.sections:
-                yield f"{defn.name}.{sec.name}", sec.fields, sec.consts
-        else:
-            yield defn.name, defn.flat_fields, []
-        if defn.consts:
-            yield defn.name, [], defn.consts
-    elif isinstance(defn, m.Action):
+        return
+    if isinstance(defn, m.Service) and defn.form == "functions":
+        for fn in defn.functions:
+            yield f"{defn.name}.{fn.name}", fn.params, []
+            if fn.throws:
+                yield f"{defn.name}.{fn.name} throws", fn.throws, []
+    elif isinstance(defn, (m.Service, m.Action)):
         if defn.form == "explicit":
             for sec in defn.sections:
                 yield f"{defn.name}.{sec.name}", sec.fields, sec.consts
         else:
             yield defn.name, defn.flat_fields, []
-        if defn.consts:
-            yield defn.name, [], defn.consts
+    else:
+        return
+    if defn.consts:
+        yield defn.name, [], defn.consts
 
 
 def all_fields(defn: m.Definition) -> Iterator[m.Field]:

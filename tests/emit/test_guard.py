@@ -12,6 +12,7 @@ import jinja2
 import pytest
 
 from iface.compile import Compilation
+from iface import plugins
 from iface.emit import GenerationError, Result, Target, registry
 
 from .helpers import CASES, compile_file
@@ -62,7 +63,7 @@ class _EntryPoint:
 
 
 def test_every_target_from_the_registry_is_guarded(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(registry, "entry_points", lambda group: [_EntryPoint("boom", _raises(RuntimeError("x")))])
+    monkeypatch.setattr(plugins, "entry_points", lambda group: [_EntryPoint("boom", _raises(RuntimeError("x")))])
     result = registry.generate(compile_file(CASES["listing1"]), "boom")
     assert [d.code for d in result.diagnostics] == ["internal-error"]
 

@@ -12,11 +12,11 @@ at the definition they come from, before anything is written.
 from __future__ import annotations
 
 import dataclasses
-from importlib.metadata import entry_points
 from typing import Any
 
 import jinja2
 
+from .. import plugins
 from ..compile import Compilation
 from ..diagnostics import Severity
 from ..source import Span
@@ -79,15 +79,7 @@ def check_names(result: Result, comp: Compilation) -> Result:
 
 def targets() -> dict[str, Target]:
     """Every installed target by name (entry point value: a ``Target`` object), guarded."""
-    found: dict[str, Target] = {}
-    for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
-        try:
-            target = ep.load()
-        except Exception:  # a broken third-party target must not break the others
-            continue
-        if isinstance(target, Target):
-            found[target.name] = guarded(target)
-    return found
+    return {name: guarded(target) for name, target in plugins.load(GROUP, Target).items()}
 
 
 def get_target(name: str) -> Target | None:

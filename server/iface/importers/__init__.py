@@ -13,9 +13,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from importlib.metadata import entry_points
 from typing import Any, Literal
 
+from .. import plugins
 from ..emit.base import GeneratedFile
 
 GROUP = "iface.importers"
@@ -82,15 +82,7 @@ class Importer:
 
 def importers() -> dict[str, Importer]:
     """Every installed importer by name (entry point value: an ``Importer`` object)."""
-    found: dict[str, Importer] = {}
-    for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
-        try:
-            imp = ep.load()
-        except Exception:  # a broken third-party importer must not break the others
-            continue
-        if isinstance(imp, Importer):
-            found[imp.name] = imp
-    return found
+    return plugins.load(GROUP, Importer)
 
 
 def get_importer(name: str) -> Importer | None:
