@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
@@ -16,9 +15,10 @@ from iface.emit import generate, get_target
 from iface.emit.ardupilot import CODES
 from iface.emit.base import Result
 
+from .golden_util import check_golden
+
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).parent / "data" / "ardupilot"
-GOLDEN = Path(__file__).parent / "golden" / "ardupilot"
 ROBOT_ARM = ROOT / "examples" / "robot_arm.iface"
 CASES = ["listing1", "rover_v1", "injection_docs"]
 ENTRY = re.compile(r'AP_GROUPINFO\("([A-Z0-9_]+)", (\d+), (\w+), (\w+), ([^)]+)\),')
@@ -73,20 +73,6 @@ def compile_params(result: Result, tmp: Path) -> None:
     assert proc.returncode == 0, proc.stderr
 
 
-def compare_golden(case: str, result: Result) -> None:
-    folder = GOLDEN / case
-    out = files(result)
-    if os.environ.get("UPDATE_GOLDEN"):
-        shutil.rmtree(folder, ignore_errors=True)
-        for path, text in out.items():
-            (folder / path).parent.mkdir(parents=True, exist_ok=True)
-            (folder / path).write_bytes(text.encode("utf-8"))
-    expected = {p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
-    assert sorted(expected) == sorted(out), "generated files differ from the golden set (UPDATE_GOLDEN=1 rewrites)"
-    for path, text in out.items():
-        assert text.encode("utf-8") == expected[path], f"{case}/{path} differs from its golden file"
-
-
 def test_found_through_entry_point() -> None:
     target = get_target("ardupilot")
     assert target is not None and target.name == "ardupilot"
@@ -94,7 +80,7 @@ def test_found_through_entry_point() -> None:
 
 @pytest.mark.parametrize("case", CASES)
 def test_golden(case: str) -> None:
-    compare_golden(case, ok(DATA / f"{case}.iface"))
+    check_golden("ardupilot", case, ok(DATA / f"{case}.iface").files)
 
 
 @pytest.mark.parametrize("case", CASES)

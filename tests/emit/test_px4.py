@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 import re
 import shutil
 import subprocess
@@ -21,9 +20,10 @@ from iface.emit import generate, get_target
 from iface.emit.base import Result
 from iface.emit.px4 import CODES
 
+from .golden_util import check_golden
+
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).parent / "data" / "px4"
-GOLDEN = Path(__file__).parent / "golden" / "px4"
 ROBOT_ARM = ROOT / "examples" / "robot_arm.iface"
 CASES = ["flight_arm", "injection_docs"]
 
@@ -92,20 +92,6 @@ def check_header(result: Result, tmp: Path) -> None:
     return subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout  # type: ignore[return-value]
 
 
-def compare_golden(case: str, result: Result) -> None:
-    folder = GOLDEN / case
-    out = files(result)
-    if os.environ.get("UPDATE_GOLDEN"):
-        shutil.rmtree(folder, ignore_errors=True)
-        for path, text in out.items():
-            (folder / path).parent.mkdir(parents=True, exist_ok=True)
-            (folder / path).write_bytes(text.encode("utf-8"))
-    expected = {p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
-    assert sorted(expected) == sorted(out), "generated files differ from the golden set (UPDATE_GOLDEN=1 rewrites)"
-    for path, text in out.items():
-        assert text.encode("utf-8") == expected[path], f"{case}/{path} differs from its golden file"
-
-
 # ---- the target ------------------------------------------------------------------
 
 
@@ -116,7 +102,7 @@ def test_found_through_entry_point() -> None:
 
 @pytest.mark.parametrize("case", CASES)
 def test_golden(case: str) -> None:
-    compare_golden(case, ok(DATA / f"{case}.iface"))
+    check_golden("px4", case, ok(DATA / f"{case}.iface").files)
 
 
 @pytest.mark.parametrize("case", CASES)
