@@ -183,12 +183,14 @@ def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFil
 
 
 def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool = False,
-                dry_run: bool = False, check: bool = False) -> WriteReport:
+                dry_run: bool = False, check: bool = False, stamped: bool = True) -> WriteReport:
     """Write (or, with ``check``, compare) files under ``out_dir``: all of them or, on a path problem, none.
 
     Every path is checked before anything is written. An I/O error while writing
     stops the run and is reported in ``errors``; the files written before it are
-    complete (each write is atomic), the rest are untouched.
+    complete (each write is atomic), the rest are untouched. Generated files are
+    ``stamped`` and an existing one is refused only when edited by hand; unstamped
+    files (imported ``.iface`` files, the user's to edit) refuse any different file.
     """
     out = Path(out_dir)
     report = WriteReport()
@@ -196,7 +198,7 @@ def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool 
     if report.errors:
         return report
     for f, full in planned:
-        text = stamp(f.text)
+        text = stamp(f.text) if stamped else f.text
         existing = None
         if full.is_file():
             try:
@@ -209,7 +211,7 @@ def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool 
         if check:
             report.differing.append(f.path)
             continue
-        if existing is not None and not force and hand_edited(existing):
+        if existing is not None and not force and (not stamped or hand_edited(existing)):
             report.refused.append(f.path)
             continue
         if not dry_run:
