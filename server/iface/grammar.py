@@ -43,7 +43,7 @@ def terminal_descriptions(parser: Lark) -> dict[str, str]:
     if _descriptions:
         return _descriptions
     names = {"IDENTIFIER": "a name", "INT": "an integer", "DOUBLE": "a number",
-             "LITERAL": "a string", "BASE_TYPE": "a type", "$END": "end of file"}
+             "LITERAL": "a string", "BASE_TYPE": "a type", "_SEP": "','", "$END": "end of file"}
     out: dict[str, str] = {}
     for term in parser.terminals:
         if term.name in names:
