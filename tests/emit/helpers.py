@@ -24,7 +24,7 @@ def compile_file(path: Path) -> Compilation:
     return Workspace().compile_path(str(path))
 
 
-def compile_text(text: str, name: str = "case.iface", tmp: Path | None = None) -> Compilation:
+def compile_text(text: str, name: str = "snippet.iface", tmp: Path | None = None) -> Compilation:
     """A compilation of ``text`` as if it were the file ``name``."""
     folder = tmp or DATA
     return Workspace().compile_text(str(folder / name), text)
