@@ -17,9 +17,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 from gen_thrift import generate  # noqa: E402
 
-from iface.compile import compile_source  # noqa: E402
-from iface.grammar import build_parser  # noqa: E402
-from iface.source import Source  # noqa: E402
+from iface.model.source import Source  # noqa: E402
+from iface.semantics.compile import compile_source  # noqa: E402
+from iface.syntax.grammar import build_parser  # noqa: E402
 
 
 def best(fn: Callable[[], object], repeat: int) -> float:

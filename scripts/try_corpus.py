@@ -12,8 +12,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from iface.compile import Workspace
-from iface.diagnostics import Severity
+from iface.model.diagnostics import Severity
+from iface.semantics.compile import Workspace
 
 
 def main() -> int:

@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from iface.compile import Compilation, Workspace
+from iface.semantics.compile import Compilation, Workspace
 
 DATA = Path(__file__).parent / "data"
 

@@ -7,12 +7,11 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from compat_support import DATA, compile_file
 
 from iface.compat import baseline_diagnostics, compare, load_baseline
-from iface.compile import Workspace
-from iface.diagnostics import Severity
-
-from compat_support import DATA, compile_file
+from iface.model.diagnostics import Severity
+from iface.semantics.compile import Workspace
 
 
 def _apply(text: str, edits: list[dict]) -> str:

@@ -3,16 +3,15 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 import shutil
 import subprocess
+from pathlib import Path
 
 import pytest
+from compat_support import DATA, cached, run_cli
 
 from iface.compat.graph import build, graph_json, render_dot, render_mermaid
 from iface.compat.impact import impact, impact_json
-
-from compat_support import DATA, cached, run_cli
 
 SYSTEM = [DATA / "system" / n for n in ("camera.iface", "detector.iface", "logger.iface")]
 ARM = [DATA / "verdicts" / n for n in ("arm_v1.iface", "planner.iface", "monitor.iface")]
@@ -96,7 +95,7 @@ def test_impact_cli() -> None:
 
 
 def test_same_name_in_another_package_or_with_other_fields_is_a_conflict(tmp_path: Path) -> None:
-    from iface.compile import Workspace
+    from iface.semantics.compile import Workspace
 
     pub = tmp_path / "nav.iface"
     pub.write_text('namespace ros2 nav_pkg\nmessage Status { float64 battery, u8 mode }\n'

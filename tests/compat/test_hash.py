@@ -6,10 +6,9 @@ import json
 from pathlib import Path
 
 import pytest
+from compat_support import DATA, cached, run_cli
 
 from iface.compat import compare, interface_hash
-
-from compat_support import DATA, cached, run_cli
 
 
 def _pairs() -> list[tuple[Path, Path]]:

@@ -6,12 +6,11 @@ import json
 
 import jsonschema
 import pytest
+from compat_support import DATA, cached, run_cli
 
 from iface.compat import compare
 from iface.compat.contract import contract
 from iface.compat.report import SCHEMA_PATH, report_json
-
-from compat_support import DATA, cached, run_cli
 
 SCHEMA = json.loads(SCHEMA_PATH.read_text())
 CASES = [("verdicts/arm_v1.iface", "verdicts/arm_v4.iface"), ("thrift/many/old.thrift", "thrift/many/new.thrift")]

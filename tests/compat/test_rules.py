@@ -5,10 +5,9 @@ from __future__ import annotations
 import json
 
 import pytest
+from compat_support import DATA, compile_file
 
 from iface.compat import RULES, compare
-
-from compat_support import DATA, compile_file
 
 RULE_CASES = json.loads((DATA / "rules" / "expected.json").read_text())
 THRIFT_CASES = sorted(p.name for p in (DATA / "thrift").iterdir() if p.is_dir())
@@ -46,7 +45,7 @@ def test_direction_decides_severity() -> None:
     """Removing an optional field: a warning where the component sends it, harmless where it receives it."""
     old = compile_file(DATA / "rules" / "field-added" / "old.iface")
     text = old.source.text
-    from iface.compile import Workspace
+    from iface.semantics.compile import Workspace
     sent = Workspace().compile_text(str(DATA / "rules" / "x_send.iface"), text.replace("  2: optional string tag\n", ""))
     received = Workspace().compile_text(str(DATA / "rules" / "x_recv.iface"),
                                         text.replace('  2: optional string note = "x"\n', ""))
@@ -59,7 +58,7 @@ def test_direction_decides_severity() -> None:
 
 def test_positional_field_added_breaks_the_ros_type() -> None:
     old = compile_file(DATA / "rules" / "field-added" / "old.iface")
-    from iface.compile import Workspace
+    from iface.semantics.compile import Workspace
     new = Workspace().compile_text(str(DATA / "rules" / "x_pos.iface"),
                                    old.source.text.replace("  Level level\n", "  Level level\n  bool fresh\n"))
     f = next(f for f in compare(old, new).findings if f.subject == "Reading.fresh")

@@ -7,10 +7,9 @@ import shutil
 import subprocess
 
 import pytest
+from compat_support import DATA, compile_file
 
 from iface.compat import compare
-
-from compat_support import DATA, compile_file
 
 CASES = sorted(p.name for p in (DATA / "thrift").iterdir() if p.is_dir())
 THRIFT = shutil.which("thrift")

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
 from compat_support import DATA, compile_text, run_cli
 
 V = "verdicts/"

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from iface.compile import Compilation, Workspace
+from iface.semantics.compile import Compilation, Workspace
 
 DATA = Path(__file__).parent / "data"
 EXPECT = re.compile(r"expect: ([a-z0-9-]+(?:\s*,\s*[a-z0-9-]+)*)")

@@ -76,7 +76,7 @@ def test_wrong_suffix_is_a_usage_error(tmp_path: Path) -> None:
 def test_random_garbage_never_crashes() -> None:
     import random
 
-    from iface.compile import Workspace
+    from iface.semantics.compile import Workspace
 
     rng = random.Random(7)
     pieces = ["struct", "{", "}", "(", ")", "<", ">", "[", "]", "=", ",", ";", "\"", "'", "/*", "*/", "//",

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from iface.diagnostics import CODES, Severity
+from iface.model.diagnostics import CODES, Severity
 
 from .helpers import DATA, compile_file, expectations
 

@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from iface.compile import compile_source
-from iface.dump import dump_interface
-from iface.chunks import split
-from iface.parse import ChunkCache, chunk_parser, parse_text
-from iface.source import Source
+from iface.forms.dump import dump_interface
+from iface.model.source import Source
+from iface.semantics.compile import compile_source
+from iface.syntax.chunks import split
+from iface.syntax.parse import ChunkCache, chunk_parser, parse_text
 
 ROOT = Path(__file__).resolve().parents[2]
 FILES = sorted(p for suffix in ("*.iface", "*.thrift") for p in (ROOT / "tests").rglob(suffix)) + sorted(
@@ -19,7 +19,7 @@ FILES = sorted(p for suffix in ("*.iface", "*.thrift") for p in (ROOT / "tests")
 
 
 def _picture(items: list[object], text: str) -> str:
-    from iface.compile import build_interface
+    from iface.semantics.compile import build_interface
 
     return json.dumps(dump_interface(build_interface(Source("x.iface", text), items)), default=str)
 

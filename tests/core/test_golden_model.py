@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from iface.dump import dump_interface
+from iface.forms.dump import dump_interface
 
 from .helpers import DATA, compile_file
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 import random
 
-from iface.compile import Workspace, compile_source
-from iface.source import Source
-from iface.dump import dump_interface
+from iface.forms.dump import dump_interface
+from iface.model.source import Source
+from iface.semantics.compile import Workspace, compile_source
 
 from .helpers import DATA
 

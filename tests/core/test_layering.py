@@ -1,4 +1,9 @@
-"""Architecture rules: only the LSP layer imports pygls/lsprotocol; emitters read only the model."""
+"""Architecture rules: dependencies point down the pipeline; only the LSP layer imports pygls/lsprotocol.
+
+The layer order is written once, here, and drawn in docs/architecture.md:
+model → syntax → semantics → text → forms → emit → importers; compat beside them;
+runtime above compat; commands and lsp on top, neither importing the other.
+"""
 
 from __future__ import annotations
 
@@ -7,26 +12,112 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "server" / "iface"
 
+#: Each stage and the stages it may import (its own modules always).
+ALLOWED: dict[str, frozenset[str]] = {
+    "model": frozenset(),
+    "syntax": frozenset({"model"}),
+    "semantics": frozenset({"model", "syntax"}),
+    "text": frozenset({"model", "syntax"}),
+    "forms": frozenset({"model", "syntax", "semantics", "text"}),
+    "emit": frozenset({"model", "syntax", "semantics", "text", "forms"}),
+    "importers": frozenset({"model", "syntax", "semantics", "text", "forms", "emit"}),
+    "compat": frozenset({"model", "syntax", "semantics"}),
+    "runtime": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "compat"}),
+    "commands": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "importers", "compat",
+                           "runtime"}),
+    "lsp": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "importers", "compat", "runtime"}),
+}
+#: Modules at the top of the package: the entry points, which may import every stage.
+TOP = frozenset({"__init__", "__main__", "cli"})
+EDITOR_PROTOCOL = frozenset({"pygls", "lsprotocol"})
 
-def _imports(path: Path) -> set[str]:
+
+def _stage(path: Path, root: Path = PACKAGE) -> str:
+    rel = path.relative_to(root)
+    return rel.parts[0] if len(rel.parts) > 1 else rel.stem
+
+
+def _imports(path: Path, root: Path = PACKAGE) -> list[tuple[int, str]]:
+    """(line, absolute module) of every import in ``path`` (a module under ``root``), relative ones resolved."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    out: set[str] = set()
+    package = ["iface", *path.relative_to(root).with_suffix("").parts][:-1]
+    out: list[tuple[int, str]] = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
-            out.update(a.name.split(".")[0] for a in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            out.add(node.module.split(".")[0])
+            out.extend((node.lineno, a.name) for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - node.level + 1]
+                mod = ".".join([*base, *([node.module] if node.module else [])])
+            else:
+                mod = node.module or ""
+            if node.module is None or mod in ("iface", *("iface." + s for s in ALLOWED)):
+                out.extend((node.lineno, f"{mod}.{a.name}") for a in node.names)
+            else:
+                out.append((node.lineno, mod))
     return out
+
+
+def _modules() -> list[Path]:
+    return sorted(PACKAGE.rglob("*.py"))
+
+
+def _upward(path: Path, root: Path = PACKAGE) -> list[str]:
+    """The imports of ``path`` that break the layer order."""
+    stage = _stage(path, root)
+    if stage in TOP:
+        return []
+    out = []
+    for line, mod in _imports(path, root):
+        parts = mod.split(".")
+        if parts[0] != "iface" or len(parts) < 2:
+            continue
+        target = parts[1]
+        if target not in ALLOWED and target not in TOP:
+            continue  # a name defined in iface/__init__.py (e.g. __version__)
+        if target != stage and target not in ALLOWED[stage]:
+            out.append(f"{path.relative_to(root)}:{line}: {stage} imports {mod}")
+    return out
+
+
+def test_every_module_belongs_to_a_known_stage() -> None:
+    unknown = sorted({_stage(p) for p in _modules()} - set(ALLOWED) - TOP)
+    assert unknown == [], "a new top-level package needs a place in ALLOWED and in docs/architecture.md"
+
+
+def test_imports_point_down_the_pipeline() -> None:
+    offenders = [o for path in _modules() for o in _upward(path)]
+    assert offenders == []
+
+
+def test_the_rule_catches_upward_imports(tmp_path: Path) -> None:
+    (tmp_path / "model").mkdir()
+    probe = tmp_path / "model" / "probe.py"
+    probe.write_text("from ..commands import common\nfrom ..lsp.server import X\nimport iface.cli\n"
+                     "from . import walk\nfrom .. import __version__\n", encoding="utf-8")
+    assert _upward(probe, tmp_path) == ["model/probe.py:1: model imports iface.commands.common",
+                                        "model/probe.py:2: model imports iface.lsp.server",
+                                        "model/probe.py:3: model imports iface.cli"]
 
 
 def test_only_the_lsp_layer_imports_pygls() -> None:
     offenders = []
-    for path in PACKAGE.rglob("*.py"):
-        if "lsp" in path.relative_to(PACKAGE).parts[:1]:
+    for path in _modules():
+        if _stage(path) == "lsp":
             continue
-        if _imports(path) & {"pygls", "lsprotocol"}:
+        if {mod.split(".")[0] for _, mod in _imports(path)} & EDITOR_PROTOCOL:
             offenders.append(str(path.relative_to(PACKAGE)))
     assert offenders == []
+
+
+def test_every_package_says_what_it_holds_and_may_import() -> None:
+    missing = []
+    for init in sorted(PACKAGE.rglob("__init__.py")):
+        doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
+        stage = _stage(init)
+        if not doc or (init.parent.parent == PACKAGE and "May import" not in doc):
+            missing.append(f"{init.relative_to(PACKAGE)} ({stage})")
+    assert missing == []
 
 
 def test_grammar_file_is_the_packaged_one() -> None:

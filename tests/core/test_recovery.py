@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from iface.compile import Workspace
+from iface.semantics.compile import Workspace
 
 from .helpers import DATA, compile_file
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from iface import model as m
+from iface.model import nodes as m
 
 from .helpers import DATA, compile_file
 

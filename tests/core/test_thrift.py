@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from iface import model as m
-from iface.compile import Workspace
-from iface.walk import typedef_chain
+from iface.model import nodes as m
+from iface.model.walk import typedef_chain
+from iface.semantics.compile import Workspace
 
 from .helpers import DATA, compile_file
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from iface.compile import Compilation, Workspace
 from iface.emit import Result, generate
+from iface.semantics.compile import Compilation, Workspace
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"

@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from rosbags.typesys import get_types_from_idl
 
-from iface.compile import Workspace
 from iface.emit import generate, get_target
 from iface.emit.ardupilot import CODES
 from iface.emit.base import Result
+from iface.semantics.compile import Workspace
 
 from .golden_util import check_golden
 

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tests.conftest import run_cli
-
 from iface.emit import generate
+from tests.conftest import run_cli
 
 from .helpers import CASES, compile_file
 

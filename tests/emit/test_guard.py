@@ -11,9 +11,8 @@ from typing import Any
 import jinja2
 import pytest
 
-from iface.compile import Compilation
-from iface import plugins
-from iface.emit import GenerationError, Result, Target, registry
+from iface.emit import GenerationError, Result, Target, plugins, registry
+from iface.semantics.compile import Compilation
 
 from .helpers import CASES, compile_file
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from iface.compile import Workspace
 from iface.emit import generate, get_target
+from iface.semantics.compile import Workspace
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).parent / "data" / "markdown"

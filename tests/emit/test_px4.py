@@ -15,10 +15,10 @@ import jsonschema
 import pytest
 import yaml
 
-from iface.compile import Workspace
 from iface.emit import generate, get_target
 from iface.emit.base import Result
 from iface.emit.px4 import CODES
+from iface.semantics.compile import Workspace
 
 from .golden_util import check_golden
 

@@ -287,7 +287,7 @@ def test_names_rosidl_checks_are_the_ones_lowering_enforces() -> None:
     """The vendored rosidl parser's name patterns accept exactly what the lowering writes."""
     from mcap_ros2._vendor.rosidl_adapter import parser as rosidl
 
-    from iface.naming import is_ros_constant, is_ros_field, is_ros_type
+    from iface.model.naming import is_ros_constant, is_ros_field, is_ros_type
 
     samples = ["a", "a1", "a_b", "a__b", "a_", "_a", "A", "Ab", "AB", "A_B", "A__B", "A_", "1a", "aB", "a1_2"]
     for s in samples:

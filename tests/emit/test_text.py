@@ -8,8 +8,19 @@ import pytest
 import yaml
 
 from iface.emit.idl.render import idl_string
-from iface.emit.text import (comment_lines, compact_number, cpp_string, doc_lines, header_name, line_comment,
-                             number, one_line, quote, summary, yaml_string)
+from iface.emit.text import (
+    comment_lines,
+    compact_number,
+    cpp_string,
+    doc_lines,
+    header_name,
+    line_comment,
+    number,
+    one_line,
+    quote,
+    summary,
+    yaml_string,
+)
 
 #: Characters that break naive escaping: every control character, quotes, backslash, Unicode line breaks,
 #: format characters, a non-BMP character.

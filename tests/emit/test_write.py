@@ -6,11 +6,11 @@ import os
 from pathlib import Path
 
 import pytest
-from tests.conftest import run_cli
 
 from iface.emit import generate
 from iface.emit.base import GeneratedFile
 from iface.emit.write import atomic_write, path_problem, write_files
+from tests.conftest import run_cli
 
 from .helpers import compile_text
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-from iface.fmt.lex import kept_tokens, parse_strict
-from iface.parse import parse_text
-from iface.source import Span
+from iface.model.source import Span
+from iface.syntax.parse import parse_text
+from iface.text.formatter.lex import kept_tokens, parse_strict
 
 #: Fields that say where something was written, not what it means.
 _POSITIONS = frozenset({"span", "name_span", "id_span", "target"})
@@ -41,7 +41,7 @@ def tokens_of(text: str) -> list[str] | None:
 
 def comments_of(text: str) -> list[tuple[str, ...]]:
     """The words of every comment of a text that parses, in order."""
-    from iface.fmt.document import signature
+    from iface.text.formatter.document import signature
 
     sig = signature(text)
     assert sig is not None, "the text does not parse"

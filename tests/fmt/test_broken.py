@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from iface.format import format_document, format_text
+from iface.text.formatter import format_document, format_text
 
 BAD = "struct Bad {\r\n\t1: i32 x =   \r\n  2: whatever ===\r\n}\r\n"
 

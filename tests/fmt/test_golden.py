@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from iface.format import format_document, format_text
+from iface.text.formatter import format_document, format_text
 
 from .canon import comments_of, model_of, tokens_of
 

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from iface.fmt.lex import parse_strict
-from iface.format import format_document, format_range, format_text
+from iface.text.formatter import format_document, format_range, format_text
+from iface.text.formatter.lex import parse_strict
 
 from .canon import comments_of, model_of, tokens_of
 from .randomtext import RandomText

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from iface.format import TextEdit, format_range, format_text
+from iface.text.formatter import TextEdit, format_range, format_text
 
 SRC = (
     "struct A{1:i32 a}\n"       # 0..18

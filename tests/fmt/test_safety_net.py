@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from iface.fmt import document
-from iface.format import format_document
+from iface.text.formatter import document, format_document
 
 SRC = "struct A{1:i32 a}\nstruct B{1:i32 b}\n"
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from iface.format import format_text
+from iface.text.formatter import format_text
 
 from .canon import comments_of, model_of
 

@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from iface.compile import Workspace
+from iface.commands.schema import schema_text
 from iface.emit import generate
 from iface.emit.json import HEADER_KEY
-from iface.jsonform import FormError, canonical, from_json, to_json
-from iface.commands.schema import schema_text
+from iface.forms.jsonform import FormError, canonical, from_json, to_json
+from iface.semantics.compile import Workspace
 
 from .helpers import TESTS
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from iface import model as m
-from iface.compile import Workspace
-from iface.printer import PrintError, doc_lines, print_items, quote, value_text
-from iface.source import Span
-from iface.transform import decode_literal
+from iface.model import nodes as m
+from iface.model.source import Span
+from iface.semantics.compile import Workspace
+from iface.syntax.transform import decode_literal
+from iface.text.printer import PrintError, doc_lines, print_items, quote, value_text
 
 
 @pytest.mark.parametrize("text", ["plain", 'say "hi"', "back\\slash", "tab\tnew\nline", "nul\0", "bell\a",

@@ -5,8 +5,9 @@ from __future__ import annotations
 import pytest
 from lsprotocol import types as lsp
 
+from iface.text.formatter import format_range, format_text
+
 from .harness import Client
-from iface.format import format_range, format_text
 
 pytestmark = pytest.mark.asyncio(loop_scope="session")
 

@@ -14,8 +14,9 @@ import pytest
 import pytest_lsp
 from lsprotocol import types as lsp
 
+from iface.text.formatter import format_text
+
 from .harness import CONFIG, DATA, SERVER, Client, start
-from iface.format import format_text
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 

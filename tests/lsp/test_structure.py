@@ -6,8 +6,9 @@ import pytest
 import pytest_asyncio
 from lsprotocol import types as lsp
 
-from .harness import Client
 from iface.lsp.features.semantic_tokens import TOKEN_TYPES
+
+from .harness import Client
 
 pytestmark = pytest.mark.asyncio(loop_scope="session")
 

@@ -9,8 +9,8 @@ import pytest
 
 from iface.lsp.context import context_at
 from iface.lsp.convert import UTF8, UTF16, UTF32, LineIndex
+from iface.lsp.documents import map_back, map_forward, path_to_uri, uri_to_path
 from iface.lsp.settings import Settings
-from iface.lsp.state import map_back, map_forward, path_to_uri, uri_to_path
 
 
 @pytest.mark.parametrize("encoding, column", [(UTF16, 4), (UTF32, 3), (UTF8, 7)])

@@ -5,7 +5,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import UsageError, check_suffix, compile_files, gather, has_errors, print_diagnostics
+from .common import (
+    UsageError,
+    check_suffix,
+    compile_files,
+    gather,
+    has_errors,
+    print_diagnostics,
+)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

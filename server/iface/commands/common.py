@@ -7,8 +7,8 @@ import os
 import sys
 from collections.abc import Iterable, Sequence
 
-from ..compile import SUFFIXES, Compilation, Workspace
-from ..diagnostics import Diagnostic, Severity
+from ..model.diagnostics import Diagnostic, Severity
+from ..semantics.compile import SUFFIXES, Compilation, Workspace
 
 
 class UsageError(Exception):

@@ -7,9 +7,9 @@ import sys
 
 from .. import __version__
 from ..compat import compare
-from ..compat.load import load_checked
 from ..compat.report import render_json, render_sarif, render_text
 from .common import UsageError, display_path
+from .load import load_checked
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

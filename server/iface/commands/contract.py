@@ -6,8 +6,8 @@ import argparse
 import sys
 
 from ..compat.contract import contract, render_contract
-from ..compat.load import load_checked
 from .common import UsageError
+from .load import load_checked
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

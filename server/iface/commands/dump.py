@@ -6,7 +6,7 @@ import argparse
 import json
 import sys
 
-from ..dump import dump_interface
+from ..forms.dump import dump_interface
 from .common import UsageError, compile_files
 
 

@@ -14,9 +14,9 @@ import sys
 import tempfile
 from dataclasses import dataclass
 
-from ..compile import MAX_FILE_BYTES, SUFFIXES
-from ..format import Formatted, format_document
-from ..source import Source
+from ..model.source import Source
+from ..semantics.compile import MAX_FILE_BYTES, SUFFIXES
+from ..text.formatter import Formatted, format_document
 from .common import UsageError, check_suffix, display_path
 
 STDIN = "-"

@@ -12,11 +12,19 @@ import os
 import sys
 from collections.abc import Sequence
 
-from ..diagnostics import Diagnostic, Severity
 from ..emit.base import GeneratedFile, GenerationError, Target
 from ..emit.registry import targets
 from ..emit.write import WriteReport, write_files
-from .common import UsageError, check_suffix, compile_files, display_path, gather, has_errors, print_diagnostics
+from ..model.diagnostics import Diagnostic, Severity
+from .common import (
+    UsageError,
+    check_suffix,
+    compile_files,
+    display_path,
+    gather,
+    has_errors,
+    print_diagnostics,
+)
 
 #: More files than this get a progress line each.
 PROGRESS_FROM = 2

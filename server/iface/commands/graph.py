@@ -6,8 +6,8 @@ import argparse
 import sys
 
 from ..compat.graph import build, render_dot, render_json, render_mermaid
-from ..compat.load import load_checked
 from .common import UsageError, display_path
+from .load import load_checked
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -7,9 +7,9 @@ import json
 import sys
 
 from ..compat.canon import interface_hash
-from ..compat.load import load_checked
 from ..compat.manifest import make_manifest, verify_manifest
 from .common import UsageError
+from .load import load_checked
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -17,11 +17,18 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from ..compile import Compilation, Workspace
 from ..emit import generate
 from ..importers import ImportResult, InputError, Origin, get_importer
-from ..importers.oracle import OracleMissing, OracleRefused, differences, px4_view, rihs01, ros_view
+from ..importers.oracle import (
+    OracleMissing,
+    OracleRefused,
+    differences,
+    px4_view,
+    rihs01,
+    ros_view,
+)
 from ..importers.output import write_imported
+from ..semantics.compile import Compilation, Workspace
 
 FORMATS = ("ros2", "px4", "json")
 
@@ -182,7 +189,7 @@ def _same_name(a: str, b: str) -> bool:
 
 def _json(run: Run, result: ImportResult) -> None:
     from ..emit.json import HEADER_KEY
-    from ..jsonform import canonical
+    from ..forms.jsonform import canonical
 
     origins = {o.source: o for o in result.origins}
     for source in result.sources:

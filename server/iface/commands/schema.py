@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from importlib.resources import files
 
+from ..forms.jsonform import schema_text
 
-def schema_text() -> str:
-    """The schema file shipped with the package."""
-    return files("iface").joinpath("schema/iface.schema.json").read_text(encoding="utf-8")
+__all__ = ["schema_text", "add_arguments", "run"]
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

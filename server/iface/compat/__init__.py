@@ -5,19 +5,27 @@ interfaces and the definitions they use, and decides a verdict:
 equivalent, replaceable, replaceable-if-unused or incompatible.
 ``baseline_diagnostics`` turns the findings into editor diagnostics located in
 NEW, and ``load_baseline`` reads a baseline from a file or a git revision.
+
+May import: ``model``, ``syntax``, ``semantics``.
 """
 
 from __future__ import annotations
 
-from ..compile import Compilation
-from ..diagnostics import Severity
+from ..model.diagnostics import Severity
+from ..semantics.compile import Compilation
 from .baseline import baseline_diagnostics, load_baseline
 from .canon import canonical, first_difference, interface_hash
 from .context import Context
 from .defs import compare_definitions
 from .findings import VERDICTS, Finding, Handover, Location, Report, StateVar, Verdict
 from .rules import RULES, Rule
-from .sets import compare_diagnostics, compare_endpoints, compare_namespaces, compare_parameters, compare_state
+from .sets import (
+    compare_diagnostics,
+    compare_endpoints,
+    compare_namespaces,
+    compare_parameters,
+    compare_state,
+)
 from .side import Side
 from .system import System, apply
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import os
 import subprocess
 
-from ..compile import Compilation, Workspace, decode
-from ..diagnostics import Diagnostic, Related, Severity
+from ..model.diagnostics import Diagnostic, Related, Severity
+from ..semantics.compile import Compilation, Workspace, decode
 
 #: how findings show in the editor: benign changes as hints
 _EDITOR_SEVERITY = {Severity.ERROR: Severity.ERROR, Severity.WARNING: Severity.WARNING,

@@ -13,12 +13,21 @@ import hashlib
 import json
 from typing import Any
 
-from .. import model as m
-from ..compile import Compilation
+from ..model import nodes as m
+from ..semantics.compile import Compilation
 from .side import Side
 from .values import value_key
-from .view import (definitions, diagnostics, endpoint_qos, endpoint_type, endpoints, namespaces, parameters,
-                   service_form, state)
+from .view import (
+    definitions,
+    diagnostics,
+    endpoint_qos,
+    endpoint_type,
+    endpoints,
+    namespaces,
+    parameters,
+    service_form,
+    state,
+)
 
 HASH_PREFIX = "sha256:"
 

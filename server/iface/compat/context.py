@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..diagnostics import Severity
+from ..model.diagnostics import Severity
 from .findings import Finding, Location
 from .rules import RULES
 from .side import RECEIVE, SEND, Side

@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from .. import model as m
-from ..compile import Compilation
-from ..walk import type_text
+from ..model import nodes as m
+from ..model.walk import type_text
+from ..semantics.compile import Compilation
 from .side import Side
 from .values import value_text
 from .view import endpoint_qos, endpoint_type

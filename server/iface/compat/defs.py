@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from .. import model as m
-from ..diagnostics import Severity
-from ..source import Source, Span
+from ..model import nodes as m
+from ..model.diagnostics import Severity
+from ..model.source import Source, Span
 from .context import Context, by_direction
 from .fields import Body, compare_fields
 from .findings import Location

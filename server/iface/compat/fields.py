@@ -10,10 +10,10 @@ from __future__ import annotations
 import bisect
 from dataclasses import dataclass
 
-from .. import model as m
-from ..diagnostics import Severity
-from ..source import Source, Span
-from ..walk import type_text
+from ..model import nodes as m
+from ..model.diagnostics import Severity
+from ..model.source import Source, Span
+from ..model.walk import type_text
 from .context import Context, by_direction
 from .findings import Location
 from .side import RECEIVE, SEND

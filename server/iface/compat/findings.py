@@ -5,9 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from ..compile import Compilation
-from ..diagnostics import Severity
-from ..source import Source, Span
+from ..model.diagnostics import Severity
+from ..model.source import Source, Span
+from ..semantics.compile import Compilation
 
 Verdict = Literal["equivalent", "replaceable", "replaceable-if-unused", "incompatible"]
 VERDICTS: tuple[Verdict, ...] = ("equivalent", "replaceable", "replaceable-if-unused", "incompatible")

@@ -9,12 +9,12 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-from .. import model as m
-from ..compile import Compilation
-from ..diagnostics import Diagnostic, Severity
-from ..source import Span
-from .system import Component, Port, System, qos_problems
+from ..model import nodes as m
+from ..model.diagnostics import Diagnostic, Severity
+from ..model.source import Span
+from ..semantics.compile import Compilation
 from .canon import canonical_definition
+from .system import Component, Port, System, qos_problems
 from .view import endpoint_type
 
 Display = Callable[[str], str]

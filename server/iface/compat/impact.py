@@ -6,8 +6,8 @@ import json
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-from ..compile import Compilation
-from ..diagnostics import Severity
+from ..model.diagnostics import Severity
+from ..semantics.compile import Compilation
 from . import compare
 from .findings import Report
 from .side import Side

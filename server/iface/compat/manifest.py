@@ -9,7 +9,7 @@ import json
 import os
 from typing import Any
 
-from ..compile import Compilation
+from ..semantics.compile import Compilation
 from .canon import interface_hash
 
 MANIFEST_ID = "iface-manifest/1"

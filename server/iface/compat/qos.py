@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import math
 
-from ..qos import ALIASES as _ALIASES
-from ..qos import ORDERS, duration
+from ..model.qos import ALIASES as _ALIASES
+from ..model.qos import ORDERS, duration
 
 #: Policies that take part in matching, with their ROS 2 defaults.
 DURATIONS = ("deadline", "liveliness_lease_duration")

@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 from typing import Any, Callable
 
-from ..diagnostics import Severity
+from ..model.diagnostics import Severity
 from .findings import Finding, Handover, Location, Report
 from .rules import RULES
 

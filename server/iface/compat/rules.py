@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..diagnostics import Severity
+from ..model.diagnostics import Severity
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFORMATION
 

@@ -2,16 +2,24 @@
 
 from __future__ import annotations
 
-from .. import model as m
-from ..diagnostics import Severity
-from ..walk import type_text
+from ..model import nodes as m
+from ..model.diagnostics import Severity
+from ..model.walk import type_text
 from .context import Context
 from .fields import compare_unit_range
 from .findings import Handover, Location, StateVar
 from .qos import weakened
 from .side import RECEIVE, Side
 from .values import value_key, value_text, widens_type
-from .view import diagnostics, endpoint_qos, endpoint_type, endpoints, namespaces, parameters, state
+from .view import (
+    diagnostics,
+    endpoint_qos,
+    endpoint_type,
+    endpoints,
+    namespaces,
+    parameters,
+    state,
+)
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFORMATION
 
@@ -106,7 +114,7 @@ def _settings_anchor(side: Side, kind: str) -> Location:
 
 def zero_value(side: Side, t: m.TypeRef) -> str | None:
     """A default that type ``t`` accepts, for the add-default fix (None for structs)."""
-    from ..walk import resolve_typedefs
+    from ..model.walk import resolve_typedefs
     t = resolve_typedefs(t)
     if isinstance(t, m.BaseType):
         if t.name == "bool":

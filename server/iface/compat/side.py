@@ -6,10 +6,10 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from .. import model as m
-from ..compile import Compilation
-from ..source import Source, Span
-from ..walk import named_types
+from ..model import nodes as m
+from ..model.source import Source, Span
+from ..model.walk import named_types
+from ..semantics.compile import Compilation
 from .findings import Location
 
 SEND, RECEIVE = "send", "receive"

@@ -8,9 +8,9 @@ import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-from .. import model as m
-from ..compile import Compilation
-from ..diagnostics import Severity
+from ..model import nodes as m
+from ..model.diagnostics import Severity
+from ..semantics.compile import Compilation
 from .context import Context
 from .defs import compare_definition
 from .findings import Finding

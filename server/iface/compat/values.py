@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .. import model as m
+from ..model import nodes as m
 
 _SIGNED = ("i8", "i16", "i32", "i64")
 _UNSIGNED = ("u8", "u16", "u32", "u64")

@@ -6,8 +6,8 @@ that two interfaces hash alike exactly when the comparison finds no difference.
 
 from __future__ import annotations
 
-from .. import model as m
-from ..source import Source
+from ..model import nodes as m
+from ..model.source import Source
 from .side import Side
 
 #: (set letter, endpoint kind, attribute of Interface)

@@ -4,6 +4,8 @@ A target is a small descriptor (``Target``) found through the ``iface.targets``
 entry point group; its ``generate`` renders jinja2 templates over the model and
 returns files instead of writing them, so that generation can be previewed,
 checked or written atomically by ``write.write_files``.
+
+Emitters read the model only. May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``.
 """
 
 from __future__ import annotations

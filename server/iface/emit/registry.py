@@ -16,11 +16,19 @@ from typing import Any
 
 import jinja2
 
-from .. import plugins
-from ..compile import Compilation
-from ..diagnostics import Severity
-from ..source import Span
-from .base import NAME_MAX, CodeTable, GenerationError, Result, Target, long_names, sort_diagnostics
+from ..model.diagnostics import Severity
+from ..model.source import Span
+from ..semantics.compile import Compilation
+from . import plugins
+from .base import (
+    NAME_MAX,
+    CodeTable,
+    GenerationError,
+    Result,
+    Target,
+    long_names,
+    sort_diagnostics,
+)
 
 GROUP = "iface.targets"
 

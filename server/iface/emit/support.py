@@ -5,12 +5,12 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from .. import model as m
-from ..compile import Compilation
-from ..naming import ros_type_name, words
-from ..resolve import constant_value
-from ..source import Source, Span
-from ..walk import resolve_typedefs
+from ..model import nodes as m
+from ..model.naming import ros_type_name, words
+from ..model.source import Source, Span
+from ..model.walk import resolve_typedefs
+from ..semantics.compile import Compilation
+from ..semantics.resolve import constant_value
 
 #: A Python value read from an interface value: what templates format.
 Literal = int | float | bool | str | list["Literal"] | None

@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ..model import INT_RANGES
+from ..model.nodes import INT_RANGES
 
 
 @dataclass(frozen=True, slots=True)
@@ -175,7 +175,7 @@ def markdown_table() -> str:
 
 def hover_markdown(name: str) -> str | None:
     """A short Markdown block for the editor's hover over a base type name or alias."""
-    from ..model import BASE_ALIASES
+    from ..model.nodes import BASE_ALIASES
 
     canonical = BASE_ALIASES.get(name)
     if canonical is None:

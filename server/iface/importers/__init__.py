@@ -7,6 +7,8 @@ An importer is a small descriptor (``Importer``) found through the
 where each imported definition came from (what ``roundtrip`` compares).
 Importers never write: ``iface.importers.output.write_imported`` does, and
 never over a different existing file unless forced.
+
+May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit`` (the shared writer).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from .. import plugins
+from ..emit import plugins
 from ..emit.base import GeneratedFile
 
 GROUP = "iface.importers"

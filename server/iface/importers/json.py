@@ -12,9 +12,9 @@ from pathlib import Path
 from typing import Any
 
 from ..emit.base import GeneratedFile
-from ..jsonform import FormError, from_json
-from ..printer import PrintError
-from . import ImportResult, Importer, InputError, Origin, Problem
+from ..forms.jsonform import FormError, from_json
+from ..text.printer import PrintError
+from . import Importer, ImportResult, InputError, Origin, Problem
 
 _STEM = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.\-]*$")
 

@@ -16,11 +16,19 @@ import re
 from pathlib import Path
 from typing import Any
 
-from .. import model as m
 from ..emit.base import GeneratedFile
-from ..printer import PrintError, print_items, quote
-from . import ImportResult, Importer, InputError, Origin, Problem
-from .rosidl import Element, Part, RosSyntaxError, RosType, clean_comments, parse_primitive, parse_type
+from ..model import nodes as m
+from ..text.printer import PrintError, print_items, quote
+from . import Importer, ImportResult, InputError, Origin, Problem
+from .rosidl import (
+    Element,
+    Part,
+    RosSyntaxError,
+    RosType,
+    clean_comments,
+    parse_primitive,
+    parse_type,
+)
 from .rosmodel import Spans, members
 
 TOPICS = "# TOPICS "

@@ -16,13 +16,21 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .. import model as m
 from ..emit.base import GeneratedFile
-from ..normalize import normalize_action, normalize_service
-from ..printer import PrintError, print_items
-from ..source import Span
-from . import ImportResult, Importer, InputError, Origin, Problem, Severity
-from .rosidl import Kind, RosFile, RosSyntaxError, RosType, clean_comments, is_package_name, parse_file
+from ..model import nodes as m
+from ..model.normalize import normalize_action, normalize_service
+from ..model.source import Span
+from ..text.printer import PrintError, print_items
+from . import Importer, ImportResult, InputError, Origin, Problem, Severity
+from .rosidl import (
+    Kind,
+    RosFile,
+    RosSyntaxError,
+    RosType,
+    clean_comments,
+    is_package_name,
+    parse_file,
+)
 from .rosmodel import PRIMITIVES, Spans, members
 
 KINDS: tuple[Kind, ...] = ("msg", "srv", "action")

@@ -6,9 +6,9 @@ import math
 import re
 from collections.abc import Callable
 
-from .. import model as m
-from ..printer import quote
-from ..source import Span
+from ..model import nodes as m
+from ..model.source import Span
+from ..text.printer import quote
 from .rosidl import Element, Part, RosSyntaxError, RosType, Scalar, clean_comments
 
 _INT = re.compile(r"[+-]?(0x[0-9A-Fa-f]+|[0-9]+)\Z")

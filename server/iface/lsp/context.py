@@ -10,7 +10,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Literal
 
-from ..chunks import TOP_KEYWORDS
+from ..syntax.chunks import TOP_KEYWORDS
 
 Where = Literal["top", "type", "member", "member-name", "wiring-type", "wiring-on", "topic", "annotation-key",
                 "annotation-value", "value", "dotted", "namespace-scope", "none"]

@@ -95,9 +95,9 @@ from typing import TYPE_CHECKING, Any  # noqa: E402
 from lsprotocol import types as lsp  # noqa: E402
 
 if TYPE_CHECKING:
-    from ..diagnostics import Diagnostic
-    from ..query import Symbol
-    from ..source import Span
+    from ..model.diagnostics import Diagnostic
+    from ..model.source import Span
+    from ..semantics.query import Symbol
 
 ENCODINGS = {UTF8: lsp.PositionEncodingKind.Utf8, UTF16: lsp.PositionEncodingKind.Utf16,
              UTF32: lsp.PositionEncodingKind.Utf32}

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from .. import model as m
-from ..naming import ros_field_name, ros_type_name
-from ..query import Hit
-from ..walk import resolve_typedefs, type_text, typedef_chain
+from ..model import nodes as m
+from ..model.naming import ros_field_name, ros_type_name
+from ..model.walk import resolve_typedefs, type_text, typedef_chain
+from ..semantics.query import Hit
 
 TARGETS = ("ros2", "px4", "idl", "json")
 TARGET_TITLES = {"ros2": "ROS 2", "px4": "PX4", "idl": "IDL", "json": "JSON Schema"}
@@ -225,7 +225,7 @@ def base_type(t: m.BaseType) -> str:
 
 def describe(hit: Hit, iface: m.Interface, text: str, interfaces: list[m.Interface]) -> str | None:
     """Hover Markdown for what is under the cursor, or None."""
-    from ..query import defining_interface
+    from ..semantics.query import defining_interface
 
     node, target = hit.node, hit.target
     if hit.kind in ("definition", "type") and target is not None and not isinstance(target, (m.Field,)):

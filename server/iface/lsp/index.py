@@ -15,12 +15,12 @@ import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .state import path_to_uri
+from .documents import path_to_uri
 
 if TYPE_CHECKING:
-    from ..compile import Compilation
-    from ..model import Interface
-    from .state import Project
+    from ..model.nodes import Interface
+    from ..semantics.compile import Compilation
+    from .project import Project
 
 log = logging.getLogger("iface.lsp")
 
@@ -51,7 +51,7 @@ class FileFacts:
 
 def facts_of(iface: Interface) -> FileFacts:
     """The facts of one compiled interface."""
-    from ..query import defining_interface
+    from ..semantics.query import defining_interface
 
     scopes = [iface, *iface.included.values()]
     wirings = []

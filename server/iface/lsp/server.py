@@ -1,7 +1,7 @@
 """The language server: ``iface-lsp --stdio`` or ``--tcp HOST:PORT``.
 
 Handlers are thin: each feature module registers its handlers on the server
-and answers from the shared model through ``state.Project``. Only the
+and answers from the shared model through ``project.Project``. Only the
 capabilities of registered handlers are advertised (pygls builds them from
 the registered features).
 """
@@ -20,7 +20,7 @@ from pygls.protocol import LanguageServerProtocol, lsp_method
 
 from .. import __version__
 from .convert import ENCODINGS, UTF16
-from .state import Project
+from .project import Project
 
 log = logging.getLogger("iface.lsp")
 

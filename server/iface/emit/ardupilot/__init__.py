@@ -14,15 +14,23 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-from ...compile import Compilation
-from ...diagnostics import Diagnostic
-from ..base import GeneratedFile, Result, Target, TemplateSet, sort_diagnostics, sorted_files
+from ...model.diagnostics import Diagnostic
+from ...semantics.compile import Compilation
+from ..base import (
+    GeneratedFile,
+    Result,
+    Target,
+    TemplateSet,
+    sort_diagnostics,
+    sorted_files,
+)
 from ..idl import render_package
 from ..idl import templates as idl_templates
 from ..idl.render import check_idl_values
 from ..idl.reserved import check_idl_names
 from ..keywords import c_family_keyword
-from ..ros2.lower import RosPackage, lower_checked
+from ..ros2.lower import lower_checked
+from ..ros2.package import RosPackage
 from ..support import component_span
 from ..text import cpp_string, header_name, one_line
 from .codes import CODES, diag

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...diagnostics import Severity
+from ...model.diagnostics import Severity
 from ..base import CodeTable
 
 CODES: dict[str, tuple[Severity, str]] = {

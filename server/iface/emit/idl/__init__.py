@@ -11,11 +11,19 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ...compile import Compilation
-from ..base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
-from ..ros2.keywords import check_keywords
+from ...semantics.compile import Compilation
+from ..base import (
+    GeneratedFile,
+    Result,
+    Target,
+    TemplateSet,
+    header_lines,
+    sorted_files,
+)
 from ..ros2.filenames import check_rosidl_names
-from ..ros2.lower import RosPackage, lower_checked
+from ..ros2.keywords import check_keywords
+from ..ros2.lower import lower_checked
+from ..ros2.package import RosPackage
 from .render import FILTERS, check_idl_values, includes, structs, typedefs
 from .reserved import check_idl_names
 

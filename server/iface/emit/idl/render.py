@@ -3,14 +3,21 @@
 from __future__ import annotations
 
 import re
-from typing import Any
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from typing import Any
 
-from ...diagnostics import Diagnostic
+from ...model.diagnostics import Diagnostic
 from .. import types
 from ..ros2.codes import diag
-from ..ros2.lower import PyValue, RosInterface, RosPackage, RosSection, RosType, Scalar
+from ..ros2.package import (
+    PyValue,
+    RosInterface,
+    RosPackage,
+    RosSection,
+    RosType,
+    Scalar,
+)
 from ..text import quote
 
 #: ROS 2 primitive → IDL type (rosidl's own mapping; ``char`` is ``uint8``, ``byte`` is ``octet``).

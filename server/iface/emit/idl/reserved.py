@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from ...diagnostics import Diagnostic
+from ...model.diagnostics import Diagnostic
 from ..ros2.codes import diag
-from ..ros2.lower import RosPackage
+from ..ros2.package import RosPackage
 
 #: The keywords of OMG IDL 4.2 (Table 7-6), as the spec spells them.
 IDL_KEYWORDS: frozenset[str] = frozenset("""

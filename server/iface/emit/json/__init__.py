@@ -1,4 +1,4 @@
-"""The ``json`` target: the JSON form of the whole interface (see ``iface.jsonform``).
+"""The ``json`` target: the JSON form of the whole interface (see ``iface.forms.jsonform``).
 
 JSON needs no templates: the form is a dict built in a fixed order and written
 with ``json.dumps(indent=2, ensure_ascii=False)``, so the same input gives the
@@ -12,8 +12,8 @@ import json
 from pathlib import Path
 from typing import Any
 
-from ...compile import Compilation
-from ...jsonform import to_json
+from ...forms.jsonform import to_json
+from ...semantics.compile import Compilation
 from ..base import GENERATED_MARK, GeneratedFile, Result, Target
 
 #: The key that carries the "generated — do not edit" header (JSON has no comments).

@@ -9,12 +9,11 @@ start a heading, close a table cell or inject HTML.
 from __future__ import annotations
 
 from collections.abc import Callable
-
 from pathlib import Path
 from typing import Any
 
-from ... import model as m
-from ...compile import Compilation
+from ...model import nodes as m
+from ...semantics.compile import Compilation
 from ..base import GeneratedFile, Result, Target, TemplateSet
 from ..support import component_span
 from ..text import header_name

@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 
-from ... import model as m
-from ...normalize import flat_reading
-from ...walk import type_text
+from ...model import nodes as m
+from ...model.normalize import flat_reading
+from ...model.walk import type_text
 
 
 @dataclass(slots=True)

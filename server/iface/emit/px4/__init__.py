@@ -12,10 +12,17 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-from ... import model as m
-from ...compile import Compilation
-from ...diagnostics import Diagnostic
-from ..base import GeneratedFile, Result, Target, TemplateSet, sort_diagnostics, sorted_files
+from ...model import nodes as m
+from ...model.diagnostics import Diagnostic
+from ...semantics.compile import Compilation
+from ..base import (
+    GeneratedFile,
+    Result,
+    Target,
+    TemplateSet,
+    sort_diagnostics,
+    sorted_files,
+)
 from ..support import Owners, component_span
 from ..text import cpp_string, header_name, line_comment, yaml_string
 from .codes import CODES, diag

@@ -5,15 +5,15 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from ... import model as m
-from ...compile import Compilation
-from ...diagnostics import Diagnostic
-from ...naming import ros_constant_name, ros_field_name
-from ...walk import resolve_typedefs, type_text
+from ...model import nodes as m
+from ...model.diagnostics import Diagnostic
+from ...model.naming import ros_constant_name, ros_field_name
+from ...model.walk import resolve_typedefs, type_text
+from ...semantics.compile import Compilation
 from ..keywords import c_family_keyword
 from ..support import Owners, camel, enum_of, literal, member_order, snake, upper
-from ..types import container, px4_base
 from ..text import comment_lines, number, one_line
+from ..types import container, px4_base
 from .codes import diag
 
 #: External packages whose types are uORB messages that PX4 already has.

@@ -4,12 +4,22 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ... import model as m
-from ...compile import Compilation
-from ...diagnostics import Diagnostic
-from ...walk import resolve_typedefs, type_text
-from ..support import (PARAM_NAME, Owners, camel, component_span, enum_of, humanize, literal, parameter_prefixes,
-                       snake, upper)
+from ...model import nodes as m
+from ...model.diagnostics import Diagnostic
+from ...model.walk import resolve_typedefs, type_text
+from ...semantics.compile import Compilation
+from ..support import (
+    PARAM_NAME,
+    Owners,
+    camel,
+    component_span,
+    enum_of,
+    humanize,
+    literal,
+    parameter_prefixes,
+    snake,
+    upper,
+)
 from ..text import comment_lines, compact_number, number, one_line, summary
 from .codes import diag
 from .messages import PX4_PACKAGES, UorbMessage

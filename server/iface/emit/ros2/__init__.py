@@ -10,12 +10,20 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ...compile import Compilation
-from ..base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
+from ...semantics.compile import Compilation
+from ..base import (
+    GeneratedFile,
+    Result,
+    Target,
+    TemplateSet,
+    header_lines,
+    sorted_files,
+)
 from .codes import CODES
-from .lower import RosPackage, lower_checked
 from .filenames import check_rosidl_names
 from .keywords import check_keywords
+from .lower import lower_checked
+from .package import RosPackage
 from .render import FILTERS, check_msg_values
 
 TEMPLATES = Path(__file__).parent / "templates"

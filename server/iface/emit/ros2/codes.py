@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from ...diagnostics import CODES as CORE_CODES
-from ...diagnostics import Severity
+from ...model.diagnostics import CODES as CORE_CODES
+from ...model.diagnostics import Severity
 from ..base import CodeTable
 
 #: Codes this package reports, with their severity and a summary (core codes are reused as they are).

@@ -12,10 +12,10 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from ...diagnostics import Diagnostic
+from ...model.diagnostics import Diagnostic
 from ..base import NAME_MAX
 from .codes import diag
-from .lower import RosPackage
+from .package import RosPackage
 
 #: The longest file name suffix rosidl's default generators append to a type's snake_case name.
 LONGEST_SUFFIX = "__rosidl_typesupport_introspection_cpp.hpp"

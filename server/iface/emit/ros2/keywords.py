@@ -14,10 +14,10 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from ...diagnostics import Diagnostic
+from ...model.diagnostics import Diagnostic
 from ..keywords import c_family_keyword, python_keyword
 from .codes import diag
-from .lower import RosPackage
+from .package import RosPackage
 
 
 def check_keywords(pkg: RosPackage) -> Iterator[Diagnostic]:

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Any
 from collections.abc import Callable, Iterator
+from typing import Any
 from xml.sax.saxutils import escape as xml_escape
 
-from ...diagnostics import Diagnostic
+from ...model.diagnostics import Diagnostic
 from ..text import line_comment, yaml_string
 from .codes import diag
-from .lower import PyValue, RosPackage, RosType, Scalar
+from .package import PyValue, RosPackage, RosType, Scalar
 
 _YAML_SPECIAL_KEY = re.compile(r"^(y|yes|n|no|true|false|on|off|null|~|\.inf|\.nan|[-+]?[0-9].*)$", re.IGNORECASE)
 

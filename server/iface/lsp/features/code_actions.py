@@ -13,10 +13,10 @@ from typing import TYPE_CHECKING, Any
 from lsprotocol import types as lsp
 
 from .. import convert
-from ..state import View
+from ..snapshots import View
 
 if TYPE_CHECKING:
-    from ... import model as m
+    from ...model import nodes as m
     from ..server import IfaceServer
 
 QUICKFIX = lsp.CodeActionKind.QuickFix.value
@@ -84,8 +84,8 @@ class Fixes:
             self._compat_fix(diag, data["fix"])
 
     def _definition_at(self, offset: int) -> m.Definition | None:
-        from ... import model as m
-        from ...query import item_at
+        from ...model import nodes as m
+        from ...semantics.query import item_at
 
         iface = self.view.iface
         item = item_at(iface, offset) if iface is not None else None
@@ -93,7 +93,7 @@ class Fixes:
             else None
 
     def _create(self, offset: int, kind: str, name: str) -> lsp.WorkspaceEdit | None:
-        from ...query import item_at
+        from ...semantics.query import item_at
 
         iface = self.view.iface
         item = item_at(iface, offset) if iface is not None else None
@@ -105,7 +105,7 @@ class Fixes:
         return self.edit(at, at, stub)
 
     def _rename_to(self, diag: lsp.Diagnostic, offset: int, new: str) -> None:
-        from ...query import locate, references
+        from ...semantics.query import locate, references
 
         iface = self.view.iface
         if iface is None:
@@ -126,7 +126,7 @@ class Fixes:
             self.add(title, QUICKFIX, self.edit(hit.span.start, hit.span.end, new), diag, preferred=True)
 
     def _wire(self, diag: lsp.Diagnostic, name: str) -> None:
-        from ...naming import ros_field_name
+        from ...model.naming import ros_field_name
 
         iface = self.view.iface
         if iface is None:
@@ -151,8 +151,8 @@ class Fixes:
         return (open_, close) if 0 <= open_ < close else None
 
     def _explicit(self, diag: lsp.Diagnostic, offset: int) -> None:
-        from ... import model as m
-        from ...normalize import explicit_text
+        from ...model import nodes as m
+        from ...model.normalize import explicit_text
 
         d = self._definition_at(offset)
         if not isinstance(d, (m.Service, m.Action)) or d.form != "flat":
@@ -180,8 +180,8 @@ class Fixes:
                  preferred=True)
 
     def _default(self, diag: lsp.Diagnostic, offset: int) -> None:
-        from ... import model as m
-        from ...query import locate
+        from ...model import nodes as m
+        from ...semantics.query import locate
 
         iface = self.view.iface
         hit = locate(iface, offset) if iface is not None else None
@@ -195,7 +195,7 @@ class Fixes:
                      preferred=True)
 
     def _timestamp(self, offset: int, diag: lsp.Diagnostic | None) -> None:
-        from ... import model as m
+        from ...model import nodes as m
 
         d = self._definition_at(offset)
         if not isinstance(d, m.Struct) or any(f.name == "timestamp" for f in d.fields):
@@ -229,7 +229,7 @@ class Fixes:
     # ---- at the cursor -------------------------------------------------------------------
     def at_cursor(self) -> None:
         """Refactorings offered where the cursor is, without a diagnostic (PX4's timestamp)."""
-        from ... import model as m
+        from ...model import nodes as m
 
         view = self.view
         iface = view.iface
@@ -256,8 +256,8 @@ class Fixes:
 
 def _zero(f: m.Field) -> str | None:
     """A default that fits the field's type (and its range's lower end)."""
-    from ... import model as m
-    from ...walk import resolve_typedefs
+    from ...model import nodes as m
+    from ...model.walk import resolve_typedefs
 
     t = resolve_typedefs(f.type)
     rng = f.range

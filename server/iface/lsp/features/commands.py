@@ -15,14 +15,13 @@ from typing import TYPE_CHECKING, Any
 
 from pygls.exceptions import JsonRpcInternalError, JsonRpcInvalidParams
 
-from ..settings import DEFAULT_OUTPUT
-from ..state import Snapshot
-
 from ..server import IfaceServer  # noqa: E402  (resolved at run time: pygls reads the handlers' annotations)
+from ..settings import DEFAULT_OUTPUT
+from ..snapshots import Snapshot
 
 if TYPE_CHECKING:
-    from ...compile import Compilation
-    from ..state import Project
+    from ...semantics.compile import Compilation
+    from ..project import Project
 
 
 class CommandError(JsonRpcInvalidParams):

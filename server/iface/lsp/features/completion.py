@@ -15,7 +15,7 @@ from ..context import Context, context_at
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..state import Name
+    from ..snapshots import Name
 
 MAX_ITEMS = 100
 

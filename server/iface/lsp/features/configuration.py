@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 from lsprotocol import types as lsp
 
-from ..state import uri_to_path
+from ..documents import uri_to_path
 
 if TYPE_CHECKING:
     from ..server import IfaceServer

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 from lsprotocol import types as lsp
 
-from ..state import uri_to_path
+from ..documents import uri_to_path
 
 if TYPE_CHECKING:
     from ..server import IfaceServer

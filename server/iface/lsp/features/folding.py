@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..state import View
+    from ..snapshots import View
 
 
 def register(server: IfaceServer) -> None:
@@ -20,7 +20,7 @@ def register(server: IfaceServer) -> None:
     @server.feature(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
     async def folding(ls: IfaceServer, params: lsp.FoldingRangeParams) -> list[lsp.FoldingRange] | None:
         def answer(view: View) -> list[lsp.FoldingRange] | None:
-            from ...query import folding_spans
+            from ...semantics.query import folding_spans
 
             if view.iface is None:
                 return None

@@ -10,7 +10,7 @@ from pygls.exceptions import JsonRpcInternalError
 from .. import convert
 
 if TYPE_CHECKING:
-    from ...format import TextEdit
+    from ...text.formatter import TextEdit
     from ..server import IfaceServer
 
 
@@ -24,7 +24,7 @@ class _Formatter(Protocol):
 
 def _formatter() -> _Formatter:
     try:
-        from ... import format as fmt
+        from ...text import formatter as fmt
     except ImportError as e:
         raise JsonRpcInternalError(message="the formatter is not installed (iface.format)") from e
     return fmt

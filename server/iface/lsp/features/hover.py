@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..state import View
+    from ..snapshots import View
 
 
 def register(server: IfaceServer) -> None:
@@ -22,7 +22,7 @@ def register(server: IfaceServer) -> None:
         pos = params.position
 
         def answer(view: View) -> lsp.Hover | None:
-            from ...query import locate
+            from ...semantics.query import locate
             from ..describe import describe
 
             iface = view.iface

@@ -7,15 +7,15 @@ from typing import TYPE_CHECKING, Any
 from lsprotocol import types as lsp
 
 if TYPE_CHECKING:
-    from ...model import Interface
-    from ...source import Span
+    from ...model.nodes import Interface
+    from ...model.source import Span
     from ..server import IfaceServer
-    from ..state import View
+    from ..snapshots import View
 
 
 def locate(view: View, line: int, character: int) -> Any:
     """The hit under an LSP position of the current text, or None."""
-    from ...query import locate as find
+    from ...semantics.query import locate as find
 
     iface = view.iface
     offset = view.offset(line, character)
@@ -31,7 +31,7 @@ def location(view: View, iface: Interface, span: Span) -> lsp.Location | None:
 
 def home_of(view: View, target: object) -> Interface | None:
     """The interface that defines ``target`` (this file, an included one, or one in the workspace)."""
-    from ...query import defining_interface
+    from ...semantics.query import defining_interface
 
     iface = view.iface
     if iface is None:
@@ -59,13 +59,13 @@ def register(server: IfaceServer) -> None:
         pos = params.position
 
         def answer(view: View) -> list[lsp.Location] | None:
-            from ... import model as m
+            from ...model import nodes as m
 
             hit = locate(view, pos.line, pos.character)
             if hit is None:
                 return None
             if hit.kind == "include" and isinstance(hit.node, m.Include) and hit.node.resolved:
-                from ..state import path_to_uri
+                from ..documents import path_to_uri
                 start = lsp.Position(line=0, character=0)
                 return [lsp.Location(uri=path_to_uri(hit.node.resolved), range=lsp.Range(start=start, end=start))]
             target = hit.target
@@ -82,8 +82,8 @@ def register(server: IfaceServer) -> None:
         pos = params.position
 
         def answer(view: View) -> list[lsp.Location] | None:
-            from ... import model as m
-            from ...walk import named_types, resolve_typedefs
+            from ...model import nodes as m
+            from ...model.walk import named_types, resolve_typedefs
 
             hit = locate(view, pos.line, pos.character)
             if hit is None:
@@ -117,7 +117,7 @@ def register(server: IfaceServer) -> None:
             await project.workspace_index.ready.wait()
 
         def answer(view: View) -> list[lsp.Location] | None:
-            from ...query import references as refs
+            from ...semantics.query import references as refs
 
             hit = locate(view, pos.line, pos.character)
             if hit is None or hit.target is None or hit.kind in ("base-type", "topic", "section", "function"):
@@ -136,7 +136,7 @@ def register(server: IfaceServer) -> None:
         pos = params.position
 
         def answer(view: View) -> list[lsp.DocumentHighlight] | None:
-            from ...query import highlights
+            from ...semantics.query import highlights
 
             hit = locate(view, pos.line, pos.character)
             if hit is None or view.iface is None:

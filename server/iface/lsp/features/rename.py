@@ -15,7 +15,7 @@ from .navigation import home_of, locate, workspace_interfaces
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..state import View
+    from ..snapshots import View
 
 
 class RenameRefused(JsonRpcInvalidRequest):
@@ -31,8 +31,8 @@ def register(server: IfaceServer) -> None:
         pos = params.position
 
         def answer(view: View) -> lsp.PrepareRenamePlaceholder | None:
-            from ...query import local_name_span, renameable
-            from ... import model as m
+            from ...model import nodes as m
+            from ...semantics.query import local_name_span, renameable
 
             hit = locate(view, pos.line, pos.character)
             if hit is None or not renameable(hit):
@@ -56,7 +56,7 @@ def register(server: IfaceServer) -> None:
             await project.workspace_index.ready.wait()
 
         def answer(view: View) -> lsp.WorkspaceEdit | None:
-            from ...query import references, rename_problem, renameable
+            from ...semantics.query import references, rename_problem, renameable
             from .. import convert
 
             hit = locate(view, pos.line, pos.character)

@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..state import View
+    from ..snapshots import View
 
 
 def register(server: IfaceServer) -> None:
@@ -20,7 +20,7 @@ def register(server: IfaceServer) -> None:
     @server.feature(lsp.TEXT_DOCUMENT_SELECTION_RANGE)
     async def selection(ls: IfaceServer, params: lsp.SelectionRangeParams) -> list[lsp.SelectionRange] | None:
         def answer(view: View) -> list[lsp.SelectionRange] | None:
-            from ...query import selection_chain
+            from ...semantics.query import selection_chain
 
             if view.iface is None:
                 return None

@@ -15,9 +15,9 @@ from lsprotocol import types as lsp
 from .. import convert
 
 if TYPE_CHECKING:
-    from ...model import Interface
+    from ...model.nodes import Interface
     from ..server import IfaceServer
-    from ..state import View
+    from ..snapshots import View
 
 TOKEN_TYPES = ["namespace", "type", "struct", "enum", "interface", "enumMember", "property", "variable",
                "keyword", "comment", "string", "number", "decorator", "function"]
@@ -39,17 +39,17 @@ KIND_TOKEN = {"struct": "struct", "message": "struct", "union": "struct", "excep
 
 
 def _keywords() -> tuple[frozenset[str], frozenset[str]]:
-    from ...model import BASE_ALIASES
-    from ...query import RESERVED
+    from ...model.nodes import BASE_ALIASES
+    from ...semantics.query import RESERVED
 
     return RESERVED - frozenset(BASE_ALIASES), frozenset(BASE_ALIASES)
 
 
 def tokens(iface: Interface, text: str) -> dict[int, tuple[int, int, int]]:
     """start → (end, token type, modifiers) for the whole text."""
-    from ... import model as m
-    from ...query import local_name_span, named_references, value_references
-    from ...walk import bodies
+    from ...model import nodes as m
+    from ...model.walk import bodies
+    from ...semantics.query import local_name_span, named_references, value_references
 
     keywords, base = _keywords()
     out: dict[int, tuple[int, int, int]] = {}

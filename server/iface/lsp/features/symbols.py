@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..state import View
+    from ..snapshots import View
 
 MAX_WORKSPACE_SYMBOLS = 500
 
@@ -26,7 +26,7 @@ def register(server: IfaceServer) -> None:
         hierarchical = bool(caps and caps.document_symbol and caps.document_symbol.hierarchical_document_symbol_support)
 
         def answer(view: View) -> list[lsp.DocumentSymbol] | list[lsp.SymbolInformation] | None:
-            from ...query import outline
+            from ...semantics.query import outline
 
             if view.iface is None:
                 return None
@@ -44,8 +44,8 @@ def register(server: IfaceServer) -> None:
         query = params.query.lower()
 
         def answer() -> list[lsp.WorkspaceSymbol]:
+            from ..documents import path_to_uri
             from ..index import WorkspaceIndex
-            from ..state import path_to_uri
 
             index = project.workspace_index
             interfaces = index.all_interfaces() if isinstance(index, WorkspaceIndex) else project.open_interfaces()

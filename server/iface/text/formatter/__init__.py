@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from .fmt.document import Formatted, format_document
+from .document import Formatted, format_document
 
 __all__ = ["TextEdit", "format_text", "format_range", "format_document", "Formatted"]
 

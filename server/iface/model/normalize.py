@@ -10,7 +10,7 @@ say it directly, and are what tools write.
 
 from __future__ import annotations
 
-from . import model as m
+from . import nodes as m
 from .source import Span
 
 SERVICE_PARTS = ("request", "response")

@@ -16,11 +16,11 @@ from typing import Any, cast
 from lark import Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
-from . import model as m
+from ..model import nodes as m
+from ..model.source import Span
 from .chunks import Chunk, split
 from .grammar import build_parser, terminal_descriptions
 from .lexer import FastScanner, ScanError, parse_fast
-from .source import Span
 from .transform import ModelBuilder
 
 _CLOSERS = ("RBRACE", "RPAR", "RSQB", "MORETHAN")

@@ -16,7 +16,7 @@ def grammar_text() -> str:
     packaged = resources.files("iface").joinpath("grammar.lark")
     if packaged.is_file():
         return packaged.read_text(encoding="utf-8")
-    root = Path(__file__).resolve().parents[2] / "grammar.lark"
+    root = Path(__file__).resolve().parents[3] / "grammar.lark"
     return root.read_text(encoding="utf-8")
 
 

@@ -5,8 +5,15 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 
-from ..commands.common import UsageError, check_suffix, compile_files, gather, has_errors, print_diagnostics
-from ..compile import Compilation
+from ..semantics.compile import Compilation
+from .common import (
+    UsageError,
+    check_suffix,
+    compile_files,
+    gather,
+    has_errors,
+    print_diagnostics,
+)
 
 
 def load_checked(paths: Sequence[str], include_paths: Sequence[str] = (), command: str = "compat") -> list[Compilation]:

@@ -18,7 +18,7 @@ from functools import lru_cache
 from lark import Lark, Token, Tree
 from lark.exceptions import LarkError
 
-from ..grammar import grammar_text
+from ...syntax.grammar import grammar_text
 
 #: Token types of the separators ``,`` and ``;`` (the grammar's filtered ``_SEP`` terminal).
 SEPARATOR_TYPES = frozenset({"_SEP"})

@@ -8,20 +8,26 @@ rebuilds the items (the sets are derived again when the text is compiled), and
 ``canonical`` is the comparable form: two models are equal when their
 canonical forms are.
 
-The schema of the form is ``schema/iface.schema.json`` (draft 2020-12).
+The schema of the form is ``forms/iface.schema.json`` (draft 2020-12).
 """
 
 from __future__ import annotations
 
+from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-from . import model as m
-from .normalize import normalize_action, normalize_service
-from .source import Source, Span
+from ..model import nodes as m
+from ..model.normalize import normalize_action, normalize_service
+from ..model.source import Source, Span
 
 #: The version of the JSON form; bumped when its meaning changes.
 FORMAT = "iface-json/1"
+
+
+def schema_text() -> str:
+    """The JSON Schema of the form, as shipped with the package."""
+    return files(__package__ or "iface.forms").joinpath("iface.schema.json").read_text(encoding="utf-8")
 
 
 class FormError(ValueError):
@@ -425,13 +431,13 @@ def items_from_json(doc: Any) -> list[m.Item]:
 
 def from_json(doc: Any) -> str:
     """The ``.iface`` text of a JSON form; a malformed document raises FormError."""
-    from .printer import print_items
+    from ..text.printer import print_items
 
     return print_items(items_from_json(doc))
 
 
 def interface_from_json(doc: Any, path: str = "<json>") -> m.Interface:
     """An uncompiled Interface holding the items of a JSON form (compile its text to resolve it)."""
-    from .compile import build_interface
+    from ..semantics.compile import build_interface
 
     return build_interface(Source(path, ""), items_from_json(doc))

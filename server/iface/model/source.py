@@ -10,7 +10,7 @@ class Span:
     """A half-open range of character offsets [start, end) in one source text.
 
     Spans are mutable so that a cached chunk can be moved when the text before
-    it changes length (see ``chunks.ChunkCache``).
+    it changes length (see ``syntax.chunks.ChunkCache``).
     """
 
     __slots__ = ("start", "end")

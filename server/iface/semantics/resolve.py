@@ -5,9 +5,9 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterator
 
-from . import model as m
-from .diagnostics import Diagnostic, Related, make
-from .walk import named_types, type_roots
+from ..model import nodes as m
+from ..model.diagnostics import Diagnostic, Related, make
+from ..model.walk import named_types, type_roots
 
 BUILTIN_NAMES = tuple(sorted(m.BASE_ALIASES))
 

@@ -6,8 +6,8 @@ import dataclasses
 import os
 from typing import Any
 
-from . import model as m
-from .source import Source, Span
+from ..model import nodes as m
+from ..model.source import Source, Span
 
 _SKIP = {"target", "name_span", "id_span", "path_span", "topic_span"}
 

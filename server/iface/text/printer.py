@@ -1,6 +1,6 @@
 """Model → ``.iface`` text: what importers write and what a JSON form reads back into.
 
-The text parses back to an equal model (see ``jsonform.canonical``): docs become
+The text parses back to an equal model (see ``forms.jsonform.canonical``): docs become
 ``/** */`` comments (a ``*/`` inside one is written ``*\\/``), strings are
 escaped, numbers keep their spelling, bodies keep their form (flat, explicit or
 functions) and members are written in source order.
@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable
 
-from . import model as m
+from ..model import nodes as m
 
 INDENT = "    "
 
@@ -63,7 +63,7 @@ def quote(text: str) -> str:
 
 
 def _literal_ok(text: str, value: str) -> bool:
-    from .transform import decode_literal
+    from ..syntax.transform import decode_literal
 
     if len(text) < 2 or text[0] not in "\"'" or text[-1] != text[0] or "\n" in text:
         return False

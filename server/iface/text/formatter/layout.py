@@ -13,8 +13,22 @@ from collections.abc import Callable, Sequence
 
 from lark import Token, Tree
 
-from .doc import (BLANK, BLANK_IF_BREAK, HARDLINE, LINE, MARK, SOFTLINE, SPACE, Doc, Group,
-                  LeadComment, Nest, Text, TrailComment, split_trailing)
+from .doc import (
+    BLANK,
+    BLANK_IF_BREAK,
+    HARDLINE,
+    LINE,
+    MARK,
+    SOFTLINE,
+    SPACE,
+    Doc,
+    Group,
+    LeadComment,
+    Nest,
+    Text,
+    TrailComment,
+    split_trailing,
+)
 from .lex import Attached, FormatterBug, end_of, is_separator, kept_tokens, start_of
 
 Child = Tree | Token

@@ -8,13 +8,13 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import model as m
-from .diagnostics import Diagnostic, Related, Severity, make
-from .normalize import normalize_action, normalize_service
-from .parse import ChunkCache, ParseResult, parse_text
+from ..model import nodes as m
+from ..model.diagnostics import Diagnostic, Related, Severity, make
+from ..model.normalize import normalize_action, normalize_service
+from ..model.source import Source, Span
+from ..syntax.parse import ChunkCache, ParseResult, parse_text
 from .resolve import build_symbols, resolve_references
 from .sets import derive
-from .source import Source, Span
 from .validate import Memo, validate
 
 #: Files larger than this are refused with a message (interface files are small).

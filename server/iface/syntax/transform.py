@@ -12,8 +12,8 @@ from typing import Any
 
 from lark import Token
 
-from . import model as m
-from .source import Span
+from ..model import nodes as m
+from ..model.source import Span
 
 #: Containers nested deeper than this are refused (and not modelled).
 MAX_TYPE_DEPTH = 64

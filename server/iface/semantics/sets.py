@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from . import model as m
-from .diagnostics import Diagnostic, Related, make
-from .walk import resolve_typedefs
+from ..model import nodes as m
+from ..model.diagnostics import Diagnostic, Related, make
+from ..model.walk import resolve_typedefs
 
 
 def derive(iface: m.Interface) -> Iterator[Diagnostic]:

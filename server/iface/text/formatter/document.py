@@ -17,10 +17,19 @@ from typing import Literal
 
 from lark import Token, Tree
 
-from ..parse import parse_text
+from ...syntax.parse import parse_text
 from .doc import LeadComment, render
 from .layout import Layout
-from .lex import Attached, Comment, FormatterBug, attach_comments, end_of, kept_tokens, parse_strict, start_of
+from .lex import (
+    Attached,
+    Comment,
+    FormatterBug,
+    attach_comments,
+    end_of,
+    kept_tokens,
+    parse_strict,
+    start_of,
+)
 
 #: Items that always stand apart from their neighbours by a blank line.
 BLOCK_KINDS = frozenset({"enum", "senum", "struct", "service", "action"})

@@ -11,14 +11,21 @@ import dataclasses
 import re
 from collections.abc import Callable, Iterator
 
-from . import model as m
-from .diagnostics import Diagnostic, Related, Severity, make
-from .source import Source
-from .naming import ros_constant_name, ros_field_name, ros_type_name, is_ros_constant, is_ros_field, is_ros_type
-from .qos import problem as qos_problem
-from .normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
+from ..model import nodes as m
+from ..model.diagnostics import Diagnostic, Related, Severity, make
+from ..model.naming import (
+    is_ros_constant,
+    is_ros_field,
+    is_ros_type,
+    ros_constant_name,
+    ros_field_name,
+    ros_type_name,
+)
+from ..model.normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
+from ..model.qos import problem as qos_problem
+from ..model.source import Source
+from ..model.walk import all_consts, bodies, resolve_typedefs, type_text
 from .resolve import constant_value
-from .walk import all_consts, bodies, resolve_typedefs, type_text
 
 Rule = Callable[[m.Interface], Iterator[Diagnostic]]
 LocalRule = Callable[[Source, m.Definition], Iterator[Diagnostic]]

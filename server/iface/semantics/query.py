@@ -12,10 +12,10 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import Literal
 
-from . import model as m
+from ..model import nodes as m
+from ..model.source import Span
+from ..model.walk import bodies, type_roots
 from .resolve import constant_value
-from .source import Span
-from .walk import bodies, type_roots
 
 HitKind = Literal["definition", "field", "const", "enum-value", "section", "function", "type", "base-type",
                   "value", "topic", "include", "component", "annotation", "namespace"]
@@ -419,7 +419,7 @@ def _member_symbols(d: m.Definition) -> list[Symbol]:
 
 
 def _type(t: m.TypeRef) -> str:
-    from .walk import type_text
+    from ..model.walk import type_text
     return type_text(t)
 
 

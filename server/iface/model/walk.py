@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from . import model as m
+from . import nodes as m
 
 
 def bodies(defn: m.Definition) -> Iterator[tuple[str, list[m.Field], list[m.Const]]]:

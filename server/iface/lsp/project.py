@@ -1,4 +1,4 @@
-"""Open documents, their compilations, and the one thread that touches the model.
+"""The project: open documents, the model thread, the compile scheduler and diagnostics publishing.
 
 Threads: the asyncio loop owns the documents (text, version, edit log); the
 model thread (a one-worker executor) owns the core ``Workspace`` and every
@@ -14,267 +14,22 @@ from __future__ import annotations
 import asyncio
 import logging
 import os
-import threading
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, TypeVar
-from urllib.parse import quote, unquote, urlparse
 
 from .convert import UTF16, LineIndex
+from .documents import DocState, Document, path_to_uri, uri_to_path
 from .settings import Settings
+from .snapshots import Name, Snapshot, View, names_of
 
 if TYPE_CHECKING:
-    from ..compile import Compilation, Workspace
-    from ..model import Interface
-    from ..source import Source, Span
+    from ..model.nodes import Interface
+    from ..model.source import Source, Span
+    from ..semantics.compile import Compilation, Workspace
 
 log = logging.getLogger("iface.lsp")
 T = TypeVar("T")
-
-# ---------------------------------------------------------------------------
-# URIs
-
-
-_VIRTUAL: dict[str, str] = {}
-
-
-def uri_to_path(uri: str) -> str:
-    """The file system path of a ``file:`` URI; other schemes get a stable virtual ``.iface`` path."""
-    parsed = urlparse(uri)
-    if parsed.scheme == "file":
-        path = unquote(parsed.path)
-        if os.name == "nt" and path.startswith("/") and len(path) > 2 and path[2] == ":":
-            path = path[1:]
-        return os.path.abspath(path)
-    path = os.path.join(os.sep, "__iface_virtual__", quote(uri, safe="") + ".iface")
-    _VIRTUAL[path] = uri
-    return path
-
-
-def path_to_uri(path: str) -> str:
-    """The ``file:`` URI of a path (or the URI a virtual path stands for)."""
-    virtual = _VIRTUAL.get(path)
-    if virtual is not None:
-        return virtual
-    return "file://" + quote(os.path.abspath(path).replace(os.sep, "/"), safe="/:")
-
-
-# ---------------------------------------------------------------------------
-# edits and offset mapping
-
-Edit = tuple[int, int, int]  # (start, end) replaced in the older text, and the length of the new text
-
-
-def map_back(edits: list[Edit], offset: int) -> int | None:
-    """An offset in the newest text → the same place in the text before ``edits``; None if it is new text."""
-    for start, end, length in reversed(edits):
-        if offset < start:
-            continue
-        if offset >= start + length:
-            offset += (end - start) - length
-        elif offset == start:
-            continue
-        else:
-            return None
-    return offset
-
-
-def map_forward(edits: list[Edit], offset: int) -> int | None:
-    """An offset in the text before ``edits`` → the same place now; None if that text was replaced."""
-    for start, end, length in edits:
-        if offset < start or (offset == start and end > start):
-            continue
-        if offset >= end:
-            offset += length - (end - start)
-        else:
-            return None
-    return offset
-
-
-class EditLog:
-    """The edits applied to a document, numbered from its opening."""
-
-    def __init__(self) -> None:
-        self._base = 0
-        self._edits: list[Edit] = []
-        self._lock = threading.Lock()
-
-    @property
-    def seq(self) -> int:
-        """The number of edits made so far."""
-        return self._base + len(self._edits)
-
-    def append(self, edit: Edit) -> None:
-        """Record an edit."""
-        with self._lock:
-            self._edits.append(edit)
-
-    def between(self, first: int, last: int) -> list[Edit]:
-        """The edits numbered [first, last)."""
-        with self._lock:
-            lo = max(first - self._base, 0)
-            return self._edits[lo:max(last - self._base, lo)]
-
-    def forget_before(self, seq: int) -> None:
-        """Drop edits older than ``seq`` (no snapshot needs them any more)."""
-        with self._lock:
-            k = seq - self._base
-            if k > 0:
-                del self._edits[:k]
-                self._base = seq
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class DocState:
-    """One version of a document's text; replaced as a whole on each change."""
-
-    text: str
-    version: int
-    seq: int
-    encoding: str
-    _index: list[LineIndex] = field(default_factory=list)
-
-    @property
-    def index(self) -> LineIndex:
-        """The line index of this text (built once, on first use)."""
-        if not self._index:
-            self._index.append(LineIndex(self.text, self.encoding))
-        return self._index[0]
-
-
-class Document:
-    """An open editor buffer (owned by the event loop)."""
-
-    def __init__(self, uri: str, text: str, version: int, encoding: str) -> None:
-        self.uri = uri
-        self.path = uri_to_path(uri)
-        self.log = EditLog()
-        self.state = DocState(text, version, 0, encoding)
-
-    def apply(self, changes: list[Any], version: int) -> None:
-        """Apply LSP content changes (ranged or whole-text) in order."""
-        st = self.state
-        text, index = st.text, st.index
-        for change in changes:
-            rng = getattr(change, "range", None)
-            if rng is None:
-                self.log.append((0, len(text), len(change.text)))
-                text = change.text
-            else:
-                start = index.offset(rng.start.line, rng.start.character)
-                end = max(start, index.offset(rng.end.line, rng.end.character))
-                self.log.append((start, end, len(change.text)))
-                text = text[:start] + change.text + text[end:]
-            index = LineIndex(text, st.encoding) if len(changes) > 1 else index
-        self.state = DocState(text, version, self.log.seq, st.encoding)
-
-
-# ---------------------------------------------------------------------------
-# snapshots and views
-
-
-@dataclass(frozen=True, slots=True)
-class Name:
-    """A definition as completion sees it (immutable, safe to read from any thread)."""
-
-    name: str
-    kind: str
-    detail: str
-    doc: str
-    members: tuple[str, ...] = ()
-
-
-@dataclass(eq=False)
-class Snapshot:
-    """One compiled version of a document (read on the model thread only, except ``names``)."""
-
-    uri: str
-    path: str
-    version: int
-    seq: int
-    text: str
-    index: LineIndex
-    comp: Compilation | None
-    names: tuple[Name, ...] = ()
-    topics: tuple[tuple[str, str], ...] = ()
-    deps: frozenset[str] = frozenset()
-
-    @property
-    def iface(self) -> Interface | None:
-        """The compiled interface."""
-        return self.comp.interface if self.comp is not None else None
-
-
-@dataclass(eq=False)
-class View:
-    """A snapshot seen from the current text of its document."""
-
-    project: Project
-    snap: Snapshot
-    state: DocState
-    edits: list[Edit]
-
-    @property
-    def uri(self) -> str:
-        return self.snap.uri
-
-    @property
-    def comp(self) -> Compilation | None:
-        return self.snap.comp
-
-    @property
-    def iface(self) -> Interface | None:
-        return self.snap.iface
-
-    @property
-    def text(self) -> str:
-        """The current text."""
-        return self.state.text
-
-    @property
-    def index(self) -> LineIndex:
-        """The line index of the current text."""
-        return self.state.index
-
-    @property
-    def current(self) -> bool:
-        """True when the snapshot is of the current text."""
-        return not self.edits
-
-    def offset(self, line: int, character: int) -> int | None:
-        """A current LSP position → an offset in the snapshot (None inside newly typed text)."""
-        off = self.state.index.offset(line, character)
-        return map_back(self.edits, off) if self.edits else off
-
-    def place(self, start: int, end: int) -> tuple[int, int] | None:
-        """A snapshot range → the current offsets (None if that text was replaced)."""
-        if not self.edits:
-            return start, end
-        a = map_forward(self.edits, start)
-        b = map_forward(self.edits, end)
-        if a is None or b is None or b < a:
-            return None
-        return a, b
-
-    def range(self, span: Span) -> Any:
-        """The current LSP range of a snapshot span, or None."""
-        from . import convert
-        placed = self.place(span.start, span.end)
-        return convert.range_(self.index, *placed) if placed is not None else None
-
-    def location(self, source: Source, span: Span) -> Any:
-        """An LSP location of a span in this document or in another file."""
-        from . import convert
-        if source.path == self.snap.path:
-            rng = self.range(span)
-            return convert.lsp.Location(uri=self.uri, range=rng) if rng is not None else None
-        return self.project.location(source, span)
-
-
-# ---------------------------------------------------------------------------
-# the project
-
 
 class Project:
     """Documents, settings, the model thread and the compile scheduler."""
@@ -306,7 +61,7 @@ class Project:
     def workspace(self) -> Workspace:
         """The core workspace (model thread only), created with the configured include paths."""
         if self._ws is None:
-            from ..compile import Workspace
+            from ..semantics.compile import Workspace
             self._ws = Workspace(self._include_paths())
         return self._ws
 
@@ -355,7 +110,7 @@ class Project:
             snap = Snapshot(uri, path, state.version, state.seq, state.text, index, None)
             self._install(doc, snap)
             return snap, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
-        names, topics = _names(comp, self._name_cache)
+        names, topics = names_of(comp, self._name_cache)
         deps = frozenset(c.path for c in comp.closure()[1:])
         snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
         self._install(doc, snap)
@@ -409,7 +164,7 @@ class Project:
         comp = self.workspace().compile_path(path)
         text = comp.source.text
         return Snapshot(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp,
-                        *_names(comp, self._name_cache))
+                        *names_of(comp, self._name_cache))
 
     # ---- documents (event loop) ----------------------------------------------------
     def open(self, uri: str, text: str, version: int) -> None:
@@ -582,41 +337,3 @@ class Project:
             for c in snap.comp.closure():
                 out.setdefault(c.path, c.interface)
         return list(out.values())
-
-
-def _names(comp: Compilation, cache: dict[int, tuple[object, Name]]
-           ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
-    """Names of a compilation for completion: local definitions, then included ones with their prefix.
-
-    ``cache`` keeps the entry of each definition object: chunks that did not
-    change keep their definition objects, so an edit rebuilds only its own.
-    """
-    from .. import model as m
-    from ..walk import all_fields
-
-    fresh: dict[int, tuple[object, Name]] = {}
-
-    def entry(prefix: str, d: m.Definition) -> Name:
-        key = id(d)
-        hit = cache.get(key)
-        if hit is not None and hit[0] is d and hit[1].name == prefix + d.name:
-            fresh[key] = hit
-            return hit[1]
-        if isinstance(d, m.Enum):
-            members = tuple(v.name for v in d.values)
-        elif isinstance(d, m.Const):
-            members = ()
-        else:
-            members = tuple(f.name for f in all_fields(d)) + tuple(c.name for c in getattr(d, "consts", ()))
-        name = Name(prefix + d.name, d.kind, d.kind, d.doc or "", members)
-        fresh[key] = (d, name)
-        return name
-
-    iface = comp.interface
-    names = [entry("", d) for d in iface.definitions]
-    for prefix, inc in sorted(iface.included.items()):
-        names.extend(entry(prefix + ".", d) for d in inc.definitions)
-    cache.clear()
-    cache.update(fresh)
-    topics = tuple((w.topic, w.type.name) for w in iface.wirings)
-    return tuple(names), topics

@@ -1,0 +1,155 @@
+"""Compiled versions of a document and how a request sees them from the current text.
+
+A ``Snapshot`` is one compiled version (read on the model thread only, but for
+``names``); a ``View`` is a snapshot seen from its document's current text,
+mapping positions through the edits made since.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from .convert import LineIndex
+from .documents import DocState, Edit, map_back, map_forward
+
+if TYPE_CHECKING:
+    from ..model.nodes import Interface
+    from ..model.source import Source, Span
+    from ..semantics.compile import Compilation
+    from .project import Project
+
+@dataclass(frozen=True, slots=True)
+class Name:
+    """A definition as completion sees it (immutable, safe to read from any thread)."""
+
+    name: str
+    kind: str
+    detail: str
+    doc: str
+    members: tuple[str, ...] = ()
+
+
+@dataclass(eq=False)
+class Snapshot:
+    """One compiled version of a document (read on the model thread only, except ``names``)."""
+
+    uri: str
+    path: str
+    version: int
+    seq: int
+    text: str
+    index: LineIndex
+    comp: Compilation | None
+    names: tuple[Name, ...] = ()
+    topics: tuple[tuple[str, str], ...] = ()
+    deps: frozenset[str] = frozenset()
+
+    @property
+    def iface(self) -> Interface | None:
+        """The compiled interface."""
+        return self.comp.interface if self.comp is not None else None
+
+
+@dataclass(eq=False)
+class View:
+    """A snapshot seen from the current text of its document."""
+
+    project: Project
+    snap: Snapshot
+    state: DocState
+    edits: list[Edit]
+
+    @property
+    def uri(self) -> str:
+        return self.snap.uri
+
+    @property
+    def comp(self) -> Compilation | None:
+        return self.snap.comp
+
+    @property
+    def iface(self) -> Interface | None:
+        return self.snap.iface
+
+    @property
+    def text(self) -> str:
+        """The current text."""
+        return self.state.text
+
+    @property
+    def index(self) -> LineIndex:
+        """The line index of the current text."""
+        return self.state.index
+
+    @property
+    def current(self) -> bool:
+        """True when the snapshot is of the current text."""
+        return not self.edits
+
+    def offset(self, line: int, character: int) -> int | None:
+        """A current LSP position → an offset in the snapshot (None inside newly typed text)."""
+        off = self.state.index.offset(line, character)
+        return map_back(self.edits, off) if self.edits else off
+
+    def place(self, start: int, end: int) -> tuple[int, int] | None:
+        """A snapshot range → the current offsets (None if that text was replaced)."""
+        if not self.edits:
+            return start, end
+        a = map_forward(self.edits, start)
+        b = map_forward(self.edits, end)
+        if a is None or b is None or b < a:
+            return None
+        return a, b
+
+    def range(self, span: Span) -> Any:
+        """The current LSP range of a snapshot span, or None."""
+        from . import convert
+        placed = self.place(span.start, span.end)
+        return convert.range_(self.index, *placed) if placed is not None else None
+
+    def location(self, source: Source, span: Span) -> Any:
+        """An LSP location of a span in this document or in another file."""
+        from . import convert
+        if source.path == self.snap.path:
+            rng = self.range(span)
+            return convert.lsp.Location(uri=self.uri, range=rng) if rng is not None else None
+        return self.project.location(source, span)
+
+
+def names_of(comp: Compilation, cache: dict[int, tuple[object, Name]]
+           ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
+    """Names of a compilation for completion: local definitions, then included ones with their prefix.
+
+    ``cache`` keeps the entry of each definition object: chunks that did not
+    change keep their definition objects, so an edit rebuilds only its own.
+    """
+    from ..model import nodes as m
+    from ..model.walk import all_fields
+
+    fresh: dict[int, tuple[object, Name]] = {}
+
+    def entry(prefix: str, d: m.Definition) -> Name:
+        key = id(d)
+        hit = cache.get(key)
+        if hit is not None and hit[0] is d and hit[1].name == prefix + d.name:
+            fresh[key] = hit
+            return hit[1]
+        if isinstance(d, m.Enum):
+            members = tuple(v.name for v in d.values)
+        elif isinstance(d, m.Const):
+            members = ()
+        else:
+            members = tuple(f.name for f in all_fields(d)) + tuple(c.name for c in getattr(d, "consts", ()))
+        name = Name(prefix + d.name, d.kind, d.kind, d.doc or "", members)
+        fresh[key] = (d, name)
+        return name
+
+    iface = comp.interface
+    names = [entry("", d) for d in iface.definitions]
+    for prefix, inc in sorted(iface.included.items()):
+        names.extend(entry(prefix + ".", d) for d in inc.definitions)
+    cache.clear()
+    cache.update(fresh)
+    topics = tuple((w.topic, w.type.name) for w in iface.wirings)
+    return tuple(names), topics
