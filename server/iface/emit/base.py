@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 from collections.abc import Callable, Iterable, Mapping
@@ -109,6 +110,26 @@ def content_hash(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 
+@functools.lru_cache(maxsize=64)
+def _environment(paths: tuple[str, ...], filters: tuple[tuple[str, Callable[..., Any]], ...]) -> jinja2.Environment:
+    """One environment per template search path and filter set, kept: templates are compiled once.
+
+    jinja2 checks each cached template against its file's modification time, so an edited
+    template (in a ``--templates`` folder) is read again.
+    """
+    shared = Path(__file__).parent / "templates"
+    env = jinja2.Environment(
+        loader=jinja2.ChoiceLoader([jinja2.FileSystemLoader(list(paths)), jinja2.FileSystemLoader(str(shared))]),
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        autoescape=False,
+    )
+    env.filters.update(dict(filters))
+    return env
+
+
 class TemplateSet:
     """A jinja2 environment over one template folder: strict, reproducible, no autoescape."""
 
@@ -116,17 +137,7 @@ class TemplateSet:
                  override: str | None = None) -> None:
         env_override = os.environ.get(f"IFACE_TEMPLATES_{target.upper()}")
         paths = [p for p in (override, env_override) if p] + [str(folder)]
-        shared = Path(__file__).parent / "templates"
-        self.env = jinja2.Environment(
-            loader=jinja2.ChoiceLoader([jinja2.FileSystemLoader(paths), jinja2.FileSystemLoader(str(shared))]),
-            undefined=jinja2.StrictUndefined,
-            keep_trailing_newline=True,
-            trim_blocks=True,
-            lstrip_blocks=True,
-            autoescape=False,
-        )
-        if filters:
-            self.env.filters.update(filters)
+        self.env = _environment(tuple(paths), tuple(sorted((filters or {}).items(), key=lambda kv: kv[0])))
 
     def render(self, name: str, **context: Any) -> str:
         """Render one template; missing values raise instead of rendering empty."""
