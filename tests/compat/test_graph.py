@@ -34,7 +34,7 @@ def test_checks() -> None:
     g = _graph(SYSTEM)
     codes = sorted({(d.code, d.severity.label) for d in g.checks})
     assert codes == [("graph-qos-mismatch", "error"), ("graph-topic-type-conflict", "error"),
-                     ("graph-unprovided-service", "error"), ("graph-unpublished-topic", "warning")]
+                     ("graph-unprovided-service", "warning"), ("graph-unpublished-topic", "warning")]
     qos = next(d for d in g.checks if d.code == "graph-qos-mismatch")
     assert "durability: offered volatile, requested transient_local" in qos.message
     assert "reliability: offered best_effort, requested reliable" in qos.message
@@ -55,8 +55,8 @@ def test_dot_is_valid() -> None:
 def test_mermaid() -> None:
     text = render_mermaid(_graph(ARM))
     assert text.splitlines()[0] == "flowchart LR"
-    assert '  arm -->|"/arm/pose: Pose"| planner' in text
-    assert '  planner -.->|"/arm/plan: Plan (service)"| arm' in text
+    assert '  arm -->|"/arm/pose: arm_msgs/Pose"| planner' in text
+    assert '  planner -.->|"/arm/plan: arm_msgs/Plan (service)"| arm' in text
 
 
 @pytest.mark.parametrize("fmt", ["dot", "mermaid", "json"])

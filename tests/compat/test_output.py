@@ -70,5 +70,5 @@ def test_contract_cli() -> None:
     done = run_cli("contract", "verdicts/planner.iface")
     assert done.returncode == 0
     assert done.stdout == ("contract of planner 1.0: C = (A, G)\nA (assumptions):\n"
-                           '  subscribes Pose on "/arm/pose" (reliability=reliable)\n'
-                           '  calls Plan on "/arm/plan"\nG (guarantees):\n  publishes Cmd on "/arm/cmd"\n')
+                           '  subscribes arm_msgs/Pose on "/arm/pose" (reliability=reliable)\n'
+                           '  calls arm_msgs/Plan on "/arm/plan"\nG (guarantees):\n  publishes arm_msgs/Cmd on "/arm/cmd"\n')

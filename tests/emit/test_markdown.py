@@ -111,7 +111,7 @@ def test_listing1_sets_and_parts() -> None:
     text = render(DATA / "listing1.iface")
     assert "| `service1` | `service1` | provides | str: string, i: i32 | result: string |" in text
     assert "| `action2` | `action2` | provides | par1: double, par2: float | result: i16 | f: string |" in text
-    assert "| `diagnostics` | result, r | cmd |" in text
+    assert "| `diagnostics` | `diagnostics` | cmd: string | result: string, r: i32 |" in text
     assert "State (Σ) is both: `position`, `velocity`, `acceleration`, `mode`." in text
     assert "| S | services | 2 |" in text and "| Δ | diagnostics | 1 |" in text
 

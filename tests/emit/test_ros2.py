@@ -94,7 +94,7 @@ def test_listing1_maps_every_set() -> None:
     assert [f[0] for f in fields(specs["msg/Listing1State"][0])] == ["position", "velocity", "acceleration", "mode"]
     params = load_yaml(files["listing1/config/listing1.params.yaml"])
     assert params == {"listing1": {"ros__parameters": {}}}
-    assert "# param1: no default" in files["listing1/config/listing1.params.yaml"]
+    assert "# param1 (string): no default, so not set here" in files["listing1/config/listing1.params.yaml"]
 
 
 def _without_docs(case: str) -> dict[str, str]:
@@ -317,7 +317,8 @@ def test_the_docs_example_generates_without_warnings(tmp_path: Path) -> None:
     src = (ROOT / "docs" / "language.md").read_text()
     block = src[src.index("\nservice diagnostics {") + 1:]
     block = block[:block.index("\n}\n") + 3]
-    comp = compile_text("component robot\n" + block, "robot.iface", tmp_path)
+    comp = compile_text('component robot (license = "MIT", maintainer = "R. Obot", maintainer_email = "r@example.com")\n'
+                        + block, "robot.iface", tmp_path)
     assert not comp.has_errors, [d.format() for d in comp.diagnostics]
     result = run("ros2", comp)
     assert not result.has_errors and [f.path for f in result.files if "/srv/" in f.path] == [

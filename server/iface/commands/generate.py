@@ -26,9 +26,6 @@ from .common import (
     print_diagnostics,
 )
 
-#: More files than this get a progress line each.
-PROGRESS_FROM = 2
-
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Declare the command's arguments."""
@@ -99,7 +96,7 @@ def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedF
     return files, found, 1 if conflicts else 0
 
 
-def _report(report: WriteReport, args: argparse.Namespace, total: int) -> int:
+def _report(report: WriteReport, args: argparse.Namespace) -> int:
     """Print what happened; the exit code."""
     out = args.out
     if report.errors:
@@ -115,12 +112,16 @@ def _report(report: WriteReport, args: argparse.Namespace, total: int) -> int:
     if args.dry_run:
         for p in report.written:
             print(f"would write: {os.path.join(out, p)}")
-    elif not args.quiet and total >= PROGRESS_FROM:
+    elif not args.quiet:
         for p in report.written:
             print(f"wrote {os.path.join(out, p)}", file=sys.stderr)
     for p in report.refused:
-        print(f"iface-lsp generate: {os.path.join(out, p)} was edited by hand since it was generated; "
-              "not overwritten (--force overwrites it)", file=sys.stderr)
+        if p in report.foreign:
+            print(f"iface-lsp generate: {os.path.join(out, p)} exists and was not written by iface (it has no "
+                  "iface-hash stamp); not overwritten (--force overwrites it)", file=sys.stderr)
+        else:
+            print(f"iface-lsp generate: {os.path.join(out, p)} was edited by hand since it was generated; "
+                  "not overwritten (--force overwrites it)", file=sys.stderr)
     if not args.quiet and not args.dry_run:
         print(f"{len(report.written)} written, {len(report.unchanged)} unchanged"
               + (f", {len(report.refused)} refused" if report.refused else ""), file=sys.stderr)
@@ -152,4 +153,4 @@ def run(args: argparse.Namespace) -> int:
         report = write_files(files, args.out, force=args.force, dry_run=args.dry_run, check=args.check)
     except OSError as e:
         return _fail(f"cannot write: {e}")
-    return _report(report, args, len(files))
+    return _report(report, args)

@@ -86,6 +86,45 @@ def _definition(side: Side, d: m.Definition) -> dict[str, Any]:
 canonical_definition = _definition
 
 
+def wire_form(side: Side, d: m.Definition) -> dict[str, Any]:
+    """What a definition is on the wire, the same from every component that uses it: its canonical
+    form and that of every definition it uses, keyed by identity (``package/Name``)."""
+    from ..model.walk import named_types
+
+    wire = side.wire()
+    out: dict[str, Any] = {}
+    stack = [d]
+    while stack:
+        x = stack.pop()
+        key = side.identity(x)
+        if key in out:
+            continue
+        if x is not d and isinstance(x, m.Struct) and x.fields and all(f.id is not None for f in x.fields):
+            out[key] = {"kind": x.kind, "keyed": True}  # Thrift-style ids: readers may know a subset (compat)
+            continue
+        out[key] = _definition(wire, x)
+        for t in _types_in(x):
+            stack.extend(n.target for n in named_types(t) if n.target is not None)
+    return out
+
+
+def _types_in(d: m.Definition) -> list[m.TypeRef]:
+    """Every type written in a definition (fields, parts, functions, typedef, extends)."""
+    from ..model.walk import bodies
+
+    out: list[m.TypeRef] = []
+    if isinstance(d, (m.Typedef, m.Const)):
+        out.append(d.type)
+    if isinstance(d, m.Service):
+        if d.extends is not None:
+            out.append(d.extends)
+        for fn in d.functions:
+            out += [f.type for f in (*fn.params, *fn.throws)] + ([fn.returns] if fn.returns else [])
+    for _, fields, consts in bodies(d):
+        out += [f.type for f in fields] + [c.type for c in consts]
+    return out
+
+
 def _setting(side: Side, f: m.Field) -> dict[str, Any]:
     return {"type": side.type_key(f.type), "default": value_key(f.default), "unit": f.unit,
             "range": list(f.range) if f.range else None}
@@ -102,7 +141,7 @@ def canonical(comp: Compilation) -> dict[str, Any]:
         "parameters": {name: _setting(side, f) for name, f in parameters(side).items()},
         "state": {name: {"type": side.type_key(f.type), "default": value_key(f.default)}
                   for name, f in state(side).items()},
-        "diagnostics": sorted(diagnostics(side)),
+        "diagnostics": sorted([name, endpoint_type(side, ep)] for name, ep in diagnostics(side).items()),
         "definitions": {q: _definition(side, d) for q, (d, _) in definitions(side).items()},
     }
 

@@ -49,7 +49,8 @@ def contract(comp: Compilation) -> dict[str, Any]:
     guarantees: list[dict[str, Any]] = [_endpoint(side, "topic", e) for e in iface.published]
     guarantees += [_endpoint(side, "service", e) for e in iface.services if e.role == "provides"]
     guarantees += [_endpoint(side, "action", e) for e in iface.actions if e.role == "provides"]
-    guarantees += [{"kind": "diagnostics", "name": d.name, "type": side.qualname(d)} for d in iface.diagnostics]
+    guarantees += [{"kind": "diagnostics", "name": ep.name, "type": endpoint_type(side, ep)}
+                   for ep in iface.diagnostics_endpoints]
     guarantees += [_setting(f, "state") for f in iface.state]
     return {"component": iface.name, "version": iface.version, "assumptions": assumptions,
             "guarantees": guarantees}
@@ -62,7 +63,7 @@ def _line(item: dict[str, Any]) -> str:
         extra = " (" + ", ".join(f"{k}={v}" for k, v in qos.items()) + ")" if qos else ""
         return f"  {item['role']} {item['type']} on \"{item['name']}\"{extra}"
     if kind == "diagnostics":
-        return f"  diagnostics {item['name']}"
+        return f"  diagnostics {item['type']} on \"{item['name']}\""
     parts = [f"  {kind} {item['name']}: {item['type']}"]
     if "default" in item:
         parts.append(f"= {item['default']}")

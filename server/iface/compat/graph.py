@@ -13,7 +13,7 @@ from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Severity
 from ..model.source import Span
 from ..semantics.compile import Compilation
-from .canon import canonical_definition
+from .canon import wire_form
 from .system import Component, Port, System, qos_problems
 from .view import endpoint_type
 
@@ -25,7 +25,7 @@ CHECKS: dict[str, tuple[Severity, str]] = {
     "graph-unsubscribed-topic": (Severity.INFORMATION, "A published topic that no component subscribes."),
     "graph-topic-type-conflict": (Severity.ERROR, "One topic used with two message types."),
     "graph-qos-mismatch": (Severity.ERROR, "A publisher and a subscriber whose QoS cannot match."),
-    "graph-unprovided-service": (Severity.ERROR, "A called service or action that no component provides."),
+    "graph-unprovided-service": (Severity.WARNING, "A called service or action that no component provides."),
     "graph-service-type-conflict": (Severity.ERROR, "One service or action name with two types."),
     "graph-duplicate-provider": (Severity.WARNING, "A service or action provided by two components."),
 }
@@ -33,7 +33,11 @@ CHECKS: dict[str, tuple[Severity, str]] = {
 
 @dataclass(frozen=True)
 class Link:
-    """One edge: from the sender of requests or messages to their receiver."""
+    """One edge: from the sender of requests or messages to their receiver.
+
+    ``kind`` is topic, service or action; ``set`` is the receiver's set (M, S, A or Δ for a
+    monitor calling a component's diagnostics service); ``type`` is ``package/Name``.
+    """
 
     kind: str
     name: str
@@ -41,6 +45,18 @@ class Link:
     source: Port
     target: Port
     qos: tuple[str, ...] = ()
+    #: the endpoint is used with several types in the system (a graph-*-type-conflict check)
+    type_conflict: bool = False
+
+    @property
+    def set(self) -> str:
+        """The set of the receiving end."""
+        return self.target.set
+
+    @property
+    def label_kind(self) -> str:
+        """What the link is, in words: topic, service, action or diagnostics."""
+        return "diagnostics" if self.target.delta else self.kind
 
 
 @dataclass
@@ -60,37 +76,33 @@ class Graph:
 
 
 def wire_type(p: Port) -> str:
-    """What a port's type is on the wire: ROS package and name, and a digest of its structure.
+    """What a port's type is on the wire: its identity (``package/Name``) and a digest of its structure.
 
     Two components agree on a topic only when both match: the same name in another
     package, or the same package and name with other fields, are different types
     (ROS 2 matches by type hash). Types whose fields all carry ids are matched by
-    name only: readers may know a subset of the fields, which compat judges.
+    identity only: readers may know a subset of the fields, which compat judges.
     """
     side = p.component.side
-    ep = p.endpoint
-    d = ep.definition
+    d = p.endpoint.definition
+    ident = endpoint_type(side, p.endpoint)
     if d is None:
-        name = ep.wiring.type.name if ep.wiring is not None else "?"
-        pkg, _, local = name.rpartition(".")
-        return f"{pkg}/{local}" if pkg else local
-    qual = side.qualname(d)
-    if "." in qual:
-        pkg, _, local = qual.rpartition(".")
-    else:
-        pkg, local = side.iface.namespace("ros2") or side.iface.name, qual
+        return ident
     if isinstance(d, m.Struct) and d.fields and all(f.id is not None for f in d.fields):
-        # Thrift-style ids: a reader may know a subset of the fields (checked by compat, not here)
-        return f"{pkg}/{local}"
-    digest = hashlib.sha256(json.dumps(canonical_definition(side, d), sort_keys=True).encode()).hexdigest()[:8]
-    return f"{pkg}/{local}#{digest}"
+        return ident
+    digest = hashlib.sha256(json.dumps(wire_form(side, d), sort_keys=True).encode()).hexdigest()[:8]
+    return f"{ident}#{digest}"
+
+
+def port_span(port: Port) -> Span:
+    """Where a port is stated in its component's file: its wiring, else its definition's name."""
+    w = port.endpoint.wiring
+    span = w.span if w is not None else (port.endpoint.definition.name_span if port.endpoint.definition else None)
+    return span or Span(0, 0)
 
 
 def _check(code: str, port: Port, message: str) -> Diagnostic:
-    src = port.component.side.source
-    w = port.endpoint.wiring
-    span = w.span if w is not None else (port.endpoint.definition.name_span if port.endpoint.definition else None)
-    return Diagnostic(code, message, src, span or Span(0, 0), CHECKS[code][0])
+    return Diagnostic(code, message, port.component.side.source, port_span(port), CHECKS[code][0])
 
 
 def _sender(p: Port) -> bool:
@@ -118,7 +130,8 @@ def build(comps: list[Compilation]) -> Graph:
         types: dict[str, Port] = {}
         for p in ports:
             types.setdefault(wire_type(p), p)
-        if len(types) > 1:
+        conflict = len(types) > 1
+        if conflict:
             code = "graph-topic-type-conflict" if kind == "topic" else "graph-service-type-conflict"
             names = [t.partition("#")[0] for t in types]
             shown = ", ".join(
@@ -129,7 +142,8 @@ def build(comps: list[Compilation]) -> Graph:
         for s in senders:
             for r in receivers:
                 problems = tuple(qos_problems(s, r))
-                g.links.append(Link(kind, name, endpoint_type(s.component.side, s.endpoint), s, r, problems))
+                g.links.append(Link(kind, name, endpoint_type(s.component.side, s.endpoint), s, r, problems,
+                                    conflict))
                 if problems:
                     g.checks.append(_check("graph-qos-mismatch", r, f"QoS of '{name}' cannot match between "
                                            f"{s.component.name} and {r.component.name}: " + "; ".join(problems)))
@@ -178,8 +192,8 @@ def render_dot(g: Graph) -> str:
         lines.append(f"  {_dot_string(_open_id(g, p))} [label={_dot_string(p.endpoint.name)}, shape=plaintext];")
     for link in g.links:
         style = "solid" if link.kind == "topic" else "dashed"
-        color = ", color=red" if link.qos else ""
-        label = f"{link.name}\n{link.type}" + ("" if link.kind == "topic" else f" ({link.kind})")
+        color = ", color=red" if link.qos or link.type_conflict else ""
+        label = f"{link.name}\n{link.type}" + ("" if link.kind == "topic" else f" ({link.label_kind})")
         lines.append(f"  {_dot_string(g.ids[id(link.source.component)])} -> "
                      f"{_dot_string(g.ids[id(link.target.component)])} [label={_dot_string(label)}, "
                      f"style={style}{color}];")
@@ -204,7 +218,7 @@ def render_mermaid(g: Graph) -> str:
         lines.append(f"  {_open_id(g, p)}([\"{_mermaid_text(p.endpoint.name)}\"])")
     for link in g.links:
         arrow = "-->" if link.kind == "topic" else "-.->"
-        label = f"{link.name}: {link.type}" + ("" if link.kind == "topic" else f" ({link.kind})")
+        label = f"{link.name}: {link.type}" + ("" if link.kind == "topic" else f" ({link.label_kind})")
         lines.append(f"  {g.ids[id(link.source.component)]} {arrow}|\"{_mermaid_text(label)}\"| "
                      f"{g.ids[id(link.target.component)]}")
     for p in g.open:
@@ -216,15 +230,23 @@ def render_mermaid(g: Graph) -> str:
 
 def graph_json(g: Graph, display: Display) -> dict[str, Any]:
     """The graph as JSON data."""
+    def at(p: Port) -> dict[str, Any]:
+        src = p.component.side.source
+        line, col = src.position(port_span(p).start)
+        return {"file": display(src.path), "line": line + 1, "column": col + 1}
+
     def port(p: Port) -> dict[str, Any]:
-        return {"component": g.ids[id(p.component)], "kind": p.kind, "role": p.role, "name": p.endpoint.name,
-                "type": endpoint_type(p.component.side, p.endpoint)}
+        return {"component": g.ids[id(p.component)], "kind": p.kind, "set": p.set, "role": p.role,
+                "name": p.endpoint.name, "type": endpoint_type(p.component.side, p.endpoint), "at": at(p)}
     return {
         "schema": GRAPH_ID,
         "components": [{"id": g.ids[id(c)], "name": c.name, "version": c.side.iface.version,
                         "file": display(c.comp.path)} for c in g.components],
-        "links": [{"kind": lk.kind, "name": lk.name, "type": lk.type, "from": g.ids[id(lk.source.component)],
-                   "to": g.ids[id(lk.target.component)], "qos_mismatch": list(lk.qos)} for lk in g.links],
+        "links": [{"kind": lk.kind, "set": lk.set, "name": lk.name, "type": lk.type,
+                   "from": g.ids[id(lk.source.component)],
+                   "to": g.ids[id(lk.target.component)], "qos_mismatch": list(lk.qos),
+                   "type_conflict": lk.type_conflict, "from_at": at(lk.source), "to_at": at(lk.target)}
+                  for lk in g.links],
         "open": [port(p) for p in g.open],
         "checks": [d.to_json(display(d.path)) for d in g.checks],
     }

@@ -52,6 +52,7 @@ _TABLE: list[tuple[str, Severity, str, str]] = [
     ("parameter-default-removed", E, "P", "A parameter that lost its default: deployments that relied on it must now set it."),
     ("parameter-added", I, "P", "A new parameter with a default."),
     ("parameter-removed", I, "P", "NEW needs one parameter fewer."),
+    ("parameter-renamed", E, "P", "A parameter id with a new name: ROS 2, PX4 and ArduPilot set parameters by name."),
     ("parameter-type-changed", E, "P", "A parameter whose type does not accept every value the old type did."),
     ("parameter-type-widened", I, "P", "A parameter whose type accepts more values."),
     # Σ: state
@@ -63,6 +64,7 @@ _TABLE: list[tuple[str, Severity, str, str]] = [
     # Δ: diagnostics
     ("diagnostics-removed", E, "Δ", "A diagnostics service of OLD that NEW does not have."),
     ("diagnostics-added", I, "Δ", "A new diagnostics service."),
+    ("diagnostics-type-changed", E, "Δ", "A diagnostics service name bound to a different service type."),
     # definitions
     ("definition-removed", E, "types", "A struct, union, exception, message, service or action that NEW does not define."),
     ("definition-added", I, "types", "A new definition."),

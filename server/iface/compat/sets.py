@@ -144,11 +144,47 @@ def _add_default_fix(side: Side, f: m.Field) -> dict | None:
             "edits": [{"start": at, "end": at, "text": f" = {value}"}]}
 
 
+def _by_id(side: Side, names: set[str]) -> dict[tuple[str, int], m.Field]:
+    """Parameters among ``names`` that carry a field id, by (configuration block, id)."""
+    out: dict[tuple[str, int], m.Field] = {}
+    for d in side.iface.definitions:
+        if isinstance(d, m.Struct) and d.kind == "configuration":
+            for f in d.fields:
+                if f.id is not None and f.name in names:
+                    out.setdefault((d.name, f.id), f)
+    return out
+
+
+def _renamed(ctx: Context, old: dict[str, m.Field], new: dict[str, m.Field]) -> dict[str, str]:
+    """Parameters whose field id stayed while the name changed: old name -> new name (reported as errors).
+
+    Parameters are matched by name because ROS 2, PX4 and ArduPilot set them by name
+    (launch files, YAML, module.yaml, ground stations): keeping the id does not keep the name
+    a deployment sets.
+    """
+    gone, came = _by_id(ctx.old, set(old) - set(new)), _by_id(ctx.new, set(new) - set(old))
+    pairs: dict[str, str] = {}
+    for key in sorted(set(gone) & set(came)):
+        o, n = gone[key], came[key]
+        pairs[o.name] = n.name
+        ctx.add("parameter-renamed", f"parameter {o.name}",
+                f"parameter '{o.name}' (id {key[1]} of '{key[0]}') is now named '{n.name}': parameters are set by "
+                f"name, so a configuration that sets '{o.name}' no longer reaches it",
+                ctx.old.loc(o.span), ctx.new.loc(n.span), usage={f"parameter:{o.name}"},
+                breaks=f"launch files and parameter files that set '{o.name}'",
+                fix={"kind": "restore", "text": o.name,
+                     "edits": [{"start": n.name_span.start, "end": n.name_span.end, "text": o.name}]})
+    return pairs
+
+
 def compare_parameters(ctx: Context) -> None:
-    """P: by name; NEW may need fewer parameters and accept wider values."""
+    """P: by name; NEW may need fewer parameters and accept wider values; a rename is an error."""
     old, new = parameters(ctx.old), parameters(ctx.new)
+    renamed = _renamed(ctx, old, new)
     for name in sorted(set(old) | set(new)):
-        o, n = old.get(name), new.get(name)
+        if name in renamed.values():
+            continue
+        o, n = old.get(name), new.get(renamed.get(name, name))
         usage = {f"parameter:{name}"}
         subject = f"parameter {name}"
         if o is not None and n is not None:
@@ -230,20 +266,27 @@ def _initial(f: m.Field) -> str | None:
 
 
 def compare_diagnostics(ctx: Context) -> set[int]:
-    """Δ by name (bodies are compared with the definitions); returns removed definitions already reported."""
+    """Δ by served name (bodies are compared with the definitions); returns removed definitions already reported."""
     old, new = diagnostics(ctx.old), diagnostics(ctx.new)
     reported: set[int] = set()
     for name in sorted(set(old) | set(new)):
         o, n = old.get(name), new.get(name)
         usage = {f"service:{name}"}
-        if o is not None and n is None:
-            ctx.add("diagnostics-removed", f"diagnostics {name}", f"NEW no longer provides diagnostics '{name}'",
-                    Location(ctx.old.where(o), o.name_span), ctx.new.anchor(), usage=usage,
-                    breaks="monitors that read it")
-            reported.add(id(o))
-        elif n is not None and o is None:
-            ctx.add("diagnostics-added", f"diagnostics {name}", f"NEW provides diagnostics '{name}'",
-                    ctx.old.anchor(), Location(ctx.new.where(n), n.name_span), usage=usage)
+        subject = f"diagnostics {name}"
+        if o is not None and n is not None:
+            to, tn = endpoint_type(ctx.old, o), endpoint_type(ctx.new, n)
+            if to != tn:
+                ctx.add("diagnostics-type-changed", subject, f"diagnostics '{name}' is now served by {tn} instead "
+                        f"of {to}", endpoint_loc(ctx.old, o), endpoint_loc(ctx.new, n), usage=usage,
+                        breaks=f"monitors that call it expect {to}")
+        elif o is not None:
+            ctx.add("diagnostics-removed", subject, f"NEW no longer provides diagnostics '{name}'",
+                    endpoint_loc(ctx.old, o), ctx.new.anchor(), usage=usage, breaks="monitors that read it")
+            if o.definition is not None:
+                reported.add(id(o.definition))
+        elif n is not None:
+            ctx.add("diagnostics-added", subject, f"NEW provides diagnostics '{name}'",
+                    ctx.old.anchor(), endpoint_loc(ctx.new, n), usage=usage)
     return reported
 
 

@@ -38,10 +38,13 @@ class Side:
         #: qualified name -> (definition, source it is written in)
         self.defs: dict[str, tuple[m.Definition, Source]] = {}
         self._qual: dict[int, str] = {}
+        self._package: dict[int, str] = {}
         for c in comp.closure():
             prefix = "" if c is comp else Path(c.path).stem + "."
+            package = package_of(c.interface, root=c is comp)
             for d in c.interface.definitions:
                 q = prefix + d.name
+                self._package.setdefault(id(d), package)
                 if q not in self.defs:
                     self.defs[q] = (d, c.source)
                     self._qual[id(d)] = q
@@ -60,6 +63,13 @@ class Side:
         """The name of a definition, prefixed with its include's stem when included."""
         return self._qual.get(id(d), d.name)
 
+    def identity(self, d: m.Definition) -> str:
+        """How every component knows a definition: ``package/Name``, the package being the ``ros2``
+        namespace of the file it is written in, as ROS 2 names it on the wire. A definition of a file
+        without one is ``Name`` in the component's own file and ``stem/Name`` in an included file."""
+        package = self._package.get(id(d), package_of(self.iface, root=True))
+        return f"{package}/{d.name}" if package else d.name
+
     def type_key(self, t: m.TypeRef | None) -> str:
         """A canonical spelling of a type: aliases, ``list<T>``/``T[]`` and prefixes unified."""
         if t is None:
@@ -67,8 +77,7 @@ class Side:
         if isinstance(t, m.BaseType):
             return f"{t.name}<={t.bound}" if t.bound is not None else t.name
         if isinstance(t, m.NamedType):
-            target = t.target
-            return self.qualname(target) if target is not None else t.name
+            return self._named_key(t)
         if isinstance(t, m.MapType):
             return f"map<{self.type_key(t.key)},{self.type_key(t.element)}>"
         if isinstance(t, m.SetType):
@@ -79,6 +88,13 @@ class Side:
         if t.array == "bounded":
             return f"{inner}[<={t.size}]"
         return f"{inner}[]"
+
+    def _named_key(self, t: m.NamedType) -> str:
+        return self.qualname(t.target) if t.target is not None else t.name
+
+    def wire(self) -> Side:
+        """This side with named types keyed by identity (``package/Name``), as other components see them."""
+        return WireSide(self)
 
     def where(self, d: m.Definition) -> Source:
         """The source a definition is written in."""
@@ -112,9 +128,10 @@ class Side:
                 flow = _FLOW[ep.role]
                 dirs = {flow} if ep.wiring is not None else set(BOTH)
                 self._visit(d, dirs, key)
+        for ep in self.iface.diagnostics_endpoints:  # Δ: the component receives the requests
+            if ep.definition is not None:
+                self._visit(ep.definition, {RECEIVE}, f"service:{ep.name}")
         for d in self.iface.definitions:
-            if isinstance(d, m.Service) and d.is_diagnostics:
-                self._visit(d, {RECEIVE}, f"service:{d.name}")
             if isinstance(d, m.Struct) and d.kind == "configuration":
                 for f in d.fields:
                     self._mark_type(f.type, {RECEIVE}, f"parameter:{f.name}")
@@ -182,6 +199,28 @@ class Side:
             return set()
         found = self.keys.get(id(d))
         return set(found) if found else {f"type:{self.qualname(d)}"}
+
+
+class WireSide(Side):
+    """A side whose type keys name definitions by identity, to compare types across components."""
+
+    def __init__(self, base: Side) -> None:  # shares the base side's state, computes nothing
+        self.__dict__.update(base.__dict__)
+
+    def _named_key(self, t: m.NamedType) -> str:
+        return self.identity(t.target) if t.target is not None else external_identity(t)
+
+
+def package_of(iface: m.Interface, root: bool) -> str:
+    """The package a file's definitions belong to: its ``ros2`` namespace, else for an included
+    file its stem (the prefix its types are written with), for the component's own file none."""
+    return iface.namespace("ros2") or ("" if root else Path(iface.path).stem)
+
+
+def external_identity(t: m.NamedType) -> str:
+    """``pkg/Name`` of a type from an external package (``geometry_msgs.Pose``)."""
+    pkg, _, local = t.name.rpartition(".")
+    return f"{t.external or pkg}/{local}" if (t.external or pkg) else local
 
 
 def _named_defs(t: m.TypeRef) -> Iterator[m.Definition]:

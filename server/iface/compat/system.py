@@ -38,11 +38,23 @@ class Component:
 
 @dataclass(frozen=True, eq=False)
 class Port:
-    """An endpoint of a component: (component, kind, endpoint)."""
+    """An endpoint of a component: (component, kind, endpoint); ``delta`` for its diagnostics services (Δ).
+
+    A Δ service is served like any service, so a monitor's ``calls`` reaches it under the
+    same key, but it belongs to Δ, not to the component's services S.
+    """
 
     component: Component
     kind: str
     endpoint: m.Endpoint
+    delta: bool = False
+
+    @property
+    def set(self) -> str:
+        """The set the endpoint belongs to: M, N, S, A or Δ."""
+        if self.delta:
+            return "Δ"
+        return {"subscribes": "M", "publishes": "N"}.get(self.role, "S" if self.kind == "service" else "A")
 
     @property
     def key(self) -> str:
@@ -56,10 +68,12 @@ class Port:
 
 
 def ports(c: Component) -> Iterator[Port]:
-    """Every endpoint of a component, in set order."""
+    """Every endpoint of a component, in set order, Δ last."""
     for _, kind, attr in ENDPOINT_SETS:
         for ep in getattr(c.side.iface, attr):
             yield Port(c, kind, ep)
+    for ep in c.side.iface.diagnostics_endpoints:
+        yield Port(c, "service", ep, delta=True)
 
 
 @dataclass
@@ -114,7 +128,7 @@ def fit(peer: Port, own: Port) -> list[Finding]:
     oloc = ctx.old.loc(po.wiring.span if po.wiring else None)
     nloc = ctx.new.loc(pn.wiring.span if pn.wiring else None)
     usage = {own.key}
-    if tp.rpartition(".")[2] != tn.rpartition(".")[2]:
+    if tp != tn:
         ctx.add("topic-type-changed" if own.kind == "topic" else f"{own.kind}-type-changed", f"{own.kind} {pn.name}",
                 f"'{pn.name}' carries {tn} here and {tp} at {peer.component.name}", oloc, nloc, usage=usage)
         return ctx.findings
@@ -200,14 +214,14 @@ def _conflicts(old_side: Side, new_side: Side, new_ports: dict[tuple[str, str], 
         if (key, role) in old_ports:
             continue
         others = system.by_key.get(key, [])
-        mine = endpoint_type(new_side, p.endpoint).rpartition(".")[2]
+        mine = endpoint_type(new_side, p.endpoint)
         clash: list[str] = []
         involved: set[str] = set()
         for q in others:
             theirs = endpoint_type(q.component.side, q.endpoint)
             if role == "provides" and q.role == "provides":
                 clash.append(f"{q.component.name} already provides it")
-            elif theirs.rpartition(".")[2] != mine:
+            elif theirs != mine:
                 clash.append(f"{q.component.name} {q.role} it as {theirs}")
             else:
                 continue

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from ..model import nodes as m
 from ..model.source import Source
-from .side import Side
+from .side import Side, external_identity
 
 #: (set letter, endpoint kind, attribute of Interface)
 ENDPOINT_SETS = (("M", "topic", "subscribed"), ("N", "topic", "published"),
@@ -25,10 +25,12 @@ def endpoints(side: Side) -> dict[tuple[str, str, str], m.Endpoint]:
 
 
 def endpoint_type(side: Side, ep: m.Endpoint) -> str:
-    """The canonical type of an endpoint."""
+    """The type of an endpoint as every component names it: ``package/Name`` (see ``Side.identity``)."""
+    if ep.definition is not None:
+        return side.identity(ep.definition)
     if ep.wiring is not None:
-        return side.type_key(ep.wiring.type)
-    return side.qualname(ep.definition) if ep.definition is not None else "?"
+        return external_identity(ep.wiring.type)
+    return "?"
 
 
 def endpoint_qos(ep: m.Endpoint) -> dict[str, str]:
@@ -53,11 +55,11 @@ def state(side: Side) -> dict[str, m.Field]:
     return _by_name(side.iface.state)
 
 
-def diagnostics(side: Side) -> dict[str, m.Service]:
-    """Δ by name."""
-    out: dict[str, m.Service] = {}
-    for d in side.iface.diagnostics:
-        out.setdefault(d.name, d)
+def diagnostics(side: Side) -> dict[str, m.Endpoint]:
+    """Δ by the name each diagnostics service is served under (its wiring, else its own name)."""
+    out: dict[str, m.Endpoint] = {}
+    for ep in side.iface.diagnostics_endpoints:
+        out.setdefault(ep.name, ep)
     return out
 
 

@@ -31,7 +31,8 @@ TEMP_SUFFIX = ".tmp"
 
 @dataclass(slots=True)
 class WriteReport:
-    """What happened to each file: written, unchanged, refused (hand-edited), or differing (check).
+    """What happened to each file: written, unchanged, refused (hand-edited, or not iface's: ``foreign``),
+    or differing (check).
 
     ``errors`` are path problems found before writing (nothing was written then) or
     the I/O error that stopped the run.
@@ -42,6 +43,8 @@ class WriteReport:
     refused: list[str] = field(default_factory=list)
     differing: list[str] = field(default_factory=list)
     errors: list[str] = field(default_factory=list)
+    #: of ``refused``, the files iface did not write at all (no stamp): not edited, someone else's
+    foreign: list[str] = field(default_factory=list)
 
 
 class UnsafePath(ValueError):
@@ -213,6 +216,8 @@ def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool 
             continue
         if existing is not None and not force and (not stamped or hand_edited(existing)):
             report.refused.append(f.path)
+            if stamped and unstamp(existing)[1] is None:
+                report.foreign.append(f.path)
             continue
         if not dry_run:
             try:

@@ -26,7 +26,7 @@ def dump_interface(iface: m.Interface) -> dict[str, Any]:
             "actions": [_endpoint(e) for e in iface.actions],
             "parameters": [f.name for f in iface.parameters],
             "state": [f.name for f in iface.state],
-            "diagnostics": [s.name for s in iface.diagnostics],
+            "diagnostics": [_endpoint(e) for e in iface.diagnostics_endpoints],
         },
         "contract": {
             "assumptions": [_label(x) for x in iface.assumptions],

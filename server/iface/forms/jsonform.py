@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from ..model import nodes as m
-from ..model.normalize import normalize_action, normalize_service
+from ..model.normalize import flat_order, normalize_action, normalize_service
 from ..model.source import Source, Span
 
 #: The version of the JSON form; bumped when its meaning changes.
@@ -43,7 +43,29 @@ class FormError(ValueError):
 
 
 def to_json(iface: m.Interface) -> dict[str, Any]:
-    """The JSON form of a compiled interface (a plain dict, keys in a fixed order)."""
+    """The JSON form of a compiled interface (a plain dict, keys in a fixed order).
+
+    The forms of the files it includes are embedded under ``included``, each with the
+    include path as written, so that one document holds everything its types need.
+    """
+    return _form(iface, frozenset())
+
+
+def _included(iface: m.Interface, seen: frozenset[str]) -> list[dict[str, Any]]:
+    """The embedded forms of the files ``iface`` includes (each include once, cycles cut)."""
+    by_path = {x.path: x for x in iface.included.values()}
+    out: list[dict[str, Any]] = []
+    written: set[str] = set()
+    for inc in iface.includes:
+        target = by_path.get(inc.resolved or "")
+        if target is None or inc.path in written or target.path in seen:
+            continue
+        written.add(inc.path)
+        out.append({"path": inc.path, "form": _form(target, seen | {iface.path})})
+    return out
+
+
+def _form(iface: m.Interface, seen: frozenset[str]) -> dict[str, Any]:
     return {
         "format": FORMAT,
         "file": Path(iface.path).name,
@@ -55,6 +77,7 @@ def to_json(iface: m.Interface) -> dict[str, Any]:
         "externals": [e.name for e in iface.externals],
         "items": [_item(x) for x in iface.items],
         "sets": _sets(iface),
+        "included": _included(iface, seen),
     }
 
 
@@ -124,9 +147,21 @@ def _const(c: m.Const) -> dict[str, Any]:
     return {"kind": "const", "name": c.name, "type": _type(c.type), "value": _value(c.value), "doc": c.doc}
 
 
+def _body_consts(consts: list[m.Const], fields: list[m.Field]) -> list[dict[str, Any]]:
+    """Constants of a body; one written after some fields says how many (``position``), so the order survives."""
+    out = []
+    for c in consts:
+        item = _const(c)
+        position = sum(1 for f in fields if f.span.start < c.span.start)
+        if position:
+            item["position"] = position
+        out.append(item)
+    return out
+
+
 def _section(s: m.Section) -> dict[str, Any]:
     return {"name": s.name, "implicit": s.implicit, "doc": s.doc, "fields": [_field(f) for f in s.fields],
-            "consts": [_const(c) for c in s.consts]}
+            "consts": _body_consts(s.consts, s.fields)}
 
 
 def _function(fn: m.Function) -> dict[str, Any]:
@@ -176,7 +211,7 @@ def _item(x: m.Item) -> dict[str, Any]:
                 "annotations": _anns(x.annotations), "doc": x.doc}
     if isinstance(x, m.Struct):
         return {"kind": x.kind, "name": x.name, "fields": [_field(f) for f in x.fields],
-                "consts": [_const(c) for c in x.consts], "annotations": _anns(x.annotations), "doc": x.doc}
+                "consts": _body_consts(x.consts, x.fields), "annotations": _anns(x.annotations), "doc": x.doc}
     if isinstance(x, m.Service):
         return {"kind": "service", "name": x.name, "form": x.form,
                 "extends": None if x.extends is None else x.extends.name,
@@ -314,9 +349,27 @@ class _Reader:
                        self.value(self.get(obj, "value", where, dict), f"{where}/value"), self.span(), Span(0, 0),
                        [], self.get(obj, "doc", where, str, optional=True))
 
-    def section(self, obj: Any, where: str) -> m.Section:
-        consts = [self.const(x, w) for w, x in self.list_of(obj, "consts", where)]
+    def members(self, obj: Any, where: str) -> tuple[list[m.Field], list[m.Const]]:
+        """The fields and constants of a body, their spans in the order they were written."""
+        placed = [(self.get(x, "position", w, int, optional=True) or 0, self.const(x, w))
+                  for w, x in self.list_of(obj, "consts", where)]
         fields = [self.field(x, w) for w, x in self.list_of(obj, "fields", where)]
+        self.order_members(fields, placed)
+        return fields, [c for _, c in placed]
+
+    def order_members(self, fields: list[m.Field], placed: list[tuple[int, m.Const]]) -> None:
+        """Give fields and constants spans in written order (a constant after ``position`` fields)."""
+        queue = sorted(range(len(placed)), key=lambda i: placed[i][0])
+        q = 0
+        for i, f in enumerate([*fields, None]):
+            while q < len(queue) and (f is None or placed[queue[q]][0] <= i):
+                placed[queue[q]][1].span = self.span()
+                q += 1
+            if f is not None:
+                f.span = self.span()
+
+    def section(self, obj: Any, where: str) -> m.Section:
+        fields, consts = self.members(obj, where)
         return m.Section(self.get(obj, "name", where, str), self.span(), Span(0, 0), fields, consts,
                          bool(self.get(obj, "implicit", where, bool, optional=True)),
                          self.get(obj, "doc", where, str, optional=True))
@@ -367,8 +420,7 @@ class _Reader:
             strings = [self.value(v, w) for w, v in self.list_of(obj, "values", where)]
             return m.Senum(name(), self.span(), Span(0, 0), strings, self.annotations(obj, where), doc)
         if kind in ("struct", "union", "exception", "message", "configuration", "state"):
-            consts = [self.const(x, w) for w, x in self.list_of(obj, "consts", where)]
-            fields = [self.field(x, w) for w, x in self.list_of(obj, "fields", where)]
+            fields, consts = self.members(obj, where)
             return m.Struct(kind, name(), self.span(), Span(0, 0), fields, consts,
                             self.annotations(obj, where), doc)
         if kind in ("service", "action"):
@@ -389,11 +441,10 @@ class _Reader:
             ext = self.get(obj, "extends", where, str, optional=True)
             d.extends = None if ext is None else m.NamedType(ext, self.span())
             d.functions = [self.function(x, w) for w, x in self.list_of(obj, "functions", where)]
-            reading = ("request", "response")
         else:
             d = m.Action(name, self.span(), Span(0, 0), consts=consts, annotations=self.annotations(obj, where),
                          doc=doc)
-            reading = ("goal", "feedback", "result")
+        reading = flat_order(d)
         if form == "explicit":
             d.sections = sections
         elif form in ("flat", "empty"):

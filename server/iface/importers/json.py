@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import json
 import re
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 from typing import Any
 
 from ..emit.base import GeneratedFile
@@ -35,14 +35,38 @@ def import_file(path: Path, result: ImportResult) -> None:
     except json.JSONDecodeError as e:
         result.problems.append(Problem(str(path), _line_of(text, e), f"not JSON: {e.msg}"))
         return
+    name = _file_name(doc, path)
     try:
-        iface_text = from_json(doc)
+        files = [(name, from_json(doc))] + _included_files(doc, PurePosixPath(name).parent, "")
     except (FormError, PrintError) as e:
         result.problems.append(Problem(str(path), 0, f"not the iface JSON form: {e}"))
         return
-    name = _file_name(doc, path)
-    result.files.append(GeneratedFile(name, iface_text))
+    for out, text in files:
+        result.files.append(GeneratedFile(out, text))
     result.origins.append(Origin(str(path), name, str(doc.get("name", "")), "json"))
+
+
+def _included_files(doc: Any, folder: PurePosixPath, where: str) -> list[tuple[str, str]]:
+    """The files embedded under ``included``, each where its include statement finds it (beside its includer)."""
+    out: list[tuple[str, str]] = []
+    embedded = doc.get("included") if isinstance(doc, dict) else None
+    if embedded is None:
+        return out
+    if not isinstance(embedded, list):
+        raise FormError(f"{where}/included", "expected an array")
+    for i, entry in enumerate(embedded):
+        at = f"{where}/included/{i}"
+        if not isinstance(entry, dict) or not isinstance(entry.get("path"), str):
+            raise FormError(f"{at}/path", "expected a string")
+        written = PurePosixPath(entry["path"])
+        if written.is_absolute() or ".." in written.parts or not entry["path"].endswith((".iface", ".thrift")):
+            raise FormError(f"{at}/path", f"the included file '{entry['path']}' cannot be written beside the "
+                                          "file that includes it; import it on its own")
+        target = folder / written
+        form = entry.get("form")
+        out.append((str(target), from_json(form)))
+        out.extend(_included_files(form, target.parent, f"{at}/form"))
+    return out
 
 
 def _file_name(doc: dict[str, Any], path: Path) -> str:
@@ -60,9 +84,13 @@ def run(inputs: list[str], options: dict[str, Any]) -> ImportResult:
         if not path.is_file():
             raise InputError(f"{raw}: no such file")
         import_file(path, result)
-    names = [f.path for f in result.files]
-    for name in sorted({n for n in names if names.count(n) > 1}):
-        raise InputError(f"two JSON files would both be written to {name}")
+    unique: dict[str, GeneratedFile] = {}
+    for f in result.files:
+        seen = unique.get(f.path)
+        if seen is not None and seen.text != f.text:
+            raise InputError(f"two JSON files would both be written to {f.path}, with different content")
+        unique.setdefault(f.path, f)
+    result.files = list(unique.values())
     return result
 
 

@@ -177,7 +177,10 @@ def import_folder(folder: Path, result: ImportResult) -> None:
         defs.append((path, m.Struct("message", part.name, span, span, fields, consts, annotations,
                                     clean_comments(part.comments))))
     stem = output_name(folder)
-    items: list[m.Item] = [m.External(e, spans()) for e in sorted(externals)]
+    # a declared component that wires nothing: a package of message types, not a module
+    span = spans()
+    items: list[m.Item] = [m.ComponentDecl(stem, span, span)]
+    items.extend(m.External(e, spans()) for e in sorted(externals))
     items.extend(d for _, d in sorted(defs, key=lambda x: x[1].name))
     try:
         text = print_items(items, "PX4 uORB messages, imported by iface-lsp import --from px4.")

@@ -230,12 +230,13 @@ class _PackageImport:
         pkg = self.pkg.name
         out = f"{pkg}{suffix}.iface"
         items: list[m.Item] = []
-        meta = package_metadata(self.pkg.folder) if not suffix else {}
-        if meta:
-            # package.xml's metadata, which the ros2 target writes back
-            annotations = [m.Annotation(k, m.Value("string", meta[k], self.spans(), ""), self.spans())
-                           for k in ("description", "maintainer", "maintainer_email", "license") if k in meta]
-            items.append(m.ComponentDecl(pkg, self.spans(), Span(0, 0), meta.get("version"), annotations))
+        meta = package_metadata(self.pkg.folder)
+        # a declared component that wires nothing: an interface package, whose messages, services and
+        # actions are types (it provides nothing); with package.xml's metadata, which the ros2 target
+        # writes back (the companion file repeats it, so both generate the same package.xml)
+        annotations = [m.Annotation(k, m.Value("string", meta[k], self.spans(), ""), self.spans())
+                       for k in ("description", "maintainer", "maintainer_email", "license") if k in meta]
+        items.append(m.ComponentDecl(pkg, self.spans(), Span(0, 0), meta.get("version"), annotations))
         items.append(m.Namespace("ros2", pkg, self.spans()))
         if suffix:
             items.append(m.Include(f"{pkg}.iface", self.spans(), Span(0, 0)))

@@ -75,6 +75,8 @@ class Element:
     value: Scalar | list[Scalar] | None = None
     texts: list[str] = field(default_factory=list)
     comments: list[str] = field(default_factory=list)
+    #: the comment on the element's own line (also the last of ``comments``), if any
+    inline: str | None = None
 
 
 @dataclass(slots=True)
@@ -336,7 +338,7 @@ def _parse_body(lines: list[str], first: int, part: Part, problems: list[tuple[i
         line = raw.rstrip()
         if not line:
             continue
-        comment = None
+        comment = inline = None
         hash_at = line.find("#")
         if hash_at >= 0:
             comment = line[hash_at:].lstrip("#")
@@ -350,6 +352,7 @@ def _parse_body(lines: list[str], first: int, part: Part, problems: list[tuple[i
             line = line.rstrip()
             if not line:
                 continue
+            inline = comment
         try:
             element = _element(line, number)
         except RosSyntaxError as e:
@@ -364,6 +367,7 @@ def _parse_body(lines: list[str], first: int, part: Part, problems: list[tuple[i
             continue
         seen[element.name] = number
         element.comments = pending
+        element.inline = inline
         pending = []
         part.elements.append(element)
         last = element
@@ -401,9 +405,24 @@ def _element(line: str, number: int) -> Element:
     return element
 
 
+_BOX_EDGE = re.compile(r"\s#+$")
+
+
+def _unbox(line: str) -> str:
+    """A line of a ``#`` box without its right edge; a centred title without its padding."""
+    inner = re.sub(r"\s*#+$", "", line)
+    return " " + inner.strip() if len(inner) - len(inner.lstrip()) > 4 else inner  # "# text", as the others
+
+
 def clean_comments(lines: list[str]) -> str | None:
-    """Comment lines as one doc text, the way rosidl condenses them (no unit extraction)."""
+    """Comment lines as one doc text, the way rosidl condenses them (no unit extraction).
+
+    A box drawn with ``#`` (``#   Title   #``, ``#####``) loses its frame: the closing ``#``
+    of each line and the padding that centres a title, so the doc reads as written text.
+    """
     lines = [line.rstrip() for line in lines]
+    if any(_BOX_EDGE.search(line) for line in lines):
+        lines = [_unbox(line) for line in lines]
     while lines and not lines[0]:
         lines.pop(0)
     while lines and not lines[-1]:

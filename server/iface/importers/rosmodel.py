@@ -10,6 +10,7 @@ from ..model import nodes as m
 from ..model.source import Span
 from ..text.printer import quote
 from .rosidl import Element, Part, RosSyntaxError, RosType, Scalar, clean_comments
+from .units import unit_of_comment
 
 _INT = re.compile(r"[+-]?(0x[0-9A-Fa-f]+|[0-9]+)\Z")
 _DOUBLE = re.compile(r"[+-]?([0-9]+\.[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?\Z|[+-]?[0-9]+[eE][+-]?[0-9]+\Z")
@@ -104,5 +105,13 @@ def members(part: Part, name_of: NameOf, spans: Spans, *, lead: list[str] | None
             assert value is not None
             consts.append(m.Const(e.name, t, value, spans(), spans(), [], doc))
         else:
-            fields.append(m.Field(e.name, t, spans(), spans(), default=value, doc=doc))
+            unit = unit_of_comment([e.inline] if e.inline is not None else e.comments) \
+                if e.type.name in _NUMBERS and e.type.package is None else None
+            annotations = [m.Annotation("unit", m.Value("string", unit, spans()), spans())] if unit else []
+            fields.append(m.Field(e.name, t, spans(), spans(), default=value, annotations=annotations, doc=doc))
     return fields, consts
+
+
+#: ROS 2 number types: their fields may carry a unit read from the comment.
+_NUMBERS = frozenset({"float32", "float64", "int8", "int16", "int32", "int64", "uint8", "uint16", "uint32",
+                      "uint64"})

@@ -6,6 +6,7 @@ from typing import Any
 
 from ..model import nodes as m
 from ..model.naming import ros_field_name, ros_type_name
+from ..model.normalize import flat_reading
 from ..model.walk import resolve_typedefs, type_text, typedef_chain
 from ..semantics.query import Hit
 
@@ -135,8 +136,9 @@ def membership(d: object, iface: m.Interface) -> str:
         lines.append("P (parameters): assumption")
     if isinstance(d, m.Struct) and d.kind == "state":
         lines.append("Σ (state): assumption and guarantee")
-    if isinstance(d, m.Service) and d in iface.diagnostics:
-        lines.append("Δ (diagnostics): guarantee")
+    for ep in iface.diagnostics_endpoints:
+        if ep.definition is d:
+            lines.append(f"Δ (diagnostics and control, served as {_code(ep.name)}; not in S): guarantee")
     if isinstance(d, m.Field):
         if any(p is d for p in iface.parameters):
             lines.append("P (parameter): assumption")
@@ -159,6 +161,8 @@ def definition(d: m.Definition, home: m.Interface, owner_text: str, here: m.Inte
     if d.doc:
         parts.append(d.doc)
     parts.append(_source_excerpt(d, owner_text))
+    if isinstance(d, (m.Service, m.Action)) and d.form == "flat":
+        parts.append("Read as " + flat_reading(d))
     if isinstance(d, m.Typedef):
         chain = typedef_chain(m.NamedType(d.name, d.name_span, target=d))
         final = resolve_typedefs(d.type)
@@ -278,6 +282,7 @@ def describe(hit: Hit, iface: m.Interface, text: str, interfaces: list[m.Interfa
     if hit.kind == "component" and isinstance(node, m.ComponentDecl):
         return (f"**component** {_code(node.name)}" + (f" version {_code(node.version)}" if node.version else "")
                 + f"\n\n{len(iface.subscribed)} subscribed, {len(iface.published)} published, "
-                f"{len(iface.services)} services, {len(iface.actions)} actions, {len(iface.parameters)} parameters")
+                f"{len(iface.services)} services, {len(iface.actions)} actions, {len(iface.parameters)} parameters, "
+                f"{len(iface.state)} state variables, {len(iface.diagnostics)} diagnostics")
     return None
 

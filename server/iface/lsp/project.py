@@ -115,7 +115,7 @@ class Project:
         snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
         self._install(doc, snap)
         uri_of = path_to_uri
-        found = [*comp.diagnostics, *self._compat(path, comp)]
+        found = [*comp.diagnostics, *self._compat(path, comp), *self._target_findings(comp)]
         pubs: list[tuple[str, int | None, list[Any]]] = [
             (uri, state.version, [convert.diagnostic(d, index, uri_of, self.index_of) for d in found])]
         for inc in comp.closure()[1:]:
@@ -151,6 +151,34 @@ class Project:
         except Exception:
             log.exception("comparing %s with its baseline failed", path)
             return []
+
+    def _target_findings(self, comp: Compilation) -> list[Any]:
+        """What generating for the configured targets (setting ``targets``) reports in this file, beyond
+        the core checks (model thread): warnings such as package metadata show while editing."""
+        if not self.settings.targets or comp.has_errors:
+            return []
+        try:
+            from ..emit.base import GenerationError
+            from ..emit.registry import targets
+        except ImportError:
+            return []
+        installed = targets()
+        seen = {(d.code, d.span.start, d.span.end) for d in comp.diagnostics}
+        out = []
+        for name in self.settings.targets:
+            target = installed.get(name)
+            if target is None:
+                continue
+            try:
+                result = target.generate(comp, {})
+            except GenerationError:
+                continue
+            for d in result.diagnostics:
+                key = (d.code, d.span.start, d.span.end)
+                if d.path == comp.path and key not in seen:
+                    seen.add(key)
+                    out.append(d)
+        return out
 
     def forget_baselines(self) -> None:
         """Read baselines again (the setting changed); model thread."""

@@ -513,11 +513,13 @@ class Interface:
     # the seven sets, filled by ``sets.derive``
     subscribed: list[Endpoint] = field(default_factory=list)       # M
     published: list[Endpoint] = field(default_factory=list)        # N
-    services: list[Endpoint] = field(default_factory=list)         # S (provides and calls)
+    services: list[Endpoint] = field(default_factory=list)         # S (provides and calls), never Δ
     actions: list[Endpoint] = field(default_factory=list)          # A (provides and calls)
     parameters: list[Field] = field(default_factory=list)          # P
     state: list[Field] = field(default_factory=list)               # Σ
     diagnostics: list[Service] = field(default_factory=list)       # Δ
+    #: Δ with the name each service is served under (its `provides` wiring, else its own name).
+    diagnostics_endpoints: list[Endpoint] = field(default_factory=list)
 
     @property
     def path(self) -> str:

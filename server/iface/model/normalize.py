@@ -2,6 +2,9 @@
 
 Flat bodies (the paper's Listing 1) are read by position:
 - a flat ``service`` body: every field but the last is the request, the last is the response;
+- a flat diagnostics service (Δ) reads the other way, as the paper's Listing 1 writes it
+  (``service diagnostics { string result, i32 r, string cmd }``): the last field is the
+  request, the command the caller sends; the fields before it are the response it gets back;
 - a flat ``action`` body: the last field is the result, the one before it the
   feedback, all earlier ones the goal (with two fields: goal and result).
 The explicit forms ``request {…} response {…}`` and ``goal {…} result {…} feedback {…}``
@@ -41,8 +44,19 @@ def normalize_service(svc: m.Service) -> None:
         return
     fields = svc.flat_fields
     svc.form = "flat" if fields else "empty"
-    svc.request = _implicit("request", fields[:-1], svc.name_span)
-    svc.response = _implicit("response", fields[-1:], svc.name_span)
+    if svc.is_diagnostics:
+        svc.response = _implicit("response", fields[:-1], svc.name_span)
+        svc.request = _implicit("request", fields[-1:], svc.name_span)
+    else:
+        svc.request = _implicit("request", fields[:-1], svc.name_span)
+        svc.response = _implicit("response", fields[-1:], svc.name_span)
+
+
+def flat_order(defn: m.Service | m.Action) -> tuple[str, ...]:
+    """The parts of a flat body in the order their fields are written."""
+    if isinstance(defn, m.Service):
+        return ("response", "request") if defn.is_diagnostics else SERVICE_PARTS
+    return ("goal", "feedback", "result")
 
 
 def normalize_action(act: m.Action) -> None:
@@ -73,6 +87,9 @@ def flat_reading(defn: m.Service | m.Action) -> str:
         return ", ".join(f.name for f in sec.fields) if sec and sec.fields else "nothing"
 
     if isinstance(defn, m.Service):
+        if defn.is_diagnostics:
+            return (f"a diagnostics service, last field first: request (what the caller sends): "
+                    f"{names(defn.request)}; response (what it gets back): {names(defn.response)}")
         return f"request: {names(defn.request)}; response: {names(defn.response)}"
     return f"goal: {names(defn.goal)}; result: {names(defn.result)}; feedback: {names(defn.feedback)}"
 

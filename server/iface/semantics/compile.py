@@ -221,7 +221,7 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
         parsed = parse_text(source.text, cache)
         iface = build_interface(source, parsed.items)
         for p in parsed.problems:
-            diagnostics.append(make(p.code, p.message, source, p.span))
+            diagnostics.append(make(p.code, p.message, source, p.span, **p.data))
         included = _include(iface, diagnostics, includes)
         diagnostics.extend(build_symbols(iface))
         diagnostics.extend(resolve_references(iface))

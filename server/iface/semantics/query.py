@@ -432,9 +432,12 @@ def outline(iface: m.Interface) -> list[Symbol]:
     """Top-level symbols grouped by the seven sets, then the remaining type definitions."""
     groups: dict[str, list[Symbol]] = {k: [] for k in SET_TITLES}
     placed: set[int] = set()
-    for key in ("subscribed", "published", "services", "actions"):
-        for ep in getattr(iface, key):
+    for key, attr in (("subscribed", "subscribed"), ("published", "published"), ("services", "services"),
+                      ("actions", "actions"), ("diagnostics", "diagnostics_endpoints")):
+        for ep in getattr(iface, attr):
             w = ep.wiring
+            if key == "diagnostics" and w is None:
+                continue  # listed with its definition below
             d = ep.definition
             if w is not None:
                 groups[key].append(Symbol(f"{w.type.name} on {ep.name}", w.direction, w.span, w.topic_span,

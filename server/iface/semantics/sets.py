@@ -15,7 +15,9 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
     iface.subscribed, iface.published = [], []
     iface.services, iface.actions = [], []
     iface.parameters, iface.state, iface.diagnostics = [], [], []
+    iface.diagnostics_endpoints = []
     wired_calls = False
+    called: set[int] = set()
     for w in iface.wirings:
         target = w.type.target
         if isinstance(target, m.Typedef):
@@ -31,6 +33,11 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
             (iface.published if w.direction == "publishes" else iface.subscribed).append(ep)
             continue
         wired_calls = True
+        if isinstance(target, m.Service) and target.is_diagnostics:
+            if w.direction == "provides":  # the component's own Δ, under the wired name: not in S
+                _add_delta(iface, m.Endpoint("provides", w.topic, target, w))
+                continue
+            called.add(id(target))  # another component's Δ, called: a service this one needs (S)
         if isinstance(target, m.Action):
             iface.actions.append(m.Endpoint(w.direction, w.topic, target, w))
         elif isinstance(target, m.Service) or target is None:
@@ -47,8 +54,10 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
             elif d.kind == "state":
                 iface.state.extend(d.fields)
         elif isinstance(d, m.Service) and d.is_diagnostics:
-            iface.diagnostics.append(d)
-        elif not wired_calls and isinstance(d, (m.Service, m.Action)):
+            if id(d) not in called and all(e.definition is not d for e in iface.diagnostics_endpoints):
+                _add_delta(iface, m.Endpoint("provides", d.name, d, None))
+                yield _unwired_delta(iface, d)
+        elif not wired_calls and iface.component is None and isinstance(d, (m.Service, m.Action)):
             implicit.append(d)
             ep = m.Endpoint("provides", d.name, d, None)
             (iface.actions if isinstance(d, m.Action) else iface.services).append(ep)
@@ -58,6 +67,32 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
                    f"nothing is wired with provides/calls, so the component provides {names} "
                    "under their own names", src, implicit[0].name_span)
     yield from _wiring_checks(iface)
+
+
+def interface_package(iface: m.Interface) -> bool:
+    """A declared component that wires nothing: a package of types (as ``import --from ros2`` writes one).
+
+    Its messages, services and actions are definitions only; nothing is read into M, N, S or A.
+    """
+    return iface.component is not None and not iface.wirings
+
+
+def _add_delta(iface: m.Interface, ep: m.Endpoint) -> None:
+    """Put a diagnostics service into Δ (once as a set member, once per name it is served under)."""
+    iface.diagnostics_endpoints.append(ep)
+    assert isinstance(ep.definition, m.Service)
+    if all(d is not ep.definition for d in iface.diagnostics):
+        iface.diagnostics.append(ep.definition)
+
+
+def _unwired_delta(iface: m.Interface, d: m.Service) -> Diagnostic:
+    """What an unwired diagnostics service is: Δ, served by the component under its own name."""
+    why = "it is named 'diagnostics'" if d.name == "diagnostics" else "it is annotated (diagnostics)"
+    return make("diagnostics-service",
+                f"service '{d.name}' is the component's diagnostics and control service (the set Δ, kept apart "
+                f"from its services S) because {why}: monitors call it to read the component's health and send "
+                f"it commands. No `provides` names it, so it is served as '{d.name}' (add `provides {d.name} on "
+                f"\"/name\"` to choose the name)", iface.source, d.name_span, name=d.name)
 
 
 def _wiring_checks(iface: m.Interface) -> Iterator[Diagnostic]:
@@ -84,7 +119,7 @@ def _wiring_checks(iface: m.Interface) -> Iterator[Diagnostic]:
                        src, w.topic_span,
                        related=[Related(src, first.topic_span, f"'{w.topic}' used with '{a.name}'")])
     wired = {e.definition for e in (*iface.published, *iface.subscribed)}
-    if src.path.endswith(".iface"):
+    if src.path.endswith(".iface") and not interface_package(iface):
         for d in iface.definitions:
             if isinstance(d, m.Struct) and d.kind == "message" and d not in wired:
                 yield make("message-no-direction",

@@ -434,11 +434,27 @@ def ros_names(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
         return
     for _, fields, consts in bodies(d):
         for f in fields:
-            if not is_ros_field(f.name):
+            if f.default is not None and is_ros_constant(f.name) and not is_ros_field(f.name):
+                yield _constant_as_field(src, f)
+            elif not is_ros_field(f.name):
                 yield _ros_name(src, f.name, ros_field_name(f.name), f.name_span, "field")
         for c in consts:
             if not is_ros_constant(c.name):
                 yield _ros_name(src, c.name, ros_constant_name(c.name), c.name_span, "constant")
+
+
+def _constant_as_field(src: Source, f: m.Field) -> Diagnostic:
+    """``uint8 LEVEL=1``: a ROS 2 constant, but in .iface a field with a default."""
+    assert f.default is not None
+    value = src.text[f.default.span.start:f.default.span.end] or f.default.text
+    t = f.type
+    spelled = (t.name + (f"<={t.bound}" if t.bound is not None else "")) if isinstance(t, m.BaseType) \
+        else type_text(t)
+    const = f"const {spelled} {f.name} = {value}"
+    return make("ros-constant-as-field",
+                f"'{f.name}' is a field with the default {value}, not a constant: ROS 2 writes a constant "
+                f"`{src.text[f.type.span.start:f.type.span.end]} {f.name}={value}`, .iface writes `{const}`",
+                src, f.name_span, name=f.name, replacement=const, start=f.span.start, end=f.span.end)
 
 
 def _ros_name(src: m.Source, name: str, new: str | None, span: m.Span, what: str) -> Diagnostic:

@@ -9,6 +9,7 @@ re-parses only the chunks whose text changed.
 
 from __future__ import annotations
 
+import re
 import threading
 from dataclasses import dataclass, field
 from typing import Any, cast
@@ -37,6 +38,7 @@ class Problem:
     code: str
     message: str
     span: Span
+    data: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass(slots=True, eq=False)
@@ -110,11 +112,11 @@ class _ChunkParser:
         open_at_end = False
         errors = 0
 
-        def record(start: int, end: int, message: str) -> None:
+        def record(start: int, end: int, message: str, data: dict[str, Any] | None = None) -> None:
             nonlocal errors
             # one report per chunk: what follows inside it is usually an echo of the first
             if not problems:
-                problems.append(Problem("syntax-error", message, b.span(start, max(end, start))))
+                problems.append(Problem("syntax-error", message, b.span(start, max(end, start)), data or {}))
             errors += 1
 
         def on_error(e: UnexpectedInput) -> bool:
@@ -127,6 +129,12 @@ class _ChunkParser:
                 return _close(e, len(text))
             if isinstance(e, UnexpectedCharacters):
                 pos = _char_pos(e)
+                ros = ros_type_path(text, pos)
+                if ros is not None:
+                    start, end, package, name = ros
+                    record(start, end, _describe_ros_type(package, name),
+                           {"ros_type": f"{package}/{name}", "package": package, "replacement": f"{package}.{name}"})
+                    return True
                 record(pos, pos + 1, _describe_chars(text, e))
                 return True
             assert isinstance(e, UnexpectedToken)
@@ -256,6 +264,28 @@ def _describe_chars(text: str, e: UnexpectedCharacters) -> str:
     if text.startswith("/*", pos):
         return "unterminated comment: '/*' has no closing '*/'"
     return f"unexpected character {c!r}"
+
+
+_IDENT_BEFORE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*$")
+_IDENT_AFTER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+def ros_type_path(text: str, slash: int) -> tuple[int, int, str, str] | None:
+    """``pkg/Type`` (ROS 2's spelling of another package's type) around a ``/`` at ``slash``:
+    (start, end, pkg, Type), or None."""
+    if not text.startswith("/", slash) or text.startswith(("//", "/*"), slash):
+        return None
+    before = _IDENT_BEFORE.search(text, 0, slash)
+    after = _IDENT_AFTER.match(text, slash + 1)
+    if before is None or after is None:
+        return None
+    return before.start(), after.end(), before.group(), after.group()
+
+
+def _describe_ros_type(package: str, name: str) -> str:
+    return (f"'{package}/{name}' is how ROS 2 writes a type of another package; .iface writes "
+            f"`{package}.{name}`, with `include \"{package}.iface\"` (the package imported by "
+            f"`iface-lsp import --from ros2`) or `external {package}` (a package iface does not describe)")
 
 
 _parser: _ChunkParser | None = None

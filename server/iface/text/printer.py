@@ -335,7 +335,9 @@ def print_items(items: Iterable[m.Item], header: str | None = None) -> str:
                 out.append("")
         out.extend(lines)
         prev = item
-    return "\n".join(out) + "\n"
+    from .formatter import format_text  # the printed file is laid out as `iface-lsp fmt` lays it out
+
+    return format_text("\n".join(out) + "\n")
 
 
 def print_interface(iface: m.Interface, header: str | None = None) -> str:

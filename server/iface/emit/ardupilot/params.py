@@ -152,6 +152,8 @@ class ParamBuilder:
             return None
         explicit = m.annotation(f.annotations, "ap.name")
         name = explicit.text if explicit else upper(f.name)
+        if explicit and name.startswith(f"{prefix}_") and len(name) > len(prefix) + 1:
+            name = name[len(prefix) + 1:]  # written with its prefix (ap.name = "ARM_SPD"): not added twice
         span = explicit.span if explicit else f.name_span
         full = f"{prefix}_{name}"
         named = True

@@ -37,9 +37,7 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         "actions": call_rows(iface.actions, ("goal", "result", "feedback")),
         "parameters": fields_table("", iface.parameters),
         "state": fields_table("", iface.state),
-        "diagnostics": [[(s.name, True), (", ".join(f.name for f in s.request.fields) if s.request else "—", False),
-                         (", ".join(f.name for f in s.response.fields) if s.response else "—", False)]
-                        for s in iface.diagnostics],
+        "diagnostics": [row[:2] + row[3:] for row in call_rows(iface.diagnostics_endpoints, ("request", "response"))],
         "assumptions": [contract_item(x) for x in iface.assumptions],
         "guarantees": [contract_item(x) for x in iface.guarantees],
         "state_names": [f.name for f in iface.state],

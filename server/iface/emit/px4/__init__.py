@@ -28,6 +28,7 @@ from ..text import cpp_string, header_name, line_comment, yaml_string
 from .codes import CODES, diag
 from .messages import MessageBuilder
 from .module import ModuleBuilder
+from .upstream import collisions
 
 TEMPLATES = Path(__file__).parent / "templates"
 FILTERS: dict[str, Callable[..., Any]] = {"cpp_string": cpp_string, "yaml_str": yaml_string, "comment": line_comment}
@@ -40,7 +41,8 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     msgs = messages.build()
     modules = ModuleBuilder(comp, owners, messages.messages, messages.names, messages.wired)
     module = modules.build()
-    diagnostics = [*messages.diagnostics, *modules.diagnostics, *_not_generated(comp.interface)]
+    diagnostics = [*messages.diagnostics, *modules.diagnostics, *_not_generated(comp.interface),
+                   *collisions(comp.interface, messages)]
     result = Result(diagnostics=sort_diagnostics(diagnostics))
     if result.has_errors:
         return result

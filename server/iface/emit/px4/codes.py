@@ -22,6 +22,8 @@ CODES: dict[str, tuple[Severity, str]] = {
                           "(/fmu/out/<topic>, /fmu/in/<topic>): the uORB topic is assumed to be the snake_case "
                           "message name."),
     "px4-topic-conflict": (Severity.ERROR, "One uORB topic used for two message types."),
+    "px4-upstream-name": (Severity.WARNING, ("A message or topic with the name of one of PX4's own uORB messages "
+                                             "or topics (the list shipped with iface, with its PX4 version).")),
     "px4-no-services": (Severity.WARNING, "PX4 has no services or actions: they are not generated."),
     "px4-no-state": (Severity.INFORMATION, "PX4 has no state set: state is not generated."),
     "px4-message-library": (Severity.INFORMATION, "No topic wired and no parameter: only the uORB messages are "

@@ -17,12 +17,14 @@ from ..base import (
     Target,
     TemplateSet,
     header_lines,
+    sort_diagnostics,
     sorted_files,
 )
 from .codes import CODES
 from .filenames import check_rosidl_names
 from .keywords import check_keywords
 from .lower import lower_checked
+from .metadata import missing_metadata
 from .package import RosPackage
 from .render import FILTERS, check_msg_values
 
@@ -63,6 +65,9 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result
+    missing = missing_metadata(comp.interface, pkg)
+    if missing is not None:
+        result.diagnostics = sort_diagnostics([*result.diagnostics, missing])
     templates = TemplateSet(TEMPLATES, "ros2", filters=FILTERS, override=options.get("templates"))
     result.files = render_package(pkg, templates)
     return result

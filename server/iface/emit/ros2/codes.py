@@ -31,6 +31,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "ros2-param-uint64": (Severity.WARNING, "A u64 parameter: ROS 2 integer parameters are int64."),
     "ros2-package-metadata": (Severity.WARNING, "A component version or maintainer e-mail package.xml "
                               "cannot hold; a neutral value is written instead."),
+    "ros2-package-metadata-missing": (Severity.WARNING, ("A component without a license or a maintainer: "
+                                                         "package.xml gets the placeholders TODO and unknown.")),
     "idl-unwritable-string": (Severity.ERROR, "A string default or constant with a backslash, "
                               "which IDL readers decode differently."),
     "idl-reserved-name": (Severity.ERROR, "A package, message, field or constant name that is an OMG IDL keyword "

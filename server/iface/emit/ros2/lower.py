@@ -122,8 +122,8 @@ class _Lowering(DefinitionLowering):
                 value = self.value(f.default, rt, enums[0] if enums else None, self.iface)
                 param.value = self._param_value(f, value)
                 if value == []:
-                    param.note = ("no default: ROS 2 cannot load an empty list from YAML (its type is unknown); "
-                                  "the node's own default applies")
+                    param.note = ("not set here: ROS 2 cannot load an empty list from YAML (its type is "
+                                  "unknown), so the node's own default, [], applies")
             out.append(param)
         return out
 

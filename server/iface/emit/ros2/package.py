@@ -101,13 +101,13 @@ class RosInterface:
 
 @dataclass(slots=True)
 class RosParam:
-    """A parameter of the node: name as written, type, default (None: no default, for the reason in ``note``)."""
+    """A parameter of the node: name as written, type, default (None: not in the YAML, for the reason in ``note``)."""
 
     name: str
     type: RosType
     value: PyValue | None
     comments: list[str]
-    note: str = "no default; set it at launch"
+    note: str = "no default, so not set here: every launch must set it"
 
 
 @dataclass(slots=True)
