@@ -82,6 +82,9 @@ def test_a_flat_diagnostics_service_reads_as_what_the_caller_sends_and_gets() ->
     assert [f.name for f in svc.response.fields] == ["result", "r"]
     (warning,) = [d for d in comp.diagnostics if d.code == "flat-service" and "'diagnostics'" in d.message]
     assert "request (what the caller sends): cmd; response (what it gets back): result, r" in warning.message
+    from iface.model.normalize import explicit_text  # what the flat-service quick fix writes
+    assert explicit_text(svc, comp.source.text) == ("    request {\n        string cmd\n    }\n"
+                                                    "    response {\n        string result\n        i32 r\n    }")
     srv = next(f for f in generate(comp, "ros2").files if f.path.endswith("srv/Diagnostics.srv"))
     assert srv.text.split("\n", 2)[2] == "string cmd\n---\nstring result\nint32 r\n"
 

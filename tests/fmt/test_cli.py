@@ -126,3 +126,12 @@ def test_syntax_errors_are_noted_and_kept(files: Path) -> None:
     assert r.returncode == 0
     assert "mixed.iface:2:1: note[fmt-syntax-error]" in r.stderr.decode()
     assert (files / "mixed.iface").read_text() == PRETTY + "struct Bad {\n  1: i32 =\n}\n"
+
+
+def test_files_rewritten_are_named_and_quiet_silences(files: Path) -> None:
+    r = fmt("ugly.iface", "pretty.thrift", cwd=files)
+    assert (r.returncode, r.stdout, r.stderr.decode()) == (0, b"", "formatted ugly.iface\n")
+    (files / "ugly.iface").write_text(UGLY)
+    r = fmt("-q", "ugly.iface", cwd=files)
+    assert (r.returncode, r.stdout, r.stderr) == (0, b"", b"")
+    assert (files / "ugly.iface").read_text() == PRETTY

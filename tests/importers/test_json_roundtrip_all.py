@@ -26,12 +26,17 @@ EXAMPLES = ROOT / "examples"
 TARGETS = sorted(targets().items())
 
 
-def _inputs() -> list[Path]:
+def _inputs(tmp: Path) -> list[Path]:
     found = sorted(EXAMPLES.glob("*.iface")) + sorted(
         p for p in (ROOT / "tests").rglob("*") if p.suffix in (".iface", ".thrift") and p.is_file())
     corpus = _corpus()
     if corpus is not None:
         found += sorted((corpus / "thrift").rglob("*.thrift"))
+        # the ROS 2 packages, as import --from ros2 writes them
+        packages = [p for p in sorted((corpus / "ros2").glob("*/")) + sorted((corpus / "ros2").glob("*/*/"))
+                    if any((p / kind).is_dir() for kind in ("msg", "srv", "action"))]
+        run_cli("import", "-q", "--from", "ros2", *(str(p) for p in packages), "--out", str(tmp))
+        found += sorted(tmp.glob("*.iface"))
     return found
 
 
@@ -80,7 +85,7 @@ def _files(comp: Compilation) -> dict[str, dict[str, str]]:
 def test_every_example_fixture_and_corpus_file_round_trips_to_identical_files(tmp_path: Path) -> None:
     checked = 0
     differing: list[str] = []
-    for i, path in enumerate(_inputs()):
+    for i, path in enumerate(_inputs(tmp_path / "corpus_ros2")):
         comp = _clean(path)
         if comp is None:
             continue

@@ -1,4 +1,6 @@
-"""``iface-lsp fmt FILE... [--check] [--diff]``: format files in place, or check that they are.
+"""``iface-lsp fmt FILE... [--check] [--diff] [-q]``: format files in place, or check that they are.
+
+Each file rewritten is named on stderr (``formatted PATH``); ``-q`` silences that.
 
 Exit codes: 0 done (or, with ``--check``, nothing to change); 1 with ``--check``
 when a file would change; 2 on usage or I/O errors (nothing is written for
@@ -32,6 +34,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="write nothing; print a unified diff of the changes")
     p.add_argument("--indent", type=int, default=4, metavar="N",
                    help="spaces per indentation level (default 4)")
+    p.add_argument("-q", "--quiet", action="store_true", help="do not name the files rewritten")
 
 
 @dataclass(slots=True)
@@ -65,6 +68,8 @@ def run(args: argparse.Namespace) -> int:
                     sys.stdout.write(result.text)
             elif changed and not args.diff:
                 _write_atomically(path, result.text)
+                if not args.quiet:
+                    print(f"formatted {_shown(path)}", file=sys.stderr)
         except UsageError as e:
             print(f"iface-lsp fmt: {e}", file=sys.stderr)
             status = 2

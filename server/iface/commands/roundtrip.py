@@ -248,5 +248,7 @@ def run(args: argparse.Namespace) -> int:
         except OracleMissing as e:
             print(f"iface-lsp roundtrip: {e}", file=sys.stderr)
             return 2
+    if args.keep:
+        print(f"kept the imported and regenerated files in {args.keep}", file=sys.stderr)
     print(f"{rt.identical} of {rt.total} identical")
     return 0 if rt.identical == rt.total else 1
