@@ -72,7 +72,9 @@ def test_a_type_is_one_type_whether_written_by_stem_or_namespace(tmp_path: Path)
         ("/gripper/move_to_pose", "robot_arm_msgs/MoveToPose")}
     done = run_cli("graph", str(files["robot_arm"]), str(files["gripper"]), "--format", "json", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
-    link = json.loads(done.stdout)["links"][0]
+    data = json.loads(done.stdout)
+    assert data["components"][0]["at"] == {"file": "robot_arm.iface", "line": 2, "column": 11}
+    link = data["links"][0]
     assert {"set", "type_conflict", "from_at", "to_at"} <= set(link)
     assert link["from_at"]["file"].endswith(".iface") and link["from_at"]["line"] >= 1
 

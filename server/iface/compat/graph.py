@@ -11,7 +11,7 @@ from typing import Any, Callable
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Severity
-from ..model.source import Span
+from ..model.source import Source, Span
 from ..semantics.compile import Compilation
 from .canon import wire_form
 from .system import Component, Port, System, qos_problems
@@ -230,10 +230,16 @@ def render_mermaid(g: Graph) -> str:
 
 def graph_json(g: Graph, display: Display) -> dict[str, Any]:
     """The graph as JSON data."""
-    def at(p: Port) -> dict[str, Any]:
-        src = p.component.side.source
-        line, col = src.position(port_span(p).start)
+    def place(src: Source, span: Span) -> dict[str, Any]:
+        line, col = src.position(span.start)
         return {"file": display(src.path), "line": line + 1, "column": col + 1}
+
+    def at(p: Port) -> dict[str, Any]:
+        return place(p.component.side.source, port_span(p))
+
+    def component_at(c: Component) -> dict[str, Any]:
+        decl = c.side.iface.component
+        return place(c.side.source, decl.name_span if decl is not None else Span(0, 0))
 
     def port(p: Port) -> dict[str, Any]:
         return {"component": g.ids[id(p.component)], "kind": p.kind, "set": p.set, "role": p.role,
@@ -241,7 +247,7 @@ def graph_json(g: Graph, display: Display) -> dict[str, Any]:
     return {
         "schema": GRAPH_ID,
         "components": [{"id": g.ids[id(c)], "name": c.name, "version": c.side.iface.version,
-                        "file": display(c.comp.path)} for c in g.components],
+                        "file": display(c.comp.path), "at": component_at(c)} for c in g.components],
         "links": [{"kind": lk.kind, "set": lk.set, "name": lk.name, "type": lk.type,
                    "from": g.ids[id(lk.source.component)],
                    "to": g.ids[id(lk.target.component)], "qos_mismatch": list(lk.qos),

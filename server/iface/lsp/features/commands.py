@@ -3,7 +3,8 @@
 Arguments are positional (``[uri, target]``) or one object (``[{"uri": …, "target": …}]``).
 Answers are JSON objects: ``iface.preview`` gives ``{files: [{path, text}]}``
 (a virtual document for the client to show, nothing written), ``iface.generate``
-and ``iface.exportJson`` give ``{written, unchanged, refused, errors, files, folder}``,
+and ``iface.exportJson`` give ``{written, unchanged, refused, errors, files, folder}`` (``iface.generate``
+also ``not_iface``: the refused files iface never wrote, as opposed to generated files edited by hand),
 ``iface.compat`` and ``iface.graph`` give ``{text}``. A missing module or a bad
 argument is answered with an error that says what is wrong.
 """
@@ -128,7 +129,7 @@ class Runner:
                         "errors": errors, "files": []}
             report = write_files(files, out)
             return {"target": target, "folder": out, "written": report.written, "unchanged": report.unchanged,
-                    "refused": report.refused, "errors": report.errors,
+                    "refused": report.refused, "not_iface": report.foreign, "errors": report.errors,
                     "files": [os.path.join(out, p) for p in report.written + report.unchanged]}
 
         return await self.project.run(run)
