@@ -28,9 +28,11 @@ CODES: dict[str, tuple[Severity, str]] = {
     # input
     "syntax-error": (Severity.ERROR, "The text does not follow the grammar."),
     "invalid-encoding": (Severity.ERROR, "The file is not valid UTF-8."),
+    "invalid-escape": (Severity.ERROR, "A string escape that stands for no character (a lone UTF-16 surrogate)."),
     "binary-file": (Severity.ERROR, "The file holds NUL bytes: not an interface file."),
     "file-too-large": (Severity.ERROR, "The file is larger than iface reads."),
     "empty-file": (Severity.INFORMATION, "The file defines nothing."),
+    "cannot-read": (Severity.ERROR, "A file named on the command line that cannot be read (exit code 2)."),
     "nesting-too-deep": (Severity.ERROR, "Containers nested deeper than iface allows."),
     # names and references
     "unknown-type": (Severity.ERROR, "A type name that no definition, include or external package provides."),
@@ -42,6 +44,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     # values
     "invalid-default": (Severity.ERROR, "A default or constant value that its type cannot hold."),
     "int-out-of-range": (Severity.ERROR, "An integer outside the range of its type."),
+    "number-out-of-range": (Severity.ERROR, "A number no type holds (an integer beyond 64 bits, a float beyond "
+                            "float64 or float32) or a bound that is not a finite number."),
     "bounds-misuse": (Severity.ERROR, "A bound or array size that is not meaningful."),
     "invalid-field-id": (Severity.ERROR, "A field id outside 1..32767."),
     # files

@@ -7,6 +7,7 @@ Cross references (``NamedType.target``) are filled in by ``resolve``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Literal, Union
 
@@ -41,7 +42,12 @@ INT_RANGES: dict[str, tuple[int, int]] = {
     "u32": (0, 2**32 - 1), "u64": (0, 2**64 - 1),
     "char": (0, 255), "octet": (0, 255),
 }
+#: What an integer literal may be at all: the union of i64 and u64.
+INT_LITERAL: tuple[int, int] = (-(2**63), 2**64 - 1)
 FLOAT_TYPES = frozenset({"float32", "float64"})
+#: The largest finite float64 and float32.
+FLOAT64_MAX = 1.7976931348623157e308
+FLOAT32_MAX = 3.4028234663852886e38
 STRING_TYPES = frozenset({"string", "wstring"})
 
 
@@ -225,7 +231,9 @@ class Field:
                     lo = number
                 else:
                     hi = number
-        return None if lo is None and hi is None else (lo, hi)
+        if lo is None and hi is None or not all(math.isfinite(b) for b in (lo, hi) if b is not None):
+            return None  # a NaN or infinite bound is refused (validate says why): no target expresses it
+        return lo, hi
 
 
 @dataclass(slots=True, eq=False)

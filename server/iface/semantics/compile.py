@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import gc
 import os
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,6 +21,7 @@ from .validate import Memo, validate
 #: Files larger than this are refused with a message (interface files are small).
 MAX_FILE_BYTES = 4 * 1024 * 1024
 SUFFIXES = (".iface", ".thrift")
+_SURROGATE = re.compile("[\ud800-\udfff]")
 
 
 @dataclass(eq=False)
@@ -218,6 +220,7 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
     enabled = gc.isenabled()
     gc.disable()
     try:
+        diagnostics.extend(_surrogates(source))
         parsed = parse_text(source.text, cache)
         iface = build_interface(source, parsed.items)
         for p in parsed.problems:
@@ -239,6 +242,15 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
             gc.enable()
     diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
     return Compilation(source, iface, diagnostics, included, parsed)
+
+
+def _surrogates(source: Source) -> list[Diagnostic]:
+    """A lone UTF-16 surrogate in the text (an editor can send one; a file read as UTF-8 never holds one)."""
+    found = None if source.text.isascii() else _SURROGATE.search(source.text)
+    if found is None:
+        return []
+    return [make("invalid-encoding", f"U+{ord(found.group()):04X} is a lone UTF-16 surrogate: it is no character "
+                 "and cannot be written as UTF-8", source, Span(found.start(), found.end()))]
 
 
 def build_interface(source: Source, items: list[m.Item]) -> m.Interface:

@@ -8,7 +8,9 @@ files and on Thrift files that declare a ``ros2`` or ``px4`` namespace.
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
+import struct
 from collections.abc import Callable, Iterator
 
 from ..model import nodes as m
@@ -25,6 +27,7 @@ from ..model.normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
 from ..model.qos import problem as qos_problem
 from ..model.source import Source
 from ..model.walk import all_consts, bodies, resolve_typedefs, type_text
+from ..syntax.transform import shorten
 from .resolve import constant_value
 
 Rule = Callable[[m.Interface], Iterator[Diagnostic]]
@@ -111,7 +114,7 @@ def duplicate_members(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
                 names[f.name] = f
             if isinstance(f, m.Field) and f.id is not None:
                 assert f.id_span is not None
-                if not -32768 <= f.id <= 32767 or f.id == 0:
+                if (not -32768 <= f.id <= 32767 or f.id == 0) and m.INT_LITERAL[0] <= f.id <= m.INT_LITERAL[1]:
                     yield make("invalid-field-id", f"field id {f.id} is outside 1..32767", src, f.id_span)
                 other = ids.get(f.id)
                 if other is not None:
@@ -140,7 +143,7 @@ def enum_values(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
                        f"'{v.name}' has the value {v.value} of '{values[v.value].name}'", src, v.span,
                        severity=Severity.WARNING)
         values.setdefault(v.value, v)
-        if not lo <= v.value <= hi:
+        if not lo <= v.value <= hi and m.INT_LITERAL[0] <= v.value <= m.INT_LITERAL[1]:
             yield make("int-out-of-range", f"enum value {v.value} does not fit in i32, the type of enums",
                        src, v.span, severity=Severity.WARNING)
 
@@ -172,12 +175,15 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
                 yield make("invalid-default", f"{what}: {name} needs an integer, not {_show(v)}", src, v.span)
                 return
             lo, hi = m.INT_RANGES[name]
-            if not lo <= int(v.value) <= hi:
-                yield make("int-out-of-range", f"{what}: {v.text} does not fit in {name} ({lo}..{hi})",
+            if not lo <= int(v.value) <= hi and _literal_fits(v):
+                yield make("int-out-of-range", f"{what}: {shorten(v.text)} does not fit in {name} ({lo}..{hi})",
                            src, v.span)
         elif name in m.FLOAT_TYPES:
             if v.kind not in ("int", "double"):
                 yield make("invalid-default", f"{what}: {name} needs a number, not {_show(v)}", src, v.span)
+            elif name == "float32" and _literal_fits(v) and not _fits_float32(float(v.value)):
+                yield make("number-out-of-range", f"{what}: {shorten(v.text)} is beyond float32 "
+                           f"(at most ±{m.FLOAT32_MAX:.8g})", src, v.span)
         elif name == "bool":
             if not (v.kind == "int" and v.value in (0, 1)) and not (v.kind == "name" and v.value in ("true", "false")):
                 yield make("invalid-default", f"{what}: bool needs true or false, not {_show(v)}", src, v.span)
@@ -234,6 +240,36 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
     elif isinstance(target, m.Senum):
         if v.kind != "string":
             yield make("invalid-default", f"{what}: senum '{target.name}' needs a string", src, v.span)
+
+
+def _literal_fits(v: m.Value) -> bool:
+    """False for a number the parser already refused (beyond 64 bits or float64): no second finding."""
+    if v.kind == "int":
+        lo, hi = m.INT_LITERAL
+        return lo <= v.value <= hi
+    return v.kind != "double" or abs(v.value) < m.FLOAT64_MAX
+
+
+def _non_finite(a: m.Annotation) -> bool:
+    """True for a range, min or max string holding NaN or an infinity (numbers are checked when parsed)."""
+    if a.value is None or a.value.kind != "string":
+        return False
+    for part in str(a.value.value).split(".."):
+        try:
+            if not math.isfinite(float(part)):
+                return True
+        except ValueError:
+            continue
+    return False
+
+
+def _fits_float32(value: float) -> bool:
+    """True when ``value`` rounds to a finite float32."""
+    try:
+        struct.pack("<f", value)
+    except OverflowError:
+        return False
+    return True
 
 
 def _show(v: m.Value) -> str:
@@ -405,8 +441,14 @@ def parameter_ranges(src: Source, d: m.Definition) -> Iterator[Diagnostic]:
             continue
         rng = f.range
         if rng is None:
-            yield make("param-range", f"'{f.name}': write the range as range = \"lo..hi\" "
-                       "or min/max numbers", src, keys[0].span)
+            odd = next((a for a in keys if _non_finite(a)), None)
+            if odd is not None:
+                yield make("number-out-of-range", f"'{f.name}': a range bound must be a finite number, not "
+                           f"'{shorten(odd.text)}'; leave a side empty for no bound (range = \"0..\")",
+                           src, odd.span)
+            elif not any(a.value is not None and not _literal_fits(a.value) for a in keys):
+                yield make("param-range", f"'{f.name}': write the range as range = \"lo..hi\" "
+                           "or min/max numbers", src, keys[0].span)
             continue
         lo, hi = rng
         if lo is not None and hi is not None and lo > hi:

@@ -8,6 +8,7 @@ moved later.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from lark import Token
@@ -19,12 +20,24 @@ from ..model.source import Span
 MAX_TYPE_DEPTH = 64
 
 _ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "\\": "\\", '"': '"', "'": "'", "0": "\0"}
+_HEX = frozenset("0123456789abcdefABCDEF")
+#: What stands in a string for an escape that names no character.
+REPLACEMENT = "\ufffd"
+
+#: A literal problem: (offset in the literal's text, length, message).
+LiteralProblem = tuple[int, int, str]
 
 
-def decode_literal(text: str) -> str:
-    """The value of a quoted Thrift literal, with backslash escapes decoded."""
+def decode_literal(text: str, problems: list[LiteralProblem] | None = None) -> str:
+    """The value of a quoted Thrift literal, with backslash escapes decoded.
+
+    ``\\uD83D\\uDE00`` (a UTF-16 surrogate pair) is one character. A lone surrogate
+    escape stands for no character: it becomes U+FFFD and is reported in ``problems``
+    (offsets into ``text``). A raw surrogate becomes U+FFFD too, so that no value
+    of the model holds text that cannot be written as UTF-8.
+    """
     body = text[1:-1]
-    if "\\" not in body:
+    if "\\" not in body and not _has_surrogate(body):
         return body
     out: list[str] = []
     i, n = 0, len(body)
@@ -36,24 +49,63 @@ def decode_literal(text: str) -> str:
                 out.append(_ESCAPES[e])
                 i += 2
                 continue
-            if e == "u" and i + 5 < n + 0 and all(h in "0123456789abcdefABCDEF" for h in body[i + 2:i + 6]):
-                out.append(chr(int(body[i + 2:i + 6], 16)))
+            if e == "u" and i + 6 <= n and _HEX.issuperset(body[i + 2:i + 6]):
+                code = int(body[i + 2:i + 6], 16)
+                if 0xD800 <= code <= 0xDBFF and body.startswith("\\u", i + 6) and i + 12 <= n \
+                        and _HEX.issuperset(body[i + 8:i + 12]) and 0xDC00 <= int(body[i + 8:i + 12], 16) <= 0xDFFF:
+                    low = int(body[i + 8:i + 12], 16)
+                    out.append(chr(0x10000 + ((code - 0xD800) << 10) + (low - 0xDC00)))
+                    i += 12
+                    continue
+                if 0xD800 <= code <= 0xDFFF:
+                    if problems is not None:
+                        half = "high" if code <= 0xDBFF else "low"
+                        problems.append((i + 1, 6, f"'\\u{body[i + 2:i + 6]}' is a lone {half} UTF-16 surrogate: "
+                                         "it stands for no character and cannot be written as UTF-8 "
+                                         "(a character above U+FFFF is written as a pair, "
+                                         "like '\\uD83D\\uDE00')"))
+                    out.append(REPLACEMENT)
+                else:
+                    out.append(chr(code))
                 i += 6
                 continue
+        elif "\ud800" <= c <= "\udfff":
+            c = REPLACEMENT  # a raw surrogate in the text: reported once for the whole text by compile
         out.append(c)
         i += 1
     return "".join(out)
 
 
-def parse_int(text: str) -> int:
-    """An INT token's value (decimal or hex, optionally signed)."""
-    if "x" not in text and "X" not in text:
-        return int(text, 10)
-    sign = -1 if text.startswith("-") else 1
+def _has_surrogate(text: str) -> bool:
+    return any("\ud800" <= c <= "\udfff" for c in text) if not text.isascii() else False
+
+
+def parse_int(text: str) -> int | None:
+    """An INT token's value (decimal or hex, optionally signed); None beyond 64 bits (see ``m.INT_LITERAL``)."""
+    negative = text.startswith("-")
     digits = text.lstrip("+-")
-    if digits[:2].lower() == "0x":
-        return sign * int(digits[2:], 16)
-    return sign * int(digits, 10)
+    hexa = digits[:2].lower() == "0x"
+    digits = (digits[2:] if hexa else digits).lstrip("0") or "0"
+    # longer than 2**64 in its base: refused before int() (Python limits int-from-str to 4300 digits)
+    if len(digits) > (16 if hexa else 20):
+        return None
+    value = int(digits, 16 if hexa else 10)
+    value = -value if negative else value
+    lo, hi = m.INT_LITERAL
+    return value if lo <= value <= hi else None
+
+
+def parse_double(text: str) -> float | None:
+    """A DOUBLE token's value; None when it is beyond float64 (it would be infinity)."""
+    value = float(text)
+    return value if math.isfinite(value) else None
+
+
+def shorten(text: str, limit: int = 24) -> str:
+    """A long literal cut in the middle for a message, with its length."""
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit // 2]}…{text[-limit // 2:]} ({len(text)} characters)"
 
 
 def _start(x: Any) -> int:
@@ -108,7 +160,7 @@ class ModelBuilder:
     # ---- headers ---------------------------------------------------------------
     def include(self, c: list[Any]) -> m.Include:
         lit = c[1]
-        return m.Include(m_decode(lit), self.span(c[0].start_pos, lit.end_pos), self.tok_span(lit))
+        return m.Include(self._decode(lit), self.span(c[0].start_pos, lit.end_pos), self.tok_span(lit))
 
     def cpp_include(self, c: list[Any]) -> m.Include:
         inc = self.include(c)
@@ -118,7 +170,7 @@ class ModelBuilder:
     def namespace(self, c: list[Any]) -> m.Namespace:
         scope, name = c[1], c[2]
         ann = c[3] if len(c) > 3 else []
-        value = m_decode(name) if name.type == "LITERAL" else str(name)
+        value = self._decode(name) if name.type == "LITERAL" else str(name)
         end = ann[-1].span.end if ann else name.end_pos
         return m.Namespace(str(scope), value, self.span(c[0].start_pos, end), ann)
 
@@ -129,7 +181,7 @@ class ModelBuilder:
         end = name.end_pos
         for x in c[2:]:
             if isinstance(x, Token) and x.type == "LITERAL":
-                version = m_decode(x)
+                version = self._decode(x)
                 end = x.end_pos
             elif isinstance(x, list):
                 ann = x
@@ -144,7 +196,7 @@ class ModelBuilder:
         d, name, topic = c[0], c[1], c[2]
         ann = c[3] if len(c) > 3 else []
         end = self._ann_end if ann else topic.end_pos
-        return m.Wiring(str(d), m.NamedType(str(name), self.tok_span(name)), m_decode(topic),
+        return m.Wiring(str(d), m.NamedType(str(name), self.tok_span(name)), self._decode(topic),
                         self.span(d.start_pos, end), self.tok_span(topic), ann,
                         self.docs.get(d.start_pos))
 
@@ -171,7 +223,7 @@ class ModelBuilder:
         end = name.end_pos
         for x in c[1:]:
             if isinstance(x, Token) and x.type == "INT":
-                value = parse_int(x)
+                value = self._int(x)
                 end = x.end_pos
             elif isinstance(x, list):
                 ann = x
@@ -194,7 +246,7 @@ class ModelBuilder:
 
     def senum(self, c: list[Any]) -> m.Senum:
         kw, name = c[0], c[1]
-        values = [m.Value("string", m_decode(t), self.tok_span(t), str(t))
+        values = [m.Value("string", self._decode(t), self.tok_span(t), str(t))
                   for t in c[3:] if isinstance(t, Token) and t.type == "LITERAL"]
         ann, end = self._body_tail(c)
         return m.Senum(str(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
@@ -286,7 +338,7 @@ class ModelBuilder:
         first = c[0]
         fid = fid_span = None
         if type(first) is Token and first.type == "INT":
-            fid = parse_int(first)
+            fid = self._int(first)
             fid_span = self.tok_span(first)
             i = 1
         start = _start(first)
@@ -329,7 +381,7 @@ class ModelBuilder:
     def bounded_string(self, c: list[Any]) -> m.BaseType:
         kw, bound = c[0], c[1]
         t = m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), str(kw),
-                       parse_int(bound))
+                       self._int(bound))
         if t.name not in m.STRING_TYPES:
             self.problems.append(("bounds-misuse", f"only string and wstring take a bound, not {kw}", t.span))
         return t
@@ -380,10 +432,10 @@ class ModelBuilder:
         return _Tagged(("unbounded", None, c[-1].end_pos))
 
     def fixed_array(self, c: list[Any]) -> _Tagged:
-        return _Tagged(("fixed", parse_int(c[1]), c[-1].end_pos))
+        return _Tagged(("fixed", self._int(c[1]), c[-1].end_pos))
 
     def bounded_array(self, c: list[Any]) -> _Tagged:
-        return _Tagged(("bounded", parse_int(c[1]), c[-1].end_pos))
+        return _Tagged(("bounded", self._int(c[1]), c[-1].end_pos))
 
     def field_type(self, c: list[Any]) -> Any:
         t = self._type(c[0])
@@ -401,15 +453,15 @@ class ModelBuilder:
     # ---- values --------------------------------------------------------------------
     def int_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("int", parse_int(tok), self.tok_span(tok), str(tok))
+        return m.Value("int", self._int(tok), self.tok_span(tok), str(tok))
 
     def double_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("double", float(tok), self.tok_span(tok), str(tok))
+        return m.Value("double", self._double(tok), self.tok_span(tok), str(tok))
 
     def string_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("string", m_decode(tok), self.tok_span(tok), str(tok))
+        return m.Value("string", self._decode(tok), self.tok_span(tok), str(tok))
 
     def name_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
@@ -417,12 +469,23 @@ class ModelBuilder:
 
     def list_value(self, c: list[Any]) -> m.Value:
         items = [x for x in c if isinstance(x, m.Value)]
-        return m.Value("list", items, self.span(c[0].start_pos, c[-1].end_pos))
+        return self._nested(m.Value("list", items, self.span(c[0].start_pos, c[-1].end_pos)), items)
 
     def map_value(self, c: list[Any]) -> m.Value:
         items = [x for x in c if isinstance(x, m.Value)]
         pairs = list(zip(items[0::2], items[1::2]))
-        return m.Value("map", pairs, self.span(c[0].start_pos, c[-1].end_pos))
+        return self._nested(m.Value("map", pairs, self.span(c[0].start_pos, c[-1].end_pos)), items)
+
+    def _nested(self, v: m.Value, items: list[m.Value]) -> m.Value:
+        """A list or map value; nested deeper than types may be, it is refused and kept empty."""
+        depth = max((self._depth.get(id(x), 0) for x in items), default=0) + 1
+        if depth > MAX_TYPE_DEPTH:
+            if depth == MAX_TYPE_DEPTH + 1:
+                self.problems.append(("nesting-too-deep", f"values are nested more than {MAX_TYPE_DEPTH} levels "
+                                      "deep", v.span))
+            v.value = []
+        self._depth[id(v)] = depth
+        return v
 
     # ---- annotations ---------------------------------------------------------------
     _ann_end = 0
@@ -438,6 +501,35 @@ class ModelBuilder:
         self._ann_end = c[-1].end_pos
         return [x for x in c if isinstance(x, m.Annotation)]
 
+    # ---- literals ---------------------------------------------------------------------
+    def _decode(self, tok: Token) -> str:
+        """The value of a LITERAL token; escapes that name no character are reported."""
+        found: list[LiteralProblem] = []
+        value = decode_literal(str(tok), found)
+        for offset, length, message in found:
+            start = (tok.start_pos or 0) + offset
+            self.problems.append(("invalid-escape", message, self.span(start, start + length)))
+        return value
+
+    def _int(self, tok: Token) -> int:
+        """The value of an INT token; one beyond 64 bits is reported and stands as the nearest out-of-range value."""
+        value = parse_int(str(tok))
+        if value is not None:
+            return value
+        lo, hi = m.INT_LITERAL
+        self.problems.append(("number-out-of-range", f"the integer {shorten(str(tok))} is beyond every integer type "
+                              f"(the widest, i64 and u64, span {lo}..{hi})", self.tok_span(tok)))
+        return lo - 1 if str(tok).startswith("-") else hi + 1
+
+    def _double(self, tok: Token) -> float:
+        """The value of a DOUBLE token; one beyond float64 is reported and stands as the largest float64."""
+        value = parse_double(str(tok))
+        if value is not None:
+            return value
+        self.problems.append(("number-out-of-range", f"the number {shorten(str(tok))} is beyond float64 "
+                              f"(at most ±{m.FLOAT64_MAX:.6g}): it would be infinity", self.tok_span(tok)))
+        return -m.FLOAT64_MAX if str(tok).startswith("-") else m.FLOAT64_MAX
+
     # ---- helpers ---------------------------------------------------------------------
     def _body_tail(self, c: list[Any]) -> tuple[list[m.Annotation], int]:
         """Annotations after a closing brace, and where the definition ends."""
@@ -445,8 +537,3 @@ class ModelBuilder:
         if isinstance(last, list):
             return last, self._ann_end
         return [], _end(last)
-
-
-def m_decode(tok: Token) -> str:
-    """The decoded value of a LITERAL token."""
-    return decode_literal(str(tok))

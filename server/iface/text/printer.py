@@ -83,7 +83,8 @@ def value_text(v: m.Value) -> str:
     """A value as the language writes it, keeping the original spelling when it still fits."""
     kind = v.kind
     if kind == "int":
-        if v.text and _INT.match(v.text) and _int_of(v.text) == v.value:
+        if v.text and _INT.match(v.text) and _int_of(v.text) in (v.value, None if _beyond(v.value) else v.value):
+            # an integer beyond 64 bits keeps its spelling: it is refused again, as written
             return v.text
         return str(v.value)
     if kind == "double":
@@ -104,10 +105,15 @@ def value_text(v: m.Value) -> str:
     return "{" + ", ".join(f"{value_text(k)}: {value_text(x)}" for k, x in v.value) + "}"
 
 
-def _int_of(text: str) -> int:
-    sign = -1 if text.startswith("-") else 1
-    digits = text.lstrip("+-")
-    return sign * (int(digits[2:], 16) if digits[:2].lower() == "0x" else int(digits, 10))
+def _beyond(value: int) -> bool:
+    lo, hi = m.INT_LITERAL
+    return not lo <= value <= hi
+
+
+def _int_of(text: str) -> int | None:
+    from ..syntax.transform import parse_int
+
+    return parse_int(text)
 
 
 def annotations_text(annotations: Iterable[m.Annotation]) -> str:
