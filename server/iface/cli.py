@@ -11,7 +11,10 @@ import argparse
 import importlib
 import importlib.util
 import sys
+import traceback
 from collections.abc import Sequence
+
+from .commands import terminal
 
 #: command name -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -35,10 +38,14 @@ def _parser(available: dict[str, tuple[str, str]]) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="iface-lsp",
         description="iface: one explicit interface file per robotic component; checks, generators, "
-                    "importers, compatibility and a language server.")
+                    "importers, compatibility and a language server.",
+        epilog="Exit codes: 0 ok, 1 findings, 2 usage or I/O error, 3 internal error (a bug: --debug shows "
+               "its traceback).")
     parser.add_argument("--stdio", action="store_true", help="run the language server on stdin/stdout")
     parser.add_argument("--tcp", metavar="HOST:PORT", help="run the language server on a TCP socket")
     parser.add_argument("--version", action="store_true", help="print the version and exit")
+    parser.add_argument("--debug", action="store_true",
+                        help="show the traceback of an internal error (may stand anywhere on the command line)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module, help_text) in available.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
@@ -66,12 +73,23 @@ def main(argv: Sequence[str] | None = None) -> int:
         known = pre.parse_args(args_list)
         from .lsp.server import serve
         return serve(tcp=known.tcp)
+    debug = "--debug" in args_list
+    args_list = [a for a in args_list if a != "--debug"]
+    with terminal.guarded_output():
+        return _run(args_list, debug)
+
+
+def _run(args_list: list[str], debug: bool) -> int:
+    """Parse the command line and run one command; see the epilog for the exit codes."""
     available = _available()
     # only build the one subcommand's arguments: keeps `check` fast
     first = next((a for a in args_list if not a.startswith("-")), None)
     chosen = {first: available[first]} if first in available else available
     parser = _parser(chosen)
-    args = parser.parse_args(args_list)
+    try:
+        args = parser.parse_args(args_list)
+    except SystemExit as e:
+        return e.code if isinstance(e.code, int) else 2
     if args.version:
         from . import __version__
         print(f"iface-lsp {__version__}")
@@ -79,13 +97,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not args.command:
         parser.print_help(sys.stderr)
         return 2
-    module = importlib.import_module(args._module)
     try:
-        return int(module.run(args))
+        module = importlib.import_module(args._module)
+        with terminal.interruptible():
+            return int(module.run(args))
     except KeyboardInterrupt:
         return 130
-    except BrokenPipeError:
-        return 0
+    except terminal.Terminated:
+        return 143
+    except Exception as e:  # noqa: BLE001 - every other exception is a bug: one line, exit 3
+        if debug:
+            traceback.print_exc()
+        print(f"iface-lsp {args.command}: internal error: {terminal.one_line(f'{type(e).__name__}: {e}')}"
+              + ("" if debug else " (a bug in iface: please report it with the input; --debug shows the "
+                 "traceback)"), file=sys.stderr)
+        return 3
 
 
 if __name__ == "__main__":

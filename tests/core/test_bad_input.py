@@ -60,10 +60,10 @@ def test_invalid_utf8(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("name", ["missing.iface"])
-def test_missing_file_is_a_usage_error(tmp_path: Path, name: str) -> None:
+def test_missing_file_is_an_io_error(tmp_path: Path, name: str) -> None:
     r = run_cli("check", str(tmp_path / name))
     assert r.returncode == 2
-    assert "no such file" in r.stderr and "Traceback" not in r.stderr
+    assert "missing.iface:1:1: error[cannot-read]: no such file" in r.stdout and "Traceback" not in r.stderr
 
 
 def test_wrong_suffix_is_a_usage_error(tmp_path: Path) -> None:

@@ -17,7 +17,7 @@ from ..semantics.compile import Compilation
 from .common import (
     UsageError,
     check_suffix,
-    compile_files,
+    compile_readable,
     gather,
     has_errors,
     print_diagnostics,
@@ -51,17 +51,21 @@ def summary(comps: Sequence[Compilation], diags: Sequence[Diagnostic]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Exit 0 without errors, 1 with errors, 2 on usage or I/O errors."""
+    """Exit 0 without errors, 1 with errors, 2 on usage or I/O errors.
+
+    A file that cannot be read is one ``cannot-read`` diagnostic (exit 2); the
+    other files are still checked and their diagnostics printed.
+    """
     try:
         for f in args.files:
             check_suffix(f)
-        comps = compile_files(args.files, args.include_path)
     except UsageError as e:
         print(f"iface-lsp check: {e}", file=sys.stderr)
         return 2
-    diags = gather(comps)
+    comps, unread = compile_readable(args.files, args.include_path)
+    diags = gather(comps) + unread
     shown = [d for d in diags if d.severity == Severity.ERROR] if args.quiet else diags
     print_diagnostics(shown, args.format)
     if args.format == "text" and not args.quiet:
         print(summary(comps, diags))
-    return 1 if has_errors(diags) else 0
+    return 2 if unread else 1 if has_errors(diags) else 0

@@ -6,9 +6,14 @@ import json
 import os
 import sys
 from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING
 
-from ..model.diagnostics import Diagnostic, Severity
+from ..model.diagnostics import Diagnostic, Severity, make
+from ..model.source import Source, Span
 from ..semantics.compile import SUFFIXES, Compilation, Workspace
+
+if TYPE_CHECKING:  # emit is not imported by `check`: it loads jinja2
+    from ..emit.write import WriteReport
 
 
 class UsageError(Exception):
@@ -23,17 +28,40 @@ def display_path(path: str) -> str:
         return path
 
 
+def unreadable(path: str) -> str | None:
+    """Why ``path`` cannot be read as an input file; None when it can."""
+    if not os.path.isfile(path):
+        return "is a folder, not a file" if os.path.isdir(path) else "no such file"
+    if not os.access(path, os.R_OK):
+        return "cannot read the file"
+    return None
+
+
 def compile_files(paths: Sequence[str], include_paths: Iterable[str] = ()) -> list[Compilation]:
     """Compile every file; a missing or unreadable file is a UsageError."""
     ws = Workspace(include_paths)
     out = []
     for p in paths:
-        if not os.path.isfile(p):
-            raise UsageError(f"{p}: no such file")
-        if not os.access(p, os.R_OK):
-            raise UsageError(f"{p}: cannot read the file")
+        problem = unreadable(p)
+        if problem is not None:
+            raise UsageError(f"{p}: {problem}")
         out.append(ws.compile_path(p))
     return out
+
+
+def compile_readable(paths: Sequence[str], include_paths: Iterable[str] = ()) -> tuple[list[Compilation],
+                                                                                        list[Diagnostic]]:
+    """Compile every file that can be read; each one that cannot gets one ``cannot-read`` diagnostic."""
+    ws = Workspace(include_paths)
+    comps: list[Compilation] = []
+    problems: list[Diagnostic] = []
+    for p in paths:
+        problem = unreadable(p)
+        if problem is None:
+            comps.append(ws.compile_path(p))
+        else:
+            problems.append(make("cannot-read", problem, Source(p, ""), Span(0, 0)))
+    return comps, problems
 
 
 def gather(comps: Sequence[Compilation]) -> list[Diagnostic]:
@@ -70,3 +98,13 @@ def check_suffix(path: str) -> None:
     """Refuse files that are neither .iface nor .thrift."""
     if not path.endswith(SUFFIXES):
         raise UsageError(f"{path}: expected a .iface or .thrift file")
+
+
+def print_link_notes(report: WriteReport, out: str, command: str) -> None:
+    """Say on stderr which symbolic links were refused, and which ``--force`` replaced (never followed)."""
+    for rel in report.links:
+        print(f"iface-lsp {command}: {os.path.join(out, rel)} is a symbolic link; not followed and not replaced "
+              "(--force replaces the link itself with the file)", file=sys.stderr)
+    for rel, target in report.replaced_links.items():
+        print(f"iface-lsp {command}: {os.path.join(out, rel)} was a symbolic link to {target}; --force replaced "
+              "the link with the file and left its target untouched", file=sys.stderr)

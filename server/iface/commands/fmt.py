@@ -20,6 +20,7 @@ from ..model.source import Source
 from ..semantics.compile import MAX_FILE_BYTES, SUFFIXES
 from ..text.formatter import Formatted, format_document
 from .common import UsageError, check_suffix, display_path
+from .terminal import write_verbatim
 
 STDIN = "-"
 
@@ -65,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
                     status = max(status, 1)
             elif path == STDIN:
                 if not args.diff:
-                    sys.stdout.write(result.text)
+                    write_verbatim(result.text)
             elif changed and not args.diff:
                 _write_atomically(path, result.text)
                 if not args.quiet:
@@ -137,7 +138,7 @@ def _print_diff(src: _Input, new: str) -> None:
     diff = difflib.unified_diff(src.text.splitlines(keepends=True), new.splitlines(keepends=True),
                                 f"{name} (original)", f"{name} (formatted)")
     for line in diff:
-        sys.stdout.write(line if line.endswith("\n") else line + "\n\\ No newline at end of file\n")
+        write_verbatim(line if line.endswith("\n") else line + "\n\\ No newline at end of file\n")
 
 
 def _write_atomically(path: str, text: str) -> None:
@@ -159,9 +160,11 @@ def _write_atomically(path: str, text: str) -> None:
             os.fsync(f.fileno())
         os.chmod(tmp, mode)
         os.replace(tmp, path)
-    except OSError as e:
+    except BaseException as e:  # an error, Ctrl-C or SIGTERM: no temporary file is left behind
         try:
             os.unlink(tmp)
         except OSError:
             pass
-        raise UsageError(f"{path}: cannot write the file ({e.strerror or e})") from None
+        if isinstance(e, OSError):
+            raise UsageError(f"{path}: cannot write the file ({e.strerror or e})") from None
+        raise

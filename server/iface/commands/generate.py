@@ -24,6 +24,7 @@ from .common import (
     gather,
     has_errors,
     print_diagnostics,
+    print_link_notes,
 )
 
 
@@ -116,12 +117,15 @@ def _report(report: WriteReport, args: argparse.Namespace) -> int:
         for p in report.written:
             print(f"wrote {os.path.join(out, p)}", file=sys.stderr)
     for p in report.refused:
+        if p in report.links:
+            continue
         if p in report.foreign:
             print(f"iface-lsp generate: {os.path.join(out, p)} exists and was not written by iface (it has no "
                   "iface-hash stamp); not overwritten (--force overwrites it)", file=sys.stderr)
         else:
             print(f"iface-lsp generate: {os.path.join(out, p)} was edited by hand since it was generated; "
                   "not overwritten (--force overwrites it)", file=sys.stderr)
+    print_link_notes(report, out, "generate")
     if not args.quiet and not args.dry_run:
         print(f"{len(report.written)} written, {len(report.unchanged)} unchanged"
               + (f", {len(report.refused)} refused" if report.refused else ""), file=sys.stderr)

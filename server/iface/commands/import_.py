@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..importers import InputError, Problem, get_importer, importers
 from ..importers.output import write_imported
+from .common import print_link_notes
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -46,8 +47,10 @@ def run(args: argparse.Namespace) -> int:
     for line in report.errors:
         print(f"iface-lsp import: {line}", file=sys.stderr)
     for path in report.refused:
-        print(f"iface-lsp import: {Path(args.out) / path}: exists with other content; not overwritten "
-              "(use --force)", file=sys.stderr)
+        if path not in report.links:
+            print(f"iface-lsp import: {Path(args.out) / path}: exists with other content; not overwritten "
+                  "(use --force)", file=sys.stderr)
+    print_link_notes(report, args.out, "import")
     if not args.quiet:
         for path in report.written:
             print(f"wrote {Path(args.out) / path}")
