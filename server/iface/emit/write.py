@@ -2,19 +2,27 @@
 
 ``write_files`` checks every target path before it writes anything (inside the
 output folder, each name short enough for the file system, no file where a
-folder must go), so a path problem found up front writes no file at all. Each
-file is then written to a short temporary name in its own folder and renamed
-into place, so a reader never sees half a file. An I/O error in the middle of
-writing (a full disk) stops the run: the files already written are complete,
-the others are left as they were.
+folder must go, no two paths that differ only in case) and encodes every file,
+so a problem found up front writes no file at all. Each file is then written to
+a short temporary name in its own folder and renamed into place, so a reader
+never sees half a file; it gets the mode an editor would give it (the mode of
+the file it replaces, else 0666 less the umask). A symbolic link where a file
+goes is never written through: it is refused, or with ``force`` replaced by the
+file. An I/O error in the middle of writing (a full disk) stops the run: the
+files already written are complete, the others are left as they were. Ctrl-C
+or SIGTERM (turned into an exception by the CLI) leaves no temporary file.
 """
 
 from __future__ import annotations
 
 import os
 import re
+import signal
+import stat
 import tempfile
-from collections.abc import Iterable
+import unicodedata
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
@@ -45,6 +53,10 @@ class WriteReport:
     errors: list[str] = field(default_factory=list)
     #: of ``refused``, the files iface did not write at all (no stamp): not edited, someone else's
     foreign: list[str] = field(default_factory=list)
+    #: Of ``refused``: the paths where a symbolic link stands (not followed; ``force`` replaces the link).
+    links: list[str] = field(default_factory=list)
+    #: Of ``written``: the paths where ``force`` replaced a symbolic link, with where it pointed.
+    replaced_links: dict[str, str] = field(default_factory=dict)
 
 
 class UnsafePath(ValueError):
@@ -52,15 +64,22 @@ class UnsafePath(ValueError):
 
 
 def safe_join(out_dir: Path, rel: str) -> Path:
-    """``out_dir / rel``, refusing absolute paths, ``..`` and anything resolving outside."""
+    """``out_dir / rel``, refusing absolute paths, ``..`` and folders resolving outside.
+
+    The folders are resolved; the file's own name is not: a symbolic link there
+    is the writer's to refuse or replace, never to follow.
+    """
     p = PurePosixPath(rel)
     if p.is_absolute() or any(part in ("..", "") for part in p.parts) or "\\" in rel or "\0" in rel:
         raise UnsafePath(rel)
-    full = (out_dir / Path(*p.parts)).resolve()
-    root = out_dir.resolve()
-    if root != full and root not in full.parents:
+    try:
+        root = out_dir.resolve()
+        folder = (out_dir / Path(*p.parts[:-1])).resolve()
+    except (OSError, RuntimeError):  # a loop of links
+        raise UnsafePath(rel) from None
+    if root != folder and root not in folder.parents:
         raise UnsafePath(rel)
-    return full
+    return folder / p.parts[-1]
 
 
 def _exists(path: Path) -> bool:
@@ -108,6 +127,8 @@ def path_problem(full: Path) -> str | None:
     for folder in reversed(full.parents):
         if _exists(folder) and not folder.is_dir():
             return f"{folder} exists and is not a folder"
+    if full.is_symlink():
+        return None  # refused or replaced when written, never followed
     if _exists(full) and not full.is_file():
         return "a folder (or other non-file) is in its place"
     return None
@@ -150,20 +171,69 @@ def hand_edited(existing: str) -> bool:
     return digest is None or content_hash(body) != digest
 
 
-def atomic_write(path: Path, text: str) -> None:
-    """Write via a short-named temporary file in the same folder and rename it into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=path.parent)
+def umask() -> int:
+    """The process's umask (read without changing it where the system allows)."""
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _mode(path: Path) -> int:
+    """The mode a file written at ``path`` gets: that of the regular file it replaces, else 0666 less the umask."""
+    try:
+        st = os.lstat(path)
+    except OSError:
+        st = None
+    if st is not None and stat.S_ISREG(st.st_mode):
+        return stat.S_IMODE(st.st_mode)
+    return 0o666 & ~umask()
+
+
+@contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Hold back SIGINT and SIGTERM while the block runs (where the system can)."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def atomic_write(path: Path, text: str | bytes) -> None:
+    """Write via a short-named temporary file in the same folder and rename it into place.
+
+    A symbolic link at ``path`` is replaced, never followed. Whatever stops the
+    write (an error, Ctrl-C, SIGTERM raised as an exception) removes the temporary file.
+    """
+    data = text.encode("utf-8") if isinstance(text, str) else text
+    path.parent.mkdir(parents=True, exist_ok=True)
+    mode = _mode(path)
+    with _signals_deferred():  # the temporary file exists only inside the try below
+        fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=path.parent)
         try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+            os.fchmod(fd, mode)
+            with os.fdopen(fd, "wb") as f:
+                fd = -1
+                f.write(data)
+            os.replace(tmp, path)
+        except BaseException:
+            if fd >= 0:
+                os.close(fd)
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+            raise
 
 
 def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFile, Path]], list[str]]:
@@ -182,49 +252,98 @@ def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFil
             continue
         planned.append((f, full))
     errors.extend(_folder_conflicts((f.path, full) for f, full in planned))
+    errors.extend(_case_conflicts(f.path for f, _ in planned))
     return planned, errors
+
+
+def _case_conflicts(paths: Iterable[str]) -> list[str]:
+    """Paths of the set that differ from another only in case: one file on macOS and Windows."""
+    first: dict[str, str] = {}
+    out = []
+    for rel in paths:
+        key = unicodedata.normalize("NFC", rel).casefold()
+        seen = first.setdefault(key, rel)
+        if seen != rel:
+            out.append(f"{rel}: refused: it differs from {seen} only in case, and case-insensitive file systems "
+                       "(macOS, Windows) hold them as one file")
+    return out
+
+
+def _encoded(planned: list[tuple[GeneratedFile, Path]], stamped: bool) -> tuple[list[tuple[str, Path, bytes]],
+                                                                                list[str]]:
+    """Every file's bytes as written (stamped, UTF-8), and the files that cannot be encoded."""
+    out: list[tuple[str, Path, bytes]] = []
+    errors: list[str] = []
+    for f, full in planned:
+        try:
+            out.append((f.path, full, (stamp(f.text) if stamped else f.text).encode("utf-8")))
+        except UnicodeEncodeError as e:
+            errors.append(f"{f.path}: cannot be written as UTF-8: character {e.start} is "
+                          f"U+{ord(e.object[e.start]):04X} ({e.reason})")
+    return out, errors
 
 
 def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool = False,
                 dry_run: bool = False, check: bool = False, stamped: bool = True) -> WriteReport:
     """Write (or, with ``check``, compare) files under ``out_dir``: all of them or, on a path problem, none.
 
-    Every path is checked before anything is written. An I/O error while writing
-    stops the run and is reported in ``errors``; the files written before it are
-    complete (each write is atomic), the rest are untouched. Generated files are
-    ``stamped`` and an existing one is refused only when edited by hand; unstamped
-    files (imported ``.iface`` files, the user's to edit) refuse any different file.
+    Every path is checked and every file encoded before anything is written. An
+    I/O error while writing stops the run and is reported in ``errors``; the files
+    written before it are complete (each write is atomic), the rest are untouched.
+    Generated files are ``stamped`` and an existing one is refused only when edited
+    by hand; unstamped files (imported ``.iface`` files, the user's to edit) refuse
+    any different file. A symbolic link where a file goes is refused (``links``),
+    or with ``force`` replaced by the file (``replaced_links``); it is never followed.
     """
     out = Path(out_dir)
     report = WriteReport()
     planned, report.errors = plan(files, out)
     if report.errors:
         return report
-    for f, full in planned:
-        text = stamp(f.text) if stamped else f.text
+    encoded, report.errors = _encoded(planned, stamped)
+    if report.errors:
+        return report
+    for rel, full, data in encoded:
+        link = _link_target(full)
         existing = None
-        if full.is_file():
+        if link is None and full.is_file():
             try:
-                existing = full.read_text(encoding="utf-8")
-            except (OSError, UnicodeDecodeError):
-                existing = ""
-        if existing == text:
-            report.unchanged.append(f.path)
+                existing = full.read_bytes()
+            except OSError:
+                existing = b""
+        if existing == data:
+            report.unchanged.append(rel)
             continue
         if check:
-            report.differing.append(f.path)
+            report.differing.append(rel)
             continue
-        if existing is not None and not force and (not stamped or hand_edited(existing)):
-            report.refused.append(f.path)
-            if stamped and unstamp(existing)[1] is None:
-                report.foreign.append(f.path)
+        if link is not None and not force:
+            report.refused.append(rel)
+            report.links.append(rel)
             continue
+        if existing is not None and not force:
+            existing_text = existing.decode("utf-8", errors="replace")
+            if not stamped or hand_edited(existing_text):
+                report.refused.append(rel)
+                if stamped and unstamp(existing_text)[1] is None:
+                    report.foreign.append(rel)
+                continue
         if not dry_run:
             try:
-                atomic_write(full, text)
+                atomic_write(full, data)
             except OSError as e:
-                report.errors.append(f"{f.path}: cannot write: {e.strerror or e}; stopped after "
+                report.errors.append(f"{rel}: cannot write: {e.strerror or e}; stopped after "
                                      f"{len(report.written)} file(s), the others are unchanged")
                 return report
-        report.written.append(f.path)
+        report.written.append(rel)
+        if link is not None:
+            report.replaced_links[rel] = link
     return report
+
+
+def _link_target(path: Path) -> str | None:
+    """Where the symbolic link at ``path`` points; None when ``path`` is not a link."""
+    try:
+        return os.readlink(path)
+    except (OSError, ValueError):
+        return None
