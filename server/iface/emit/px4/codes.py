@@ -15,8 +15,9 @@ CODES: dict[str, tuple[Severity, str]] = {
     "px4-timestamp-type": (Severity.ERROR, "A field named timestamp whose type is not u64."),
     "px4-name-invalid": (Severity.ERROR, "A name that cannot be made a uORB message, field or module name."),
     "px4-name-conflict": (Severity.ERROR, "Two definitions that become one uORB message name."),
-    "px4-reserved-name": (Severity.ERROR, "A field or constant named like a C++ keyword (class, delete…): the C++ "
-                          "struct PX4 generates from the message would not compile."),
+    "px4-reserved-name": (Severity.ERROR, "A field or constant named like a C++ keyword (class, delete…), or a "
+                          "component whose module class would redeclare a PX4 class (ModuleBase…): the C++ PX4 "
+                          "builds would not compile."),
     "px4-topic-invalid": (Severity.ERROR, "A topic name with no uORB topic counterpart."),
     "px4-topic-assumed": (Severity.WARNING, "A topic of a px4_msgs type that is not a uXRCE-DDS bridge name "
                           "(/fmu/out/<topic>, /fmu/in/<topic>): the uORB topic is assumed to be the snake_case "

@@ -33,6 +33,19 @@ PX4_UNITS = frozenset({
     "s", "S", "A/%", "(m/s^2)^2", "m/m", "tan(rad)^2", "(m/s)^2", "m/rad", "m/s^3/sqrt(Hz)", "m/s/sqrt(Hz)",
     "s/(1000*PWM)", "%m/s", "min", "us/C", "N/(m/s)", "Nm/(rad/s)", "Nm", "N",
 })
+#: Names the module header uses unqualified (PX4's global classes and the work item's method): a module class
+#: of one of these names would redeclare it (px4_platform_common/module.h, module_params.h, param.h).
+PX4_DECLARED = {
+    "ModuleBase": "PX4's module base class ModuleBase (px4_platform_common/module.h)",
+    "ModuleParams": "PX4's parameter base class ModuleParams (px4_platform_common/module_params.h)",
+    "Param": "PX4's parameter template Param (px4_platform_common/param.h)",
+    "ParamInt": "PX4's parameter class ParamInt (px4_platform_common/param.h)",
+    "ParamFloat": "PX4's parameter class ParamFloat (px4_platform_common/param.h)",
+    "ParamBool": "PX4's parameter class ParamBool (px4_platform_common/param.h)",
+    "ParamExtInt": "PX4's parameter alias ParamExtInt (px4_platform_common/param.h)",
+    "ParamExtFloat": "PX4's parameter alias ParamExtFloat (px4_platform_common/param.h)",
+    "Run": "the class's own Run() method (a method named like its class is a constructor in C++)",
+}
 _INT32_SOURCES = frozenset({"i8", "i16", "i32", "u8", "u16", "char", "octet"})
 _PARAM_CLASS = {"int32": "ParamInt", "enum": "ParamInt", "float": "ParamFloat", "boolean": "ParamBool"}
 
@@ -114,6 +127,12 @@ class ModuleBuilder:
         if class_name is None:
             self.diagnostics.append(diag("px4-name-invalid", f"component name '{iface.name}' cannot be made a "
                                          "C++ class name", iface.source, component_span(iface)))
+            return None
+        declared = PX4_DECLARED.get(class_name)
+        if declared is not None:
+            self.diagnostics.append(diag("px4-reserved-name", f"component '{iface.name}' becomes the C++ class "
+                                         f"{class_name}, which would redeclare {declared}: rename the component",
+                                         iface.source, component_span(iface)))
             return None
         doc = comment_lines(comp_decl.doc if comp_decl else None)
         group_ann = m.annotation(comp_decl.annotations, "px4.group") if comp_decl else None
