@@ -59,6 +59,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "invalid-qos": (Severity.ERROR, "A QoS annotation with an unknown policy or a value ROS 2 cannot take."),
     "include-not-interface": (Severity.ERROR, "An include that names a file which is not .iface or .thrift."),
     "recursive-type": (Severity.ERROR, "A type that contains itself, which ROS 2 and PX4 cannot represent."),
+    "typedef-cycle": (Severity.ERROR, "Typedefs that stand for themselves: no type results."),
+    "extends-cycle": (Severity.ERROR, "Services that extend themselves."),
     "service-part-missing": (Severity.ERROR, "A service or action without one of its parts."),
     "unknown-section": (Severity.ERROR, "A section name a service or action does not have."),
     "mixed-service-forms": (Severity.ERROR, "A service mixing Thrift functions with fields or sections."),

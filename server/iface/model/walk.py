@@ -101,18 +101,20 @@ def type_text(t: m.TypeRef) -> str:
 
 
 def resolve_typedefs(t: m.TypeRef) -> m.TypeRef:
-    """Follow named types through typedefs to what they finally stand for."""
-    seen = 0
-    while isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and seen < 64:
+    """Follow named types through typedefs to what they finally stand for (a cycle stops where it closes)."""
+    seen: set[int] = set()
+    while isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and id(t.target) not in seen:
+        seen.add(id(t.target))
         t = t.target.type
-        seen += 1
     return t
 
 
 def typedef_chain(t: m.TypeRef) -> list[m.Typedef]:
-    """The typedefs a named type goes through, in order."""
+    """The typedefs a named type goes through, in order (each once: a cycle stops where it closes)."""
     chain: list[m.Typedef] = []
-    while isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and len(chain) < 64:
+    seen: set[int] = set()
+    while isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and id(t.target) not in seen:
+        seen.add(id(t.target))
         chain.append(t.target)
         t = t.target.type
     return chain
