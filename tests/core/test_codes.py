@@ -12,7 +12,8 @@ from .helpers import DATA, compile_file, expectations
 
 INVALID = sorted(p for p in (DATA / "invalid").iterdir() if p.is_file())
 #: codes tested programmatically in test_bad_input.py
-BAD_INPUT_CODES = {"invalid-encoding", "binary-file", "file-too-large", "empty-file", "cannot-read"}
+BAD_INPUT_CODES = {"invalid-encoding", "binary-file", "file-too-large", "empty-file", "cannot-read",
+                   "include-too-deep"}
 
 
 def test_every_code_has_a_fixture() -> None:

@@ -52,6 +52,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "include-not-found": (Severity.ERROR, "An include that names no readable file."),
     "include-cycle": (Severity.ERROR, "Files that include each other."),
     "include-error": (Severity.ERROR, "An included file has errors."),
+    "include-too-deep": (Severity.ERROR, "Includes nested deeper than iface reads (1000 files); the message names "
+                         "the chain."),
     # component interface
     "topic-type-conflict": (Severity.ERROR, "One topic used with two message types."),
     "duplicate-wiring": (Severity.WARNING, "The same wiring stated twice."),

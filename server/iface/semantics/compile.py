@@ -5,9 +5,10 @@ from __future__ import annotations
 import gc
 import os
 import re
-from collections.abc import Iterable
+from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, Severity, make
@@ -21,6 +22,8 @@ from .validate import Memo, validate
 #: Files larger than this are refused with a message (interface files are small).
 MAX_FILE_BYTES = 4 * 1024 * 1024
 SUFFIXES = (".iface", ".thrift")
+#: Include chains longer than this are refused (the message names the chain): no real interface nests so deep.
+MAX_INCLUDE_DEPTH = 1000
 _SURROGATE = re.compile("[\ud800-\udfff]")
 
 
@@ -153,79 +156,151 @@ class Workspace:
     # ---- compiling -------------------------------------------------------------------
     def compile_path(self, path: str) -> Compilation:
         """Compile a file from the overlay or the disk (a missing file gets a diagnostic)."""
-        return self._compile(self.normpath(path), None, ())
+        return self._compile(self.normpath(path), None)
 
     def compile_text(self, path: str, text: str) -> Compilation:
         """Compile ``text`` as the content of ``path`` (an editor buffer)."""
         key = self.normpath(path)
         self.overlays[key] = text
-        return self._compile(key, text, ())
+        return self._compile(key, text)
 
-    def _deps_fresh(self, comp: Compilation) -> bool:
-        for path, inc in comp.includes.items():
-            cached = self._cache.get(path)
-            if cached is None or cached[1] is not inc or cached[0] != self._stamp(path):
-                return False
-            if not self._deps_fresh(inc):
-                return False
+    def _deps_fresh(self, comp: Compilation, fresh: set[str]) -> bool:
+        """True when every file ``comp`` includes, at any depth, is cached as it is now.
+
+        ``fresh`` holds the files found fresh already during this compile: each is looked at once.
+        """
+        stack = [comp]
+        while stack:
+            c = stack.pop()
+            for path, inc in c.includes.items():
+                if path in fresh:
+                    continue
+                cached = self._cache.get(path)
+                if cached is None or cached[1] is not inc or cached[0] != self._stamp(path):
+                    return False
+                fresh.add(path)
+                stack.append(inc)
         return True
 
-    def _compile(self, key: str, text: str | None, stack: tuple[str, ...]) -> Compilation:
-        stamp = self._stamp(key)
+    def _cached(self, key: str, fresh: set[str]) -> Compilation | None:
+        """The cached compilation of ``key`` if neither it nor what it includes changed since."""
         cached = self._cache.get(key)
-        if cached is not None and cached[0] == stamp and stamp is not None and self._deps_fresh(cached[1]):
-            return cached[1]
+        if cached is None:
+            return None
+        if key not in fresh:
+            stamp = self._stamp(key)
+            if stamp is None or cached[0] != stamp or not self._deps_fresh(cached[1], fresh):
+                return None
+            fresh.add(key)
+        return cached[1]
+
+    def _compile(self, key: str, text: str | None) -> Compilation:
+        """Compile ``key`` and what it includes, depth first, without recursion.
+
+        Each file's compilation is a generator that asks for the files it
+        includes; this loop keeps the chain of files being compiled as an
+        explicit stack, so an include chain of any length needs no Python stack
+        (and a file's parse never runs deep in one). A file that includes one
+        already on the chain closes a cycle; past ``MAX_INCLUDE_DEPTH`` files
+        an include is refused with the chain named.
+        """
+        fresh: set[str] = set()
+        if text is None:
+            cached = self._cached(key, fresh)
+            if cached is not None:
+                return cached
+        frames: list[tuple[str, object, CompileSteps]] = [(key, self._stamp(key), self._steps(key, text))]
+        on_chain = {key}
+        answer: Compilation | Refused | None = None
+        while True:
+            path, stamp, steps = frames[-1]
+            try:
+                wanted = steps.send(answer)
+            except StopIteration as done:
+                comp: Compilation = done.value
+                self._cache[path] = (stamp, comp)
+                fresh.add(path)
+                frames.pop()
+                on_chain.discard(path)
+                if not frames:
+                    return comp
+                answer = comp
+                continue
+            if wanted in on_chain:
+                answer = Refused("cycle", [f[0] for f in frames])
+                continue
+            cached = self._cached(wanted, fresh)
+            if cached is not None:
+                answer = cached
+            elif len(frames) >= MAX_INCLUDE_DEPTH:
+                answer = Refused("depth", [*(f[0] for f in frames), wanted])
+            else:
+                frames.append((wanted, self._stamp(wanted), self._steps(wanted, None)))
+                on_chain.add(wanted)
+                answer = None
+
+    def _steps(self, key: str, text: str | None) -> CompileSteps:
+        """The compilation of one file, asking for its includes as it goes."""
         problems: list[Diagnostic] = []
         if text is None:
             text, problems = self.read(key)
             if text is None:
                 src = Source(key, "")
-                comp = Compilation(src, m.Interface(src, Path(key).stem),
+                return Compilation(src, m.Interface(src, Path(key).stem),
                                    [make("include-not-found", f"cannot read '{key}'", src, Span(0, 0))])
-                return comp
         editing = key in self.overlays
         cache = self._chunks.setdefault(key, ChunkCache()) if editing else None
         memo = self._memos.setdefault(key, {}) if editing else None
-        comp = compile_source(Source(key, text), problems, cache=cache, memo=memo,
-                              includes=_Includes(self, (*stack, key)))
-        self._cache[key] = (stamp, comp)
-        return comp
+        return (yield from compile_steps(Source(key, text), problems, cache=cache, memo=memo,
+                                         find=self.find_include))
 
 
+@dataclass(frozen=True, slots=True)
+class Refused:
+    """An include that is not compiled: it closes a ``cycle`` or goes past the ``depth`` limit; ``chain``
+    is the files that lead to it."""
 
-class _Includes:
-    """How a compilation finds and compiles the files it includes."""
+    reason: Literal["cycle", "depth"]
+    chain: list[str]
 
-    def __init__(self, ws: Workspace, stack: tuple[str, ...]) -> None:
-        self.ws = ws
-        self.stack = stack
 
-    def find(self, including: str, name: str) -> str | None:
-        """The path an include names, or None."""
-        return self.ws.find_include(including, name)
-
-    def load(self, key: str) -> Compilation | None:
-        """The compilation of an included file; None when including it closes a cycle."""
-        if key in self.stack:
-            return None
-        return self.ws._compile(key, None, self.stack)
+#: A file's compilation: yields the paths of the files it includes, is sent their compilations (or why
+#: not), returns its own.
+CompileSteps = Generator[str, "Compilation | Refused | None", Compilation]
 
 
 def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
                    cache: ChunkCache | None = None,
                    memo: Memo | None = None,
-                   includes: _Includes | None = None) -> Compilation:
-    """Parse, model, resolve and check one source; ``includes`` finds and compiles included files."""
+                   includes: Workspace | None = None) -> Compilation:
+    """Parse, model, resolve and check one source; ``includes`` finds and compiles the files it includes."""
+    steps = compile_steps(source, problems, cache=cache, memo=memo,
+                          find=includes.find_include if includes is not None else None)
+    answer: Compilation | Refused | None = None
+    while True:
+        try:
+            wanted = steps.send(answer)
+        except StopIteration as done:
+            return done.value
+        assert includes is not None  # nothing is asked for without a way to find it
+        answer = includes.compile_path(wanted)
+
+
+def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
+                  cache: ChunkCache | None = None,
+                  memo: Memo | None = None,
+                  find: Callable[[str, str], str | None] | None = None) -> CompileSteps:
+    """``compile_source`` as steps: yields each included file's path and is sent its compilation."""
     diagnostics: list[Diagnostic] = list(problems or [])
+    diagnostics.extend(_surrogates(source))
+    parsed = _quietly(parse_text, source.text, cache)
+    iface = build_interface(source, parsed.items)
+    for p in parsed.problems:
+        diagnostics.append(make(p.code, p.message, source, p.span, **p.data))
+    included = yield from _include(iface, diagnostics, find)
     enabled = gc.isenabled()
     gc.disable()
     try:
-        diagnostics.extend(_surrogates(source))
-        parsed = parse_text(source.text, cache)
-        iface = build_interface(source, parsed.items)
-        for p in parsed.problems:
-            diagnostics.append(make(p.code, p.message, source, p.span, **p.data))
-        included = _include(iface, diagnostics, includes)
         diagnostics.extend(build_symbols(iface))
         diagnostics.extend(resolve_references(iface))
         diagnostics.extend(derive(iface))
@@ -281,8 +356,21 @@ def build_interface(source: Source, items: list[m.Item]) -> m.Interface:
     return iface
 
 
-def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Includes | None) -> dict[str, Compilation]:
-    """Compile the included files and register them under their prefixes."""
+def _quietly(fn: Callable[..., ParseResult], *args: object) -> ParseResult:
+    """``fn(*args)`` with the garbage collector off (parsing makes many objects and frees none)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        return fn(*args)
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def _include(iface: m.Interface, diagnostics: list[Diagnostic],
+             find: Callable[[str, str], str | None] | None) -> Generator[str, Compilation | Refused | None,
+                                                                          dict[str, Compilation]]:
+    """Ask for the included files' compilations and register them under their prefixes."""
     src = iface.source
     out: dict[str, Compilation] = {}
     for inc in iface.includes:
@@ -292,15 +380,19 @@ def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Inclu
             diagnostics.append(make("include-not-interface", f"cannot include '{inc.path}': only .iface and "
                                     ".thrift files hold interfaces", src, inc.path_span))
             continue
-        found = includes.find(src.path, inc.path) if includes is not None else None
+        found = find(src.path, inc.path) if find is not None else None
         if found is None:
             diagnostics.append(make("include-not-found", f"cannot find included file '{inc.path}'",
                                     src, inc.path_span))
             continue
         inc.resolved = found
-        assert includes is not None
-        comp = includes.load(found)
-        if comp is None:
+        comp = yield found
+        if isinstance(comp, Refused) and comp.reason == "depth":
+            diagnostics.append(make("include-too-deep", f"includes nest more than {MAX_INCLUDE_DEPTH} files deep: "
+                                    f"{_chain(comp.chain)}; iface stops reading there", src, inc.path_span,
+                                    chain=comp.chain))
+            continue
+        if not isinstance(comp, Compilation):
             diagnostics.append(make("include-cycle", f"'{inc.path}' includes this file back: "
                                     "includes must not form a cycle", src, inc.path_span))
             continue
@@ -328,16 +420,26 @@ def _include(iface: m.Interface, diagnostics: list[Diagnostic], includes: _Inclu
 
 def _path_back(comp: Compilation, target: str) -> list[str]:
     """The include chain from ``comp`` back to ``target`` ([] when there is none)."""
-    stack: list[tuple[Compilation, list[str]]] = [(comp, [comp.path])]
-    seen: set[str] = set()
+    parent: dict[str, str | None] = {comp.path: None}
+    stack = [comp]
     while stack:
-        c, path = stack.pop()
-        if c.path in seen:
-            continue
-        seen.add(c.path)
+        c = stack.pop()
         for inc in c.interface.includes:
             if inc.resolved == target:
-                return [*path, target]
+                chain = [c.path]
+                while (up := parent[chain[-1]]) is not None:
+                    chain.append(up)
+                return [*reversed(chain), target]
         for key, sub in c.includes.items():
-            stack.append((sub, [*path, key]))
+            if key not in parent:
+                parent[key] = c.path
+                stack.append(sub)
     return []
+
+
+def _chain(paths: list[str], keep: int = 3) -> str:
+    """Files as ``a.iface → b.iface → …``, the middle of a long chain left out."""
+    names = [Path(p).name for p in paths]
+    if len(names) > 2 * keep + 1:
+        names = [*names[:keep], f"… ({len(names) - 2 * keep} more)", *names[-keep:]]
+    return " → ".join(names)
