@@ -82,6 +82,21 @@ async def test_graph_of_the_workspace(client: Client, arm: str) -> None:
     assert "arm" in result["text"] and "planner" in result["text"]
 
 
+async def test_graph_data_for_a_picture(client: Client, arm: str) -> None:
+    result = await run(client, "iface.graph", {"format": "json"})
+    assert isinstance(result, dict) and json.loads(result["text"])["schema"] == "iface-graph/1"
+    data = result["graph"]
+    by_name = {c["name"]: c for c in data["components"]}
+    assert {"arm", "planner"} <= set(by_name)
+    where = by_name["arm"]["at"]
+    assert Path(where["file"]).is_absolute() and Path(where["file"]).name == "arm.iface"
+    assert "component arm" in Path(where["file"]).read_text().splitlines()[where["line"] - 1]
+    link = next(lk for lk in data["links"] if lk["from"] == "arm" and lk["to"] == "planner")
+    assert Path(link["definition"]["file"]).is_absolute()
+    svg = await run(client, "iface.graph", "svg")
+    assert isinstance(svg, dict) and svg["text"].startswith("<?xml") and "planner" in svg["text"]
+
+
 async def test_bad_arguments_get_a_clear_error_and_the_server_goes_on(client: Client, arm: str) -> None:
     with pytest.raises(JsonRpcException, match="unknown target 'nope'"):
         await run(client, "iface.preview", arm, "nope")

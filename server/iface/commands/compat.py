@@ -1,4 +1,4 @@
-"""``iface-lsp compat OLD NEW [--system FILES...] [--format text|json|sarif]``"""
+"""``iface-lsp compat OLD NEW [--system FILES...] [--format text|json|sarif|html]``"""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ import sys
 
 from .. import __version__
 from ..compat import compare
+from ..compat.html import render_html
 from ..compat.report import render_json, render_sarif, render_text
 from .common import UsageError, display_path
 from .load import load_checked
@@ -18,7 +19,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("new", metavar="NEW", help="the interface of the replacement")
     p.add_argument("--system", nargs="+", default=None, metavar="FILE",
                    help="the other components of the system: decides whether changed elements are used")
-    p.add_argument("--format", choices=("text", "json", "sarif"), default="text", help="output format")
+    p.add_argument("--format", choices=("text", "json", "sarif", "html"), default="text", help="output format")
     p.add_argument("-I", "--include-path", action="append", default=[], metavar="DIR",
                    help="a folder to search for included files")
 
@@ -37,6 +38,8 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(render_json(report, display_path))
     elif args.format == "sarif":
         sys.stdout.write(render_sarif(report, display_path, __version__))
+    elif args.format == "html":
+        sys.stdout.write(render_html(report, display_path, __version__))
     else:
         sys.stdout.write(render_text(report, display_path))
     return report.exit_code

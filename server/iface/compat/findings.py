@@ -26,6 +26,11 @@ class Location:
         eline, ecol = self.source.position(self.span.end)
         return line + 1, col + 1, eline + 1, ecol + 1
 
+    def to_json(self, path: str) -> dict[str, Any]:
+        """``{file, line, column, end_line, end_column}`` (1-based) with ``path`` as the file."""
+        line, col, eline, ecol = self.position()
+        return {"file": path, "line": line, "column": col, "end_line": eline, "end_column": ecol}
+
 
 @dataclass(eq=False)
 class Finding:

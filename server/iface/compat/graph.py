@@ -228,30 +228,52 @@ def render_mermaid(g: Graph) -> str:
     return "\n".join(lines) + "\n"
 
 
+def open_check(p: Port) -> str:
+    """The check an endpoint without a peer gets."""
+    if p.kind == "topic":
+        return "graph-unsubscribed-topic" if _sender(p) else "graph-unpublished-topic"
+    return "graph-unprovided-service"
+
+
+def port_source(p: Port) -> Source:
+    """The file a port is stated in: its component's, or an included one for an unwired definition."""
+    side, ep = p.component.side, p.endpoint
+    return side.where(ep.definition) if ep.wiring is None and ep.definition is not None else side.source
+
+
 def graph_json(g: Graph, display: Display) -> dict[str, Any]:
-    """The graph as JSON data."""
+    """The graph as JSON data; every element with the place an editor goes to when it is clicked
+    (``at``, ``from_at``/``to_at``; ``definition``: where the type a link or open end carries is defined)."""
     def place(src: Source, span: Span) -> dict[str, Any]:
         line, col = src.position(span.start)
         return {"file": display(src.path), "line": line + 1, "column": col + 1}
 
     def at(p: Port) -> dict[str, Any]:
-        return place(p.component.side.source, port_span(p))
+        return place(port_source(p), port_span(p))
+
+    def definition(p: Port) -> dict[str, Any] | None:
+        d = p.endpoint.definition
+        return place(p.component.side.where(d), d.name_span) if d is not None else None
 
     def component_at(c: Component) -> dict[str, Any]:
         decl = c.side.iface.component
         return place(c.side.source, decl.name_span if decl is not None else Span(0, 0))
 
     def port(p: Port) -> dict[str, Any]:
+        code = open_check(p)
         return {"component": g.ids[id(p.component)], "kind": p.kind, "set": p.set, "role": p.role,
-                "name": p.endpoint.name, "type": endpoint_type(p.component.side, p.endpoint), "at": at(p)}
+                "name": p.endpoint.name, "type": endpoint_type(p.component.side, p.endpoint), "at": at(p),
+                "check": code, "severity": CHECKS[code][0].label, "definition": definition(p)}
     return {
         "schema": GRAPH_ID,
         "components": [{"id": g.ids[id(c)], "name": c.name, "version": c.side.iface.version,
                         "file": display(c.comp.path), "at": component_at(c)} for c in g.components],
         "links": [{"kind": lk.kind, "set": lk.set, "name": lk.name, "type": lk.type,
+                   "to_type": endpoint_type(lk.target.component.side, lk.target.endpoint),
                    "from": g.ids[id(lk.source.component)],
                    "to": g.ids[id(lk.target.component)], "qos_mismatch": list(lk.qos),
-                   "type_conflict": lk.type_conflict, "from_at": at(lk.source), "to_at": at(lk.target)}
+                   "type_conflict": lk.type_conflict, "from_at": at(lk.source), "to_at": at(lk.target),
+                   "definition": definition(lk.source)}
                   for lk in g.links],
         "open": [port(p) for p in g.open],
         "checks": [d.to_json(display(d.path)) for d in g.checks],

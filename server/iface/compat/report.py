@@ -49,7 +49,8 @@ def _handover_lines(h: Handover) -> list[str]:
     return lines
 
 
-def _reason(report: Report) -> str:
+def verdict_reason(report: Report) -> str:
+    """Why the verdict is what it is, in one phrase."""
     errors = report.count(Severity.ERROR)
     if report.verdict == "equivalent":
         return "same elements of the same types in every set"
@@ -69,13 +70,12 @@ def render_text(report: Report, display: Display) -> str:
     lines.extend(_handover_lines(report.handover))
     counts = (f"{report.count(Severity.ERROR)} breaking, {report.count(Severity.WARNING)} to review, "
               f"{report.count(Severity.INFORMATION)} compatible")
-    lines.append(f"verdict: {report.verdict} ({_reason(report)}; {counts})")
+    lines.append(f"verdict: {report.verdict} ({verdict_reason(report)}; {counts})")
     return "\n".join(lines) + "\n"
 
 
 def _loc_json(loc: Location, display: Display) -> dict[str, Any]:
-    line, col, eline, ecol = loc.position()
-    return {"file": display(loc.source.path), "line": line, "column": col, "end_line": eline, "end_column": ecol}
+    return loc.to_json(display(loc.source.path))
 
 
 def finding_json(f: Finding, display: Display) -> dict[str, Any]:

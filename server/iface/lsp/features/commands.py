@@ -178,11 +178,14 @@ class Runner:
         return await self.project.run(run)
 
     async def graph(self, arguments: Any) -> dict[str, Any]:
-        """``iface.graph [format]``: the system graph of the workspace's components (mermaid, dot or json)."""
+        """``iface.graph [format]``: the system graph of the workspace's components (mermaid, dot, json or svg).
+
+        With ``json`` the answer also holds ``graph``: the same data with absolute paths, which a
+        client draws from (locations to go to when an element is clicked)."""
         a = _args(arguments, ("format",))
         fmt = _text(a["format"], "format", required=False) or "mermaid"
-        if fmt not in ("mermaid", "dot", "json"):
-            raise CommandError("format must be mermaid, dot or json")
+        if fmt not in ("mermaid", "dot", "json", "svg"):
+            raise CommandError("format must be mermaid, dot, json or svg")
         if self.project.workspace_index is not None:
             await self.project.workspace_index.ready.wait()
 
@@ -195,13 +198,18 @@ class Runner:
             comps = index.all_compilations() if index is not None else []
             comps = [c for c in comps if c.path.endswith(".iface") and c.interface.component is not None]
             g = graph.build(comps)
+            extra: dict[str, Any] = {}
             if fmt == "dot":
                 text = graph.render_dot(g)
             elif fmt == "json":
                 text = graph.render_json(g, _display(self.project))
+                extra["graph"] = graph.graph_json(g, os.path.abspath)
+            elif fmt == "svg":
+                from ...compat.svg import builtin_svg
+                text = builtin_svg(graph.graph_json(g, _display(self.project)))
             else:
                 text = graph.render_mermaid(g)
-            return {"text": text, "format": fmt, "components": len(comps)}
+            return {"text": text, "format": fmt, "components": len(comps), **extra}
 
         return await self.project.run(run)
 
