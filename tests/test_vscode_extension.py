@@ -9,14 +9,18 @@ IFACE_E2E=1.
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
+import sys
+import zipfile
 from pathlib import Path
 
 import pytest
 
-EXTENSION = Path(__file__).resolve().parents[1] / "vscode-extension"
+ROOT = Path(__file__).resolve().parents[1]
+EXTENSION = ROOT / "vscode-extension"
 
 
 def _npm() -> str:
@@ -42,7 +46,25 @@ def test_npm_test() -> None:
     _ensure_node_modules(npm)
     result = _run([npm, "test"], timeout=900)
     assert result.returncode == 0, f"npm test failed:\n{result.stdout[-6000:]}\n{result.stderr[-4000:]}"
-    assert (EXTENSION / "dist" / "iface.vsix").is_file()
+    vsix = EXTENSION / "dist" / "iface.vsix"
+    assert vsix.is_file()
+    with zipfile.ZipFile(vsix) as z:
+        names = set(z.namelist())
+    # the graph panel's script and style travel in the package: the webview loads nothing from elsewhere
+    assert {"extension/dist/extension.js", "extension/dist/webview/graph.js", "extension/media/graph.css"} <= names
+    assert not any("node_modules" in n or n.endswith(".ts") for n in names)
+
+
+def test_graph_fixture_of_the_unit_tests_is_what_the_server_answers() -> None:
+    """vscode-extension/test/unit/fixtures/system-graph.json is `iface-lsp graph --format json` of the
+    compat system fixtures: the extension's unit tests read the server's real, current data."""
+    files = [f"tests/compat/data/system/{n}.iface" for n in ("camera", "detector", "logger")]
+    done = subprocess.run([sys.executable, "-m", "iface", "graph", *files, "--format", "json"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 1, done.stderr  # the fixtures have conflicts on purpose
+    fixture = EXTENSION / "test" / "unit" / "fixtures" / "system-graph.json"
+    assert json.loads(done.stdout) == json.loads(fixture.read_text(encoding="utf-8")), (
+        f"regenerate it: iface-lsp graph {' '.join(files)} --format json > {fixture.relative_to(ROOT)}")
 
 
 @pytest.mark.e2e

@@ -172,6 +172,19 @@ def test_builtin_svg_matches_its_golden(tmp_path: Path) -> None:
     assert text == golden.read_text(encoding="utf-8")
 
 
+def test_a_conflict_between_types_of_one_name_says_so(tmp_path: Path) -> None:
+    from iface.semantics.compile import Workspace
+
+    (tmp_path / "nav.iface").write_text('component nav\nnamespace ros2 nav_pkg\nmessage Status { u8 mode }\n'
+                                        'publishes Status on "/nav/status"\n')
+    (tmp_path / "mon.iface").write_text('component mon\nnamespace ros2 mon_pkg\nmessage Status { u8 mode }\n'
+                                        'subscribes Status on "/nav/status"\n')
+    ws = Workspace()
+    data = graph_json(build([ws.compile_path(str(tmp_path / n)) for n in ("nav.iface", "mon.iface")]), str)
+    labels = [[t.text for t in g.iter(f"{SVG}text")] for g in _groups(_svg(builtin_svg(data)), "label")]
+    assert labels == [["/nav/status", "nav_pkg/Status ≠ mon_pkg/Status"]]
+
+
 def test_names_cannot_break_out_of_the_svg(tmp_path: Path) -> None:
     from iface.semantics.compile import Workspace
 

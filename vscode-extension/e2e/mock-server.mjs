@@ -2,10 +2,11 @@
 // to test the client inside real VS Code when the Python server is not
 // installed. It speaks just enough LSP over stdio: diagnostics for the word
 // `Quaternoin`, a hover naming the word under the cursor, a few completions
-// and the four iface.* commands. It appends every message it receives to
+// and the four iface.* commands (iface.graph in json: one component per file). It appends every message it receives to
 // $IFACE_MOCK_LOG (JSON lines) so the e2e can check what the client sent.
 
-import { appendFileSync } from 'node:fs';
+import { appendFileSync, readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
 
 const log = process.env.IFACE_MOCK_LOG;
 const documents = new Map();
@@ -41,6 +42,24 @@ function publishDiagnostics(uri) {
     }
   });
   send({ method: 'textDocument/publishDiagnostics', params: { uri, diagnostics } });
+}
+
+/** A graph of the files the client names: one component per file with a `component` line, linked in a chain. */
+function mockGraph(uris) {
+  const components = [];
+  for (const uri of uris) {
+    const file = fileURLToPath(uri);
+    const lines = readFileSync(file, 'utf8').split('\n');
+    const line = lines.findIndex((l) => l.startsWith('component '));
+    if (line < 0) continue;
+    const name = lines[line].split(/\s+/)[1];
+    components.push({ id: name, name, version: null, file, at: { file, line: line + 1, column: 11 } });
+  }
+  const links = components.slice(1).map((c, i) => ({
+    kind: 'topic', set: 'M', name: `/mock/${i}`, type: 'mock_msgs/Mock', to_type: 'mock_msgs/Other', from: components[i].id, to: c.id,
+    qos_mismatch: [], type_conflict: true, from_at: components[i].at, to_at: c.at, definition: components[i].at,
+  }));
+  return { schema: 'iface-graph/1', components, links, open: [], checks: [] };
 }
 
 function handle(message) {
@@ -93,7 +112,9 @@ function handle(message) {
         'iface.generate': { files: [] },
         'iface.preview': { files: [{ path: 'msg/JointCommand.msg', text: 'float64[6] positions\n' }] },
         'iface.compat': `compatible: ${args.old} -> ${args.new}\n`,
-        'iface.graph': `graph LR\n  arm_controller -->|/arm/command| JointCommand\n%% ${(args.uris ?? []).length} files, ${args.format}\n`,
+        'iface.graph': args.format === 'json'
+          ? { text: '{}', format: 'json', graph: mockGraph(args.uris ?? []) }
+          : `graph LR\n  arm_controller -->|/arm/command| JointCommand\n%% ${(args.uris ?? []).length} files, ${args.format}\n`,
       };
       send({ id, result: results[params.command] ?? null });
       return;

@@ -28,12 +28,14 @@
 
 import { execFileSync, spawn, spawnSync } from 'node:child_process';
 import {
-  copyFileSync, existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync, writeFileSync, cpSync,
+  copyFileSync, existsSync, mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync, statSync, writeFileSync, cpSync,
 } from 'node:fs';
 import { createServer } from 'node:net';
 import { homedir, tmpdir, arch } from 'node:os';
 import { delimiter, dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+
+import { decodePng, inkCount } from './png.mjs';
 
 const CODE_SERVER_VERSION = '4.100.3';
 // code-server 4.100.3 ships lib/vscode/npm-shrinkwrap.json with @vscode/ripgrep 1.15.11,
@@ -67,19 +69,78 @@ function record(name, status, detail = '') {
   console.log(`${mark}  ${name}${detail ? ` — ${detail}` : ''}`);
 }
 
-async function check(name, fn) {
-  try {
-    const detail = await fn();
-    record(name, 'pass', typeof detail === 'string' ? detail : '');
-    return true;
-  } catch (error) {
-    record(name, 'fail', error instanceof Error ? error.message.split('\n')[0] : String(error));
-    if (activePage !== undefined) {
-      const slug = name.replace(/[^A-Za-z0-9]+/g, '-').replace(/^-|-$/g, '').toLowerCase();
-      await activePage.screenshot({ path: join(artifacts, `failed-${slug}.png`) }).catch(() => undefined);
-    }
-    return false;
+/** Lines of code-server's output so far (kept in artifacts on failure and at the end). */
+const serverLog = [];
+/** The profile folder of code-server (its logs hold the language server's output channel). */
+let userDataDir;
+/** Puts the workbench back in a known state before a step is tried again. */
+let resetUi = async () => undefined;
+
+function slugOf(name) {
+  return name.replace(/[^A-Za-z0-9]+/g, '-').replace(/^-|-$/g, '').toLowerCase();
+}
+
+function filesUnder(dir) {
+  const out = [];
+  for (const entry of existsSync(dir) ? readdirSync(dir, { withFileTypes: true }) : []) {
+    const path = join(dir, entry.name);
+    if (entry.isDirectory()) out.push(...filesUnder(path));
+    else out.push(path);
   }
+  return out;
+}
+
+/**
+ * Keeps what explains a failure: a screenshot, code-server's log and the iface
+ * output channel (the language server's log, as VS Code writes it), under
+ * e2e/artifacts/failed-<step>[-attempt-N].*; returns their paths.
+ */
+async function keepEvidence(name, attempt) {
+  const base = join(artifacts, `failed-${slugOf(name)}${attempt > 0 ? `-attempt-${attempt + 1}` : ''}`);
+  const kept = [];
+  if (activePage !== undefined) {
+    const shot = `${base}.png`;
+    if (await activePage.screenshot({ path: shot }).then(() => true, () => false)) kept.push(shot);
+  }
+  writeFileSync(`${base}-code-server.log`, serverLog.join(''));
+  kept.push(`${base}-code-server.log`);
+  if (userDataDir !== undefined) {
+    const logs = filesUnder(join(userDataDir, 'logs'));
+    const iface = logs.filter((f) => /iface/i.test(f.split(/[\\/]/).pop() ?? ''));
+    const host = logs.filter((f) => /exthost\d*\.log$/.test(f));
+    const text = [...iface, ...host].map((f) => `==> ${f} <==\n${readFileSync(f, 'utf8')}`).join('\n');
+    writeFileSync(`${base}-iface-lsp.log`, text === '' ? 'no iface output channel log was written\n' : text);
+    kept.push(`${base}-iface-lsp.log`);
+  }
+  return kept;
+}
+
+/**
+ * One step of the test. A step that fails is tried once more from a reset
+ * workbench (a loaded machine can lose a keystroke to a re-render); what
+ * explains each failure is kept and named.
+ */
+async function check(name, fn, { retry = true } = {}) {
+  const attempts = retry ? 2 : 1;
+  for (let attempt = 0; attempt < attempts; attempt += 1) {
+    try {
+      const detail = await fn();
+      const note = attempt > 0 ? ' (passed when tried again)' : '';
+      record(name, 'pass', `${typeof detail === 'string' ? detail : ''}${note}`);
+      return true;
+    } catch (error) {
+      const message = error instanceof Error ? error.message.split('\n')[0] : String(error);
+      const kept = await keepEvidence(name, attempt).catch((e) => [`(could not keep evidence: ${e})`]);
+      if (attempt + 1 < attempts) {
+        log(`"${name}" failed: ${message}; trying once more. Kept: ${kept.join(', ')}`);
+        await resetUi().catch((e) => log(`resetting the workbench failed: ${e instanceof Error ? e.message : e}`));
+        continue;
+      }
+      record(name, 'fail', `${message} — kept: ${kept.join(', ')}`);
+      return false;
+    }
+  }
+  return false;
 }
 
 function which(command, envPath = process.env.PATH ?? '') {
@@ -223,23 +284,118 @@ async function waitFor(fn, timeoutMs, what) {
 }
 
 // ---- Workbench helpers ----------------------------------------------------------
+//
+// Every wait is on a condition (an element, a focus, a text), never on time
+// alone; the timeouts are generous because a loaded 2-core machine can take many
+// seconds for what is instant on an idle one.
 
+/** Default timeout of one wait (Playwright actions and waitFor). */
+const STEP_TIMEOUT = 60000;
+/** For the workbench and the language server to come up. */
+const STARTUP_TIMEOUT = 180000;
+
+const QUICK_INPUT = '.quick-input-widget';
+
+/** True when the quick input is shown and its text box has the keyboard focus. */
+async function quickInputFocused(page) {
+  return page.evaluate((selector) => {
+    const widget = document.querySelector(selector);
+    if (!widget || widget.style.display === 'none' || widget.offsetParent === null) return false;
+    const active = document.activeElement;
+    return active !== null && active.tagName === 'INPUT' && widget.contains(active);
+  }, QUICK_INPUT);
+}
+
+async function quickInputHidden(page) {
+  return page.evaluate((selector) => {
+    const widget = document.querySelector(selector);
+    return !widget || widget.style.display === 'none' || widget.offsetParent === null;
+  }, QUICK_INPUT);
+}
+
+/** Closes whatever quick input, dialog or widget is open: Escape until the quick input is gone. */
+async function closeOverlays(page) {
+  await waitFor(async () => {
+    if ((await quickInputHidden(page)) && (await page.locator('.monaco-dialog-box').count()) === 0) return true;
+    await page.keyboard.press('Escape');
+    return false;
+  }, STEP_TIMEOUT, 'the quick input and dialogs to close');
+}
+
+/**
+ * Opens a quick input with `key` (F1, Control+P, Control+G), types `text` and
+ * waits until the focused row contains `row` (unless `row` is null). The key
+ * is pressed again only after the quick input was seen closed, so a slow
+ * workbench never gets a second F1 that cycles or toggles.
+ */
+async function quickInput(page, key, text, row) {
+  await closeOverlays(page);
+  let pressedAt = 0;
+  await waitFor(async () => {
+    if (await quickInputFocused(page)) return true;
+    if (Date.now() - pressedAt > 15000 && (await quickInputHidden(page))) {
+      await page.keyboard.press(key);
+      pressedAt = Date.now();
+    }
+    return false;
+  }, STEP_TIMEOUT, `the quick input of ${key}`);
+  // Keyboard input goes to the focused text box: no actionability wait that a re-render can stall.
+  await page.keyboard.press('Control+A');
+  await page.keyboard.insertText(text);
+  if (row !== null) {
+    await focusedRow(page, row);
+  }
+}
+
+/** Waits until the focused row of the quick input contains `text`. */
+async function focusedRow(page, text) {
+  const focused = page.locator(`${QUICK_INPUT} .quick-input-list .monaco-list-row.focused`, { hasText: text });
+  await focused.first().waitFor({ state: 'visible', timeout: STEP_TIMEOUT });
+}
+
+/** Runs a command of the Command Palette by its title. */
 async function runCommand(page, title) {
-  await page.keyboard.press('F1');
-  const input = page.locator('.quick-input-widget input');
-  await input.waitFor({ state: 'visible', timeout: 10000 });
-  await input.fill(`>${title}`);
-  await page.locator('.quick-input-list .monaco-list-row', { hasText: title }).first().waitFor({ timeout: 10000 });
+  await quickInput(page, 'F1', `>${title}`, title);
   await page.keyboard.press('Enter');
 }
 
-async function goTo(page, line, column) {
-  await page.keyboard.press('Control+G');
-  const input = page.locator('.quick-input-widget input');
-  await input.waitFor({ state: 'visible', timeout: 10000 });
-  await input.fill(`:${line}:${column}`);
+/** Accepts the focused row of a quick pick that a command showed, once it contains `text`. */
+async function accept(page, text) {
+  await waitFor(async () => !(await quickInputHidden(page)), STEP_TIMEOUT, `a quick pick offering ${text}`);
+  await focusedRow(page, text);
   await page.keyboard.press('Enter');
-  await page.waitForTimeout(300);
+}
+
+/** The label of the active tab of the active editor group. */
+async function activeTab(page) {
+  const tab = page.locator('.editor-group-container.active .tabs-container .tab.active').first();
+  return (await tab.count()) > 0 ? (await tab.innerText()).trim() : '';
+}
+
+/** Makes `name` the active editor (Quick Open: no click on a tab that may be covered). */
+async function focusFile(page, name) {
+  if (!(await activeTab(page)).startsWith(name)) {
+    await quickInput(page, 'Control+P', name, name);
+    await page.keyboard.press('Enter');
+  }
+  await waitFor(async () => (await activeTab(page)).startsWith(name), STEP_TIMEOUT, `${name} to be the active editor`);
+  await page.locator('.editor-instance .monaco-editor textarea').first().focus();
+}
+
+/** Line and column of the cursor, from the status bar ("Ln 12, Col 3"). */
+async function cursor(page) {
+  const text = await page.locator('[id="status.editor.selection"]').first().innerText().catch(() => '');
+  const m = /Ln (\d+), Col (\d+)/.exec(text);
+  return m ? { line: Number(m[1]), column: Number(m[2]) } : undefined;
+}
+
+async function goTo(page, line, column) {
+  await quickInput(page, 'Control+G', `:${line}:${column}`, null);
+  await page.keyboard.press('Enter');
+  await waitFor(async () => {
+    const at = await cursor(page);
+    return at !== undefined && at.line === line && at.column === column;
+  }, STEP_TIMEOUT, `the cursor at ${line}:${column}`);
 }
 
 /** The text and colour of every token span of the visible editor lines. */
@@ -266,6 +422,19 @@ function positionOf(source, text, offset = 0) {
     if (column >= 0) return { line: i + 1, column: column + 1 + offset };
   }
   throw new Error(`fixture has no ${text}`);
+}
+
+/** The frame of the active webview's content (VS Code nests it in two iframes). */
+async function webviewFrame(page, marker) {
+  return waitFor(async () => {
+    for (const frame of page.frames()) {
+      if (frame.name() === 'active-frame' || frame.url().includes('fake.html')) {
+        const found = await frame.locator(marker).count().catch(() => 0);
+        if (found > 0) return frame;
+      }
+    }
+    return undefined;
+  }, STEP_TIMEOUT, `a webview showing ${marker}`);
 }
 
 // ---- Main ------------------------------------------------------------------------
@@ -297,6 +466,7 @@ async function main() {
 
   sandbox = mkdtempSync(join(tmpdir(), 'iface-e2e-'));
   const userData = join(sandbox, 'user-data');
+  userDataDir = userData;
   const extensionsDir = join(sandbox, 'extensions');
   const workspace = join(sandbox, 'workspace');
   const config = join(sandbox, 'code-server.yaml');
@@ -305,6 +475,8 @@ async function main() {
   // The baseline of the compatibility check lives outside the workspace (not a second component in it).
   const baseline = join(sandbox, 'baseline');
   cpSync(join(here, 'baseline'), baseline, { recursive: true });
+  // Generate writes here only when the user confirms: it is outside the workspace.
+  const outside = join(sandbox, 'outside-output');
   mkdirSync(join(userData, 'User'), { recursive: true });
   writeFileSync(config, 'auth: none\ncert: false\n');
 
@@ -330,6 +502,8 @@ async function main() {
     'workbench.enableExperiments': false,
     'workbench.colorTheme': 'Default Dark Modern',
     'workbench.secondarySideBar.defaultVisibility': 'hidden',
+    'workbench.editor.enablePreview': false,
+    'files.autoSave': 'off',
     'telemetry.telemetryLevel': 'off',
     'update.mode': 'none',
     'extensions.autoCheckUpdates': false,
@@ -341,10 +515,11 @@ async function main() {
     'editor.wordBasedSuggestions': 'off',
     'editor.snippetSuggestions': 'none',
     'editor.quickSuggestions': { other: false, comments: false, strings: false },
+    'editor.hover.delay': 100,
     'editor.minimap.enabled': false,
     'iface.targets': ['ros2'],
     'iface.includePaths': ['idl'],
-    'iface.output.folder': 'generated',
+    'iface.output.folder': outside,
     'iface.compat.baseline': join(baseline, 'arm.iface'),
   };
   if (serverMode === 'mock') {
@@ -370,10 +545,9 @@ async function main() {
     '--ignore-last-opened',
     workspace,
   ], { env, detached: true, stdio: ['ignore', 'pipe', 'pipe'] });
-  const serverLog = [];
   codeServer.stdout.on('data', (d) => serverLog.push(String(d)));
   codeServer.stderr.on('data', (d) => serverLog.push(String(d)));
-  await waitForHttp(`http://127.0.0.1:${port}/healthz`, 60000);
+  await waitForHttp(`http://127.0.0.1:${port}/healthz`, STARTUP_TIMEOUT);
 
   const profile = join(sandbox, 'chromium-profile');
   context = await chromium.launchPersistentContext(profile, {
@@ -386,27 +560,41 @@ async function main() {
     ],
   });
   const page = context.pages()[0] ?? (await context.newPage());
-  page.setDefaultTimeout(30000);
+  page.setDefaultTimeout(STEP_TIMEOUT);
   activePage = page;
+  const source = readFileSync(join(workspace, 'arm.iface'), 'utf8');
+  const editorText = async () => page.locator('.editor-instance .monaco-editor .view-lines').first().innerText();
+  const textOf = async (tab) => {
+    await waitFor(async () => (await activeTab(page)).startsWith(tab), STEP_TIMEOUT, `${tab} to be the active editor`);
+    return waitFor(async () => ((await editorText()).trim() !== '' ? editorText() : undefined), STEP_TIMEOUT, `the text of ${tab}`);
+  };
+  resetUi = async () => {
+    await closeOverlays(page);
+    if ((await page.locator('.editor-group-container').count()) > 1) {
+      await runCommand(page, 'View: Single Column Editor Layout');
+      await waitFor(async () => (await page.locator('.editor-group-container').count()) === 1, STEP_TIMEOUT, 'one editor group');
+    }
+    await focusFile(page, 'arm.iface');
+    if ((await page.locator('.tabs-container .tab.active.dirty').count()) > 0) {
+      await runCommand(page, 'File: Revert File');
+      await waitFor(async () => (await page.locator('.tabs-container .tab.active.dirty').count()) === 0, STEP_TIMEOUT, 'arm.iface to be reverted');
+    }
+  };
 
   try {
     await page.goto(`http://127.0.0.1:${port}/?folder=${encodeURIComponent(workspace)}`);
-    await page.locator('.monaco-workbench').waitFor({ timeout: 60000 });
-    await page.locator('.explorer-folders-view .monaco-list-row').first().waitFor({ timeout: 60000 });
+    await page.locator('.monaco-workbench').waitFor({ timeout: STARTUP_TIMEOUT });
+    await page.locator('.explorer-folders-view .monaco-list-row').first().waitFor({ timeout: STARTUP_TIMEOUT });
 
-    // Open arm.iface with Quick Open.
-    await page.keyboard.press('Control+P');
-    const quickInput = page.locator('.quick-input-widget input');
-    await quickInput.waitFor({ state: 'visible' });
-    await quickInput.fill('arm.iface');
-    await page.locator('.quick-input-list .monaco-list-row', { hasText: 'arm.iface' }).first().waitFor();
-    await page.keyboard.press('Enter');
-    await page.locator('.editor-instance .monaco-editor .view-line', { hasText: 'component' }).first().waitFor();
-    const source = readFileSync(join(workspace, 'arm.iface'), 'utf8');
+    await check('arm.iface opens', async () => {
+      await focusFile(page, 'arm.iface');
+      await page.locator('.editor-instance .monaco-editor .view-line', { hasText: 'component' }).first().waitFor();
+      return 'with Quick Open';
+    });
 
     await check('language mode is iface', async () => {
       const mode = page.locator('[id="status.editor.mode"]');
-      await waitFor(async () => (await mode.innerText()).trim() === 'iface', 30000, 'the language mode "iface"');
+      await waitFor(async () => (await mode.innerText()).trim() === 'iface', STEP_TIMEOUT, 'the language mode "iface"');
       return 'status bar shows "iface"';
     });
 
@@ -425,14 +613,14 @@ async function main() {
         if (values.some((c) => c === undefined || c === foreground)) return undefined;
         if (new Set(values).size < 4) return undefined;
         return found;
-      }, 30000, 'coloured keyword, type, string, number and comment tokens');
+      }, STEP_TIMEOUT, 'coloured keyword, type, string, number and comment tokens');
       return Object.entries(colours).map(([k, v]) => `${k} ${v}`).join(', ');
     });
 
     await check('status bar item shows the server state', async () => {
       const expected = serverMode === 'none' ? 'not-found' : 'running';
       const item = page.locator(`[aria-label="iface language server ${expected}"]`);
-      await item.first().waitFor({ timeout: 60000 });
+      await item.first().waitFor({ timeout: STARTUP_TIMEOUT });
       return `"iface language server ${expected}"`;
     });
 
@@ -441,7 +629,7 @@ async function main() {
         // A toast, or (once the toast has timed out) an entry of the notification centre.
         await runCommand(page, 'Notifications: Show Notifications');
         const toast = page.locator('.notification-list-item', { hasText: 'iface-lsp' });
-        await toast.first().waitFor({ timeout: 30000 });
+        await toast.first().waitFor();
         const text = await toast.first().innerText();
         await page.screenshot({ path: join(artifacts, 'iface-e2e-not-found.png') });
         await page.keyboard.press('Escape');
@@ -449,12 +637,14 @@ async function main() {
         return text.replace(/\s+/g, ' ').slice(0, 120);
       });
       for (const name of ['error squiggle from the server', 'Problems count', 'hover from the server', 'completion from the server',
-        'preview command shows generated files read-only', 'compatibility command shows the report', 'system graph command']) {
+        'preview command shows generated files read-only', 'compatibility command shows the report', 'system graph picture',
+        'system graph as text', 'Generate asks before writing outside the workspace']) {
         record(name, 'skip', 'no language server (install iface-lsp, or --server=mock)');
       }
     } else {
       await check('error squiggle from the server', async () => {
-        await page.locator('.editor-instance .monaco-editor .squiggly-error').first().waitFor({ timeout: 60000 });
+        await focusFile(page, 'arm.iface');
+        await page.locator('.editor-instance .monaco-editor .squiggly-error').first().waitFor({ timeout: STARTUP_TIMEOUT });
         return `${await page.locator('.editor-instance .monaco-editor .squiggly-error').count()} squiggle(s)`;
       });
 
@@ -464,101 +654,180 @@ async function main() {
           const text = (await problems.getAttribute('aria-label')) ?? (await problems.innerText());
           const errors = /(\d+)\s*error/i.exec(text) ?? /Errors?:\s*(\d+)/i.exec(text);
           return errors !== null && Number(errors[1]) > 0 ? text : undefined;
-        }, 30000, 'a non-zero error count in the status bar');
-        await page.keyboard.press('Control+Shift+M');
-        const rows = page.locator('.markers-panel .monaco-list-row');
-        await rows.first().waitFor({ timeout: 15000 });
-        const panelText = await page.locator('.markers-panel').innerText();
-        if (!panelText.includes('Quaternoin')) throw new Error(`Problems panel does not mention Quaternoin: ${panelText.slice(0, 200)}`);
+        }, STEP_TIMEOUT, 'a non-zero error count in the status bar');
+        await runCommand(page, 'View: Focus Problems');
+        const panel = page.locator('.markers-panel');
+        const panelText = await waitFor(async () => {
+          const text = await panel.first().innerText().catch(() => '');
+          return text.includes('Quaternoin') ? text : undefined;
+        }, STEP_TIMEOUT, 'the Problems panel to mention Quaternoin');
         return `${label}; panel: ${panelText.replace(/\s+/g, ' ').slice(0, 100)}`;
       });
 
       await check('hover from the server', async () => {
+        await focusFile(page, 'arm.iface');
         const at = positionOf(source, 'publishes JointCommand', 'publishes '.length + 2);
-        await page.locator('.editor-instance .monaco-editor .view-lines').first().click();
         await goTo(page, at.line, at.column);
-        await page.keyboard.press('Control+K');
-        await page.keyboard.press('Control+I');
         const hover = page.locator('.monaco-hover:not(.hidden) .monaco-hover-content, .monaco-hover:not(.hidden) .hover-contents').first();
+        let pressedAt = 0;
         const text = await waitFor(async () => {
-          const value = (await hover.innerText()).trim();
-          return value !== '' ? value : undefined;
-        }, 30000, 'a hover');
+          const value = (await hover.count()) > 0 ? (await hover.innerText()).trim() : '';
+          if (value.includes('JointCommand')) return value;
+          if (Date.now() - pressedAt > 10000) {
+            // Show Hover again while the server has not answered yet: the first request may have come before it was ready.
+            await page.keyboard.press('Control+K');
+            await page.keyboard.press('Control+I');
+            pressedAt = Date.now();
+          }
+          return undefined;
+        }, STEP_TIMEOUT, 'a hover mentioning JointCommand');
         await page.screenshot({ path: join(artifacts, 'iface-e2e-hover.png') });
-        if (!text.includes('JointCommand')) throw new Error(`hover does not mention JointCommand: ${text.slice(0, 200)}`);
         await page.keyboard.press('Escape');
         return text.replace(/\s+/g, ' ').slice(0, 120);
       });
 
       await check('completion from the server', async () => {
+        await focusFile(page, 'arm.iface');
         // The empty line inside `message JointCommand { ... }`.
         const lines = source.split('\n');
         const emptyLine = lines.findIndex((l, i) => l.trim() === '' && i > 0 && lines.slice(0, i).some((p) => p.startsWith('message JointCommand')));
         await goTo(page, emptyLine + 1, 1);
         await page.keyboard.press('Tab');
-        await page.keyboard.press('Control+Space');
+        await waitFor(async () => (await page.locator('.tabs-container .tab.active.dirty').count()) > 0, STEP_TIMEOUT, 'the Tab to be typed');
         const rows = page.locator('.suggest-widget.visible .monaco-list-row');
-        await rows.first().waitFor({ timeout: 30000 });
-        const labels = await page.locator('.suggest-widget.visible .monaco-list-row .label-name').allInnerTexts();
+        let pressedAt = 0;
+        const labels = await waitFor(async () => {
+          if ((await rows.count()) > 0) {
+            const found = await page.locator('.suggest-widget.visible .monaco-list-row .label-name').allInnerTexts();
+            if (found.some((l) => ['i32', 'float64', 'bool', 'string'].includes(l.trim()))) return found;
+          }
+          if (Date.now() - pressedAt > 10000) {
+            await page.keyboard.press('Escape');
+            await page.keyboard.press('Control+Space');
+            pressedAt = Date.now();
+          }
+          return undefined;
+        }, STEP_TIMEOUT, 'completion items with a builtin type');
         await page.screenshot({ path: join(artifacts, 'iface-e2e-completion.png') });
         await page.keyboard.press('Escape');
         await page.keyboard.press('Control+Z');
-        if (labels.length === 0) throw new Error('no completion items');
-        if (!labels.some((l) => ['i32', 'float64', 'bool', 'string'].includes(l.trim()))) {
-          throw new Error(`no builtin type among the completions: ${labels.slice(0, 8).join(', ')}`);
-        }
+        await waitFor(async () => (await page.locator('.tabs-container .tab.active.dirty').count()) === 0, STEP_TIMEOUT, 'the edit to be undone');
         return `${labels.length} item(s): ${labels.slice(0, 8).join(', ')}`;
       });
 
-      const activeTab = async () => (await page.locator('.tabs-container .tab.active').first().innerText()).trim();
-      const editorText = async () => page.locator('.editor-instance .monaco-editor .view-lines').first().innerText();
-      const showArm = async () => {
-        await page.keyboard.press('Escape');
-        await page.locator('.tabs-container .tab', { hasText: 'arm.iface' }).first().click();
-        await waitFor(async () => (await activeTab()).startsWith('arm.iface'), 10000, 'arm.iface to be active');
-      };
-
       await check('preview command shows generated files read-only', async () => {
-        await showArm();
+        await focusFile(page, 'arm.iface');
         await runCommand(page, 'iface: Preview generated files');
-        await page.locator('.quick-input-list .monaco-list-row', { hasText: 'ros2' }).first().waitFor();
-        await page.keyboard.press('Enter');
+        await accept(page, 'ros2');
         // Several files: a second pick whose first entry opens them all.
-        const openAll = page.locator('.quick-input-list .monaco-list-row', { hasText: 'Open all' });
-        await waitFor(async () => (await openAll.count()) > 0 || !(await activeTab()).startsWith('arm.iface'), 60000, 'the preview');
-        if ((await openAll.count()) > 0) await page.keyboard.press('Enter');
-        const tab = await waitFor(async () => {
-          const label = await activeTab();
-          return !label.startsWith('arm.iface') ? label : undefined;
-        }, 30000, 'a preview tab');
-        const text = await waitFor(async () => ((await editorText()).trim() !== '' ? await editorText() : undefined), 10000, 'preview text');
-        await page.locator('.editor-instance .monaco-editor .view-lines').first().click();
+        const shown = await waitFor(async () => {
+          if (!(await quickInputHidden(page)) && (await page.locator(`${QUICK_INPUT} .monaco-list-row.focused`, { hasText: 'Open all' }).count()) > 0) return 'pick';
+          const tab = await activeTab(page);
+          return tab !== '' && !tab.startsWith('arm.iface') ? 'tab' : undefined;
+        }, STEP_TIMEOUT, 'the preview');
+        if (shown === 'pick') await page.keyboard.press('Enter');
+        // "Open all" shows the files one after the other: read the tab and its text together.
+        const [tab, text] = await waitFor(async () => {
+          const label = await activeTab(page);
+          const shownText = await editorText();
+          return label !== '' && !label.startsWith('arm.iface') && shownText.trim() !== '' && label === (await activeTab(page)) ? [label, shownText] : undefined;
+        }, STEP_TIMEOUT, 'a preview tab with text');
+        await page.locator('.editor-group-container.active .monaco-editor textarea').first().focus();
         await page.keyboard.type('zzz_edit');
-        await page.waitForTimeout(300);
-        if ((await editorText()).includes('zzz_edit')) throw new Error('the preview document is editable');
+        // Either VS Code says the editor is read-only, or the text changed: whichever comes first.
+        const outcome = await waitFor(async () => {
+          if ((await page.locator('.monaco-editor-overlaymessage', { hasText: /read-only|Cannot edit/i }).count()) > 0) return 'refused';
+          if ((await editorText()).includes('zzz_edit')) return 'edited';
+          return undefined;
+        }, STEP_TIMEOUT, 'the read-only message');
+        if (outcome === 'edited') throw new Error('the preview document is editable');
         await page.screenshot({ path: join(artifacts, 'iface-e2e-preview.png') });
-        return `${tab}: ${text.replace(/\s+/g, ' ').slice(0, 80)}`;
+        return `${tab} (typing refused: read-only): ${text.replace(/\s+/g, ' ').slice(0, 80)}`;
       });
 
       await check('compatibility command shows the report', async () => {
-        await showArm();
+        await focusFile(page, 'arm.iface');
         await runCommand(page, 'iface: Check compatibility against…');
-        await page.locator('.quick-input-list .monaco-list-row', { hasText: 'iface.compat.baseline' }).first().waitFor();
-        await page.keyboard.press('Enter');
-        await page.locator('.tabs-container .tab', { hasText: 'arm.compat.txt' }).first().waitFor({ timeout: 60000 });
-        const text = await waitFor(async () => ((await editorText()).trim() !== '' ? await editorText() : undefined), 10000, 'report text');
+        await accept(page, 'iface.compat.baseline');
+        const text = await textOf('arm.compat.txt');
+        if (serverMode === 'real' && !text.includes('verdict:')) throw new Error(`no verdict in the report: ${text.slice(0, 200)}`);
         return text.replace(/\s+/g, ' ').slice(0, 100);
       });
 
-      await check('system graph command', async () => {
+      await check('system graph picture', async () => {
+        await focusFile(page, 'arm.iface');
         await runCommand(page, 'iface: Show system graph');
-        await page.locator('.quick-input-list .monaco-list-row', { hasText: 'mermaid' }).first().waitFor();
-        await page.keyboard.press('Enter');
-        const tab = page.locator('.tabs-container .tab', { hasText: 'system.mmd' });
-        await tab.first().waitFor({ timeout: 60000 });
-        const text = await page.locator('.editor-instance .monaco-editor .view-lines').first().innerText();
-        if (text.trim() === '') throw new Error('the graph document is empty');
+        const panelTab = page.locator('.tabs-container .tab.active', { hasText: 'System graph' });
+        await waitFor(async () => (await panelTab.count()) > 0, STEP_TIMEOUT, 'the System graph panel');
+        const frame = await webviewFrame(page, 'body[data-rendered]');
+        const rendered = await frame.locator('body').getAttribute('data-rendered');
+        if (rendered !== '2') throw new Error(`the panel drew ${rendered} components, not 2 (status: ${await frame.locator('#status').innerText()})`);
+        const names = (await frame.locator('svg.graph .component .name').allTextContents()).map((n) => n.trim());
+        if (names.join(',') !== 'arm_controller,motion_planner') throw new Error(`components drawn: ${names.join(', ')}`);
+        const conflicts = await frame.locator('svg.graph .edge.conflict').count();
+        if (conflicts < 1) throw new Error('no link drawn as a conflict');
+        // The picture itself: a screenshot of the panel must not be blank, and the conflict shows red.
+        const shot = join(artifacts, 'iface-e2e-graph.png');
+        const png = await page.locator('iframe.webview.ready').first().screenshot({ path: shot });
+        const ink = inkCount(decodePng(png));
+        const share = ink.ink / ink.pixels;
+        if (share < 0.01 || ink.red < 20) {
+          throw new Error(`the graph looks blank: ${ink.ink} of ${ink.pixels} pixels differ from the background ${ink.background}, ${ink.red} red`);
+        }
+        // Clicking a box goes to the component's declaration.
+        await frame.locator('svg.graph .component', { hasText: 'motion_planner' }).first().click();
+        await waitFor(async () => (await activeTab(page)).startsWith('planner.iface'), STEP_TIMEOUT, 'planner.iface to open');
+        const at = await waitFor(async () => {
+          const c = await cursor(page);
+          return c !== undefined && c.line === 2 ? c : undefined;
+        }, STEP_TIMEOUT, 'the cursor on the component declaration (line 2)');
+        // One editor group again, so that the next steps act on the editor they open.
+        await runCommand(page, 'View: Single Column Editor Layout');
+        await waitFor(async () => (await page.locator('.editor-group-container').count()) === 1, STEP_TIMEOUT, 'one editor group');
+        return `${names.length} boxes, ${conflicts} red link(s); ${(100 * share).toFixed(1)}% of ${ink.pixels} pixels drawn, ${ink.red} red; click -> planner.iface:${at.line}:${at.column}; ${shot}`;
+      });
+
+      await check('system graph as text', async () => {
+        await focusFile(page, 'arm.iface');
+        await runCommand(page, 'iface: Show system graph as text');
+        await accept(page, 'mermaid');
+        const text = await textOf('system.mmd');
         return text.replace(/\s+/g, ' ').slice(0, 100);
+      });
+
+      await check('Generate asks before writing outside the workspace', async () => {
+        await focusFile(page, 'planner.iface'); // arm.iface has an error: nothing to generate
+        const dialog = page.locator('.monaco-dialog-box');
+        const askGenerate = async () => {
+          await runCommand(page, 'iface: Generate for target…');
+          await accept(page, 'ros2');
+          await dialog.first().waitFor();
+          const text = (await dialog.first().innerText()).replace(/\s+/g, ' ');
+          if (!text.includes('outside the workspace') || !text.includes(outside)) throw new Error(`unexpected dialog: ${text.slice(0, 200)}`);
+          return text;
+        };
+        const button = (label) => dialog.locator('.dialog-buttons a.monaco-button, .dialog-buttons .monaco-button', { hasText: label }).first();
+        await askGenerate();
+        await page.screenshot({ path: join(artifacts, 'iface-e2e-generate-outside.png') });
+        await page.keyboard.press('Escape'); // the dialog's Cancel
+        await waitFor(async () => (await dialog.count()) === 0, STEP_TIMEOUT, 'the dialog to close');
+        const requests = () => (serverMode === 'mock' && existsSync(mockLog)
+          ? readFileSync(mockLog, 'utf8').trim().split('\n').map((l) => JSON.parse(l))
+            .filter((m) => m.method === 'workspace/executeCommand' && m.params.command === 'iface.generate')
+          : []);
+        if (existsSync(outside) || requests().length > 0) throw new Error('generated although the user cancelled');
+        await askGenerate();
+        await button('Generate').press('Enter');
+        if (serverMode === 'real') {
+          const written = await waitFor(async () => {
+            const files = filesUnder(join(outside, 'ros2'));
+            return files.some((f) => f.endsWith('package.xml')) ? files : undefined;
+          }, STEP_TIMEOUT, `generated files in ${outside}`);
+          await page.locator('.notification-toast', { hasText: 'generated' }).first().waitFor();
+          return `Cancel wrote nothing; Generate wrote ${written.length} file(s) into ${outside}/ros2`;
+        }
+        await waitFor(async () => requests().some((m) => m.params.arguments[0].out === outside), STEP_TIMEOUT, 'an iface.generate request');
+        return 'Cancel sent nothing; Generate sent iface.generate with the outside folder';
       });
 
       if (serverMode === 'mock') {
@@ -566,20 +835,18 @@ async function main() {
           const messages = readFileSync(mockLog, 'utf8').trim().split('\n').map((l) => JSON.parse(l));
           const init = messages.find((m) => m.method === 'initialize');
           const options = init?.params?.initializationOptions;
-          const expected = { output: { folder: 'generated' }, targets: ['ros2'], includePaths: ['idl'], compat: { baseline: join(baseline, 'arm.iface') } };
+          const expected = { output: { folder: outside }, targets: ['ros2'], includePaths: ['idl'], compat: { baseline: join(baseline, 'arm.iface') } };
           if (JSON.stringify(options) !== JSON.stringify(expected)) throw new Error(`got ${JSON.stringify(options)}`);
           const graph = messages.find((m) => m.method === 'workspace/executeCommand' && m.params.command === 'iface.graph');
-          if (graph === undefined || graph.params.arguments[0].format !== 'mermaid') throw new Error('no iface.graph request with format mermaid');
+          if (graph === undefined || graph.params.arguments[0].format !== 'json') throw new Error('no iface.graph request with format json');
           return JSON.stringify(options);
-        });
+        }, { retry: false });
       }
     }
     // Back to the top of the source file for the screenshot (Problems panel open).
-    await page.keyboard.press('Escape');
-    await page.locator('.tabs-container .tab', { hasText: 'arm.iface' }).first().click();
-    await page.locator('.editor-instance .monaco-editor .view-lines').first().click();
+    await resetUi().catch(() => undefined);
     await page.keyboard.press('Control+Home');
-    await page.waitForTimeout(500);
+    await waitFor(async () => (await cursor(page))?.line === 1, STEP_TIMEOUT, 'the cursor at the top').catch(() => undefined);
   } finally {
     const shot = join(artifacts, 'iface-e2e.png');
     await page.screenshot({ path: shot }).catch(() => undefined);

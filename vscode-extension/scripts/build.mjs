@@ -1,4 +1,4 @@
-// Bundles the extension (and the unit tests) with esbuild into dist/.
+// Bundles the extension, the graph panel's script and the unit tests with esbuild into dist/.
 import { build } from 'esbuild';
 import { readdirSync } from 'node:fs';
 import { dirname, join } from 'node:path';
@@ -26,6 +26,17 @@ await build({
   minify: production,
 });
 
+// The script of the system-graph webview: a browser bundle (dagre included), no Node APIs.
+await build({
+  ...common,
+  platform: 'browser',
+  format: 'iife',
+  target: 'es2020',
+  entryPoints: ['src/graph/webview.ts'],
+  outfile: 'dist/webview/graph.js',
+  minify: production,
+});
+
 const tests = readdirSync(join(root, 'test', 'unit'))
   .filter((name) => name.endsWith('.test.ts'))
   .map((name) => `test/unit/${name}`);
@@ -36,4 +47,4 @@ await build({
   external: ['vscode', 'esbuild'],
   sourcemap: true,
 });
-console.log(`bundled dist/extension.js and ${tests.length} unit test file(s)`);
+console.log(`bundled dist/extension.js, dist/webview/graph.js and ${tests.length} unit test file(s)`);

@@ -15,7 +15,10 @@ import {
   State,
 } from 'vscode-languageclient/node';
 
+import { parseGraph } from './graph/data';
+import { GraphPanel, type GraphResult } from './graph/panel';
 import { INSTALL_HINT, expandPath, locateServer } from './locate';
+import { type Answer, folderArgument, mayWriteTo } from './outputFolder';
 import { asText, parseFiles, previewPath, stringField, stringList, writtenPaths } from './results';
 import {
   type IfaceSettings,
@@ -27,6 +30,8 @@ import {
 const LANGUAGE_ID = 'iface';
 const PREVIEW_SCHEME = 'iface-preview';
 const LAST_TARGET_KEY = 'iface.lastTarget';
+/** Output folders outside the workspace that the user allowed for good ("Always for this folder"). */
+const ALLOWED_FOLDERS_KEY = 'iface.allowedOutputFolders';
 /** Offered after the configured targets; the server says which ones it has when asked for another. */
 const SUGGESTED_TARGETS = ['ros2', 'idl', 'px4', 'ardupilot'];
 
@@ -93,6 +98,7 @@ class IfaceExtension implements vscode.Disposable {
   private readonly output: vscode.OutputChannel;
   private readonly status: vscode.StatusBarItem;
   private readonly documents = new VirtualDocuments();
+  private readonly graphPanel: GraphPanel;
   private readonly disposables: vscode.Disposable[] = [];
   private serverCommand = '';
   private serverSource = '';
@@ -105,7 +111,9 @@ class IfaceExtension implements vscode.Disposable {
     this.output = vscode.window.createOutputChannel('iface');
     this.status = vscode.window.createStatusBarItem('iface.status', vscode.StatusBarAlignment.Right, 100);
     this.status.name = 'iface language server';
+    this.graphPanel = new GraphPanel(context.extensionUri, () => this.fetchGraph(), (line) => this.output.appendLine(line));
     this.disposables.push(
+      this.graphPanel,
       this.output,
       this.status,
       this.documents,
@@ -113,7 +121,8 @@ class IfaceExtension implements vscode.Disposable {
       vscode.commands.registerCommand('iface.generateForTarget', (uri?: unknown) => this.generate(uri)),
       vscode.commands.registerCommand('iface.previewGenerated', (uri?: unknown) => this.preview(uri)),
       vscode.commands.registerCommand('iface.checkCompatibility', (uri?: unknown) => this.compat(uri)),
-      vscode.commands.registerCommand('iface.showGraph', () => this.graph()),
+      vscode.commands.registerCommand('iface.showGraph', () => this.graphPanel.show()),
+      vscode.commands.registerCommand('iface.showGraphText', () => this.graphText()),
       vscode.commands.registerCommand('iface.restartServer', () => this.restart()),
       vscode.commands.registerCommand('iface.showOutput', () => this.output.show(true)),
       vscode.workspace.onDidChangeConfiguration((e) => this.onConfigurationChanged(e)),
@@ -294,6 +303,16 @@ class IfaceExtension implements vscode.Disposable {
       outputChannel: this.output,
       revealOutputChannelOn: RevealOutputChannelOn.Never,
       synchronize: { fileEvents: watcher },
+      middleware: {
+        // Code lenses and code actions run the server's write commands directly: the same
+        // check of the output folder as the Generate command applies to them.
+        executeCommand: async (command, args, next) => {
+          if ((command === 'iface.generate' || command === 'iface.exportJson') && !(await this.confirmWriteCommand(command, args))) {
+            return undefined;
+          }
+          return next(command, args);
+        },
+      },
     };
     const client = new LanguageClient(LANGUAGE_ID, 'iface', serverOptions, clientOptions);
     this.client = client;
@@ -452,9 +471,11 @@ class IfaceExtension implements vscode.Disposable {
 
   private outputFolder(uri: vscode.Uri): string | undefined {
     const folder = this.serverSettings().output.folder.trim();
-    if (folder === '') {
-      return undefined;
-    }
+    return folder === '' ? undefined : this.resolveFolder(folder, uri);
+  }
+
+  /** A folder setting or argument as an absolute path (relative to the workspace folder of `uri`). */
+  private resolveFolder(folder: string, uri: vscode.Uri): string {
     const workspaceFolder = vscode.workspace.getWorkspaceFolder(uri);
     const expanded = expandPath(folder, workspaceFolder !== undefined ? [workspaceFolder.uri.fsPath] : this.workspacePaths(), process.env);
     if (path.isAbsolute(expanded)) {
@@ -462,6 +483,57 @@ class IfaceExtension implements vscode.Disposable {
     }
     const base = workspaceFolder?.uri.fsPath ?? path.dirname(uri.fsPath);
     return path.resolve(base, expanded);
+  }
+
+  /** The folders that count as the workspace for `uri`: the workspace folders, else the document's folder. */
+  private workspaceRoots(uri: vscode.Uri): string[] {
+    const roots = this.workspacePaths();
+    return roots.length > 0 ? roots : [path.dirname(uri.fsPath)];
+  }
+
+  /**
+   * True when files may be written into `folder`: it is inside the workspace, the user allowed it
+   * for good before, or the user confirms now (a modal question; Cancel refuses).
+   */
+  async confirmOutputFolder(folder: string, uri: vscode.Uri): Promise<boolean> {
+    const allowed = this.context.workspaceState.get<string[]>(ALLOWED_FOLDERS_KEY) ?? [];
+    const ok = await mayWriteTo(folder, this.workspaceRoots(uri), {
+      allowed,
+      remember: async (f) => this.context.workspaceState.update(ALLOWED_FOLDERS_KEY, [...allowed, f]),
+      ask: async ({ folder: target, roots }) => {
+        const once = 'Generate';
+        const always = 'Always for This Folder';
+        const choice = await vscode.window.showWarningMessage(
+          'iface: the output folder is outside the workspace. Write generated files there?',
+          {
+            modal: true,
+            detail: `${target}\n\nis not inside ${roots.join(', ')}. Files that iface generated there before are overwritten. ` +
+              'Set iface.output.folder to a folder of the workspace to write there without asking.',
+          },
+          once,
+          always,
+        );
+        const answer: Answer = choice === once ? 'once' : choice === always ? 'always' : 'cancel';
+        return answer;
+      },
+    });
+    if (!ok) {
+      this.output.appendLine(`Not generating into ${folder}: it is outside the workspace and was not confirmed.`);
+    }
+    return ok;
+  }
+
+  /** The output-folder check for iface.generate / iface.exportJson run by a code lens or code action. */
+  private async confirmWriteCommand(command: string, args: unknown[]): Promise<boolean> {
+    const first = args[0];
+    const uriText = typeof first === 'string' ? first : typeof first === 'object' && first !== null ? (first as Record<string, unknown>)['uri'] : undefined;
+    if (typeof uriText !== 'string') {
+      return true; // the server answers a missing uri with an error
+    }
+    const uri = vscode.Uri.parse(uriText);
+    const given = folderArgument(args, command === 'iface.generate' ? 2 : 1);
+    const folder = given !== undefined ? this.resolveFolder(given, uri) : this.outputFolder(uri);
+    return folder === undefined || this.confirmOutputFolder(folder, uri);
   }
 
   private async generate(arg: unknown): Promise<void> {
@@ -474,6 +546,9 @@ class IfaceExtension implements vscode.Disposable {
       return;
     }
     const out = this.outputFolder(uri);
+    if (out !== undefined && !(await this.confirmOutputFolder(out, uri))) {
+      return;
+    }
     const args: Record<string, unknown> = { uri: uri.toString(), target };
     if (out !== undefined) {
       // `out` as documented; `folder` is the same for servers that call it so.
@@ -658,7 +733,39 @@ class IfaceExtension implements vscode.Disposable {
     await vscode.window.showTextDocument(virtual, { preview: false });
   }
 
-  private async graph(): Promise<void> {
+  /** The .iface files of the workspace and the active one, as URIs (the server reads its own index; older servers read these). */
+  private async graphUris(): Promise<string[]> {
+    const found = await vscode.workspace.findFiles('**/*.iface', '**/{node_modules,.git}/**');
+    const active = vscode.window.activeTextEditor?.document;
+    const uris = found.map((u) => u.toString());
+    if (active !== undefined && active.languageId === LANGUAGE_ID && !uris.includes(active.uri.toString())) {
+      uris.push(active.uri.toString());
+    }
+    return uris.sort();
+  }
+
+  /** The graph for the panel: the server's `iface.graph` answer in `json`, or why there is none. */
+  private async fetchGraph(): Promise<GraphResult> {
+    if (this.starting !== undefined) {
+      await this.starting;
+    }
+    const running = this.client;
+    if (running === undefined || !running.isRunning()) {
+      return { error: 'The iface language server is not running (see the iface output, or run "iface: Restart server").' };
+    }
+    try {
+      const result: unknown = await running.sendRequest(ExecuteCommandRequest.type, {
+        command: 'iface.graph',
+        arguments: [{ uris: await this.graphUris(), format: 'json' }],
+      });
+      const data = parseGraph(result);
+      return data !== undefined ? { data } : { error: 'The server answered iface.graph without a graph (an older iface-lsp?).' };
+    } catch (error) {
+      return { error: `iface.graph failed: ${errorMessage(error)}` };
+    }
+  }
+
+  private async graphText(): Promise<void> {
     if (this.runningClient() === undefined) {
       return;
     }
@@ -666,28 +773,23 @@ class IfaceExtension implements vscode.Disposable {
       [
         { label: 'mermaid', description: 'Mermaid flowchart' },
         { label: 'dot', description: 'Graphviz DOT' },
+        { label: 'json', description: 'the graph as data, with locations and checks' },
       ],
-      { title: 'iface: Show system graph', placeHolder: 'Graph format' },
+      { title: 'iface: Show system graph as text', placeHolder: 'Graph format' },
     );
     if (format === undefined) {
       return;
     }
-    const found = await vscode.workspace.findFiles('**/*.iface', '**/{node_modules,.git}/**');
-    const active = vscode.window.activeTextEditor?.document;
-    const uris = found.map((u) => u.toString());
-    if (active !== undefined && active.languageId === LANGUAGE_ID && !uris.includes(active.uri.toString())) {
-      uris.push(active.uri.toString());
-    }
+    const uris = await this.graphUris();
     if (uris.length === 0) {
       void vscode.window.showErrorMessage('iface: no .iface files in this workspace.');
       return;
     }
-    uris.sort();
     const answer = await this.execute('iface.graph', { uris, format: format.label }, 'iface: building the system graph');
     if (answer === undefined) {
       return;
     }
-    const extension = format.label === 'dot' ? 'dot' : 'mmd';
+    const extension = format.label === 'dot' ? 'dot' : format.label === 'json' ? 'json' : 'mmd';
     const virtual = vscode.Uri.from({ scheme: PREVIEW_SCHEME, path: `/graph/system.${extension}` });
     this.documents.set(virtual, asText(answer.result));
     await vscode.window.showTextDocument(virtual, { preview: false });
