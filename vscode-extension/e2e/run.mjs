@@ -6,6 +6,7 @@
 //   npm run e2e -- --server=mock     # the stand-in e2e/mock-server.mjs instead of iface-lsp
 //   npm run e2e -- --server=none     # no server: checks the "not found" message instead
 //   npm run e2e -- --keep            # keep the temporary folders (printed at the end)
+//   npm run e2e -- --fail-once=STEP  # fail the first attempt of a step (slug): tests the retry
 //
 // What it does:
 //  1. packages the extension (`npm run package` -> dist/iface.vsix);
@@ -49,6 +50,9 @@ const artifacts = join(here, 'artifacts');
 const args = new Set(process.argv.slice(2));
 const serverArg = [...args].find((a) => a.startsWith('--server='))?.slice('--server='.length) ?? process.env.IFACE_E2E_SERVER ?? 'auto';
 const keep = args.has('--keep');
+// Makes the first attempt of the named step (its slug, e.g. preview-command-shows-generated-files-read-only)
+// fail after it ran, to test the retry and the evidence kept on failure.
+const failOnce = [...args].find((a) => a.startsWith('--fail-once='))?.slice('--fail-once='.length);
 const chromiumPath = process.env.IFACE_E2E_CHROMIUM ?? '/usr/bin/chromium';
 const cacheRoot = process.env.IFACE_E2E_CACHE ?? join(process.env.XDG_CACHE_HOME ?? join(homedir(), '.cache'), 'iface-vscode-e2e');
 
@@ -125,6 +129,7 @@ async function check(name, fn, { retry = true } = {}) {
   for (let attempt = 0; attempt < attempts; attempt += 1) {
     try {
       const detail = await fn();
+      if (attempt === 0 && failOnce === slugOf(name)) throw new Error(`--fail-once=${failOnce}`);
       const note = attempt > 0 ? ' (passed when tried again)' : '';
       record(name, 'pass', `${typeof detail === 'string' ? detail : ''}${note}`);
       return true;
@@ -568,6 +573,7 @@ async function main() {
     await waitFor(async () => (await activeTab(page)).startsWith(tab), STEP_TIMEOUT, `${tab} to be the active editor`);
     return waitFor(async () => ((await editorText()).trim() !== '' ? editorText() : undefined), STEP_TIMEOUT, `the text of ${tab}`);
   };
+  // Back to the state the steps start from: one editor group with arm.iface, unchanged, and no other editor.
   resetUi = async () => {
     await closeOverlays(page);
     if ((await page.locator('.editor-group-container').count()) > 1) {
@@ -579,6 +585,9 @@ async function main() {
       await runCommand(page, 'File: Revert File');
       await waitFor(async () => (await page.locator('.tabs-container .tab.active.dirty').count()) === 0, STEP_TIMEOUT, 'arm.iface to be reverted');
     }
+    await runCommand(page, 'View: Close All Editors');
+    await waitFor(async () => (await page.locator('.tabs-container .tab').count()) === 0, STEP_TIMEOUT, 'no editor open');
+    await focusFile(page, 'arm.iface');
   };
 
   try {
@@ -719,20 +728,28 @@ async function main() {
         await focusFile(page, 'arm.iface');
         await runCommand(page, 'iface: Preview generated files');
         await accept(page, 'ros2');
-        // Several files: a second pick whose first entry opens them all.
+        // Several files: a second pick whose first entry opens them all ("Open all N files").
+        const tabs = page.locator('.editor-group-container.active .tabs-container .tab');
+        const before = await tabs.count();
+        const openAll = page.locator(`${QUICK_INPUT} .monaco-list-row.focused`, { hasText: 'Open all' });
         const shown = await waitFor(async () => {
-          if (!(await quickInputHidden(page)) && (await page.locator(`${QUICK_INPUT} .monaco-list-row.focused`, { hasText: 'Open all' }).count()) > 0) return 'pick';
+          if (!(await quickInputHidden(page)) && (await openAll.count()) > 0) return 'pick';
           const tab = await activeTab(page);
           return tab !== '' && !tab.startsWith('arm.iface') ? 'tab' : undefined;
         }, STEP_TIMEOUT, 'the preview');
-        if (shown === 'pick') await page.keyboard.press('Enter');
-        // "Open all" shows the files one after the other: read the tab and its text together.
+        let files = 1;
+        if (shown === 'pick') {
+          files = Number(/Open all (\d+)/.exec(await openAll.first().innerText())?.[1] ?? '1');
+          await page.keyboard.press('Enter');
+        }
+        // The files open one after the other; the last one gets the focus. Type only then.
+        await waitFor(async () => (await tabs.count()) >= before + files, STEP_TIMEOUT, `${files} preview tab(s)`);
         const [tab, text] = await waitFor(async () => {
           const label = await activeTab(page);
           const shownText = await editorText();
-          return label !== '' && !label.startsWith('arm.iface') && shownText.trim() !== '' && label === (await activeTab(page)) ? [label, shownText] : undefined;
-        }, STEP_TIMEOUT, 'a preview tab with text');
-        await page.locator('.editor-group-container.active .monaco-editor textarea').first().focus();
+          const focused = await page.evaluate(() => document.activeElement?.closest('.editor-group-container.active .monaco-editor') != null);
+          return focused && label !== '' && !label.startsWith('arm.iface') && shownText.trim() !== '' ? [label, shownText] : undefined;
+        }, STEP_TIMEOUT, 'the last preview with the keyboard focus');
         await page.keyboard.type('zzz_edit');
         // Either VS Code says the editor is read-only, or the text changed: whichever comes first.
         const outcome = await waitFor(async () => {
