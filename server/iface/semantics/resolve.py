@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
 from ..model.walk import named_types, type_roots
+from .suggest import Suggester
 
 BUILTIN_NAMES = tuple(sorted(m.BASE_ALIASES))
 
@@ -55,17 +55,20 @@ def resolve_named(iface: m.Interface, t: m.NamedType) -> bool:
     return False
 
 
+def suggester(iface: m.Interface) -> Suggester:
+    """Did-you-mean over the type names in reach of ``iface`` and the builtin types."""
+    return Suggester([*_candidates(iface), *BUILTIN_NAMES])
+
+
 def did_you_mean(iface: m.Interface, name: str) -> list[str]:
-    """Close names for an unknown type name."""
-    n = len(name)
-    slack = max(2, n // 3)
-    pool = [c for c in _candidates(iface) + list(BUILTIN_NAMES) if abs(len(c) - n) <= slack]
-    return difflib.get_close_matches(name, pool, n=3, cutoff=0.6)
+    """Close names for an unknown type name (one question; ``resolve_references`` shares one Suggester)."""
+    return suggester(iface).suggest(name)
 
 
 def resolve_references(iface: m.Interface) -> Iterator[Diagnostic]:
     """Resolve every named type of the file; report those that name nothing."""
     src = iface.source
+    close_names: Suggester | None = None  # made at the first unknown name
     for item in iface.items:
         for root in type_roots(item):
             for t in named_types(root):
@@ -78,7 +81,9 @@ def resolve_references(iface: m.Interface) -> Iterator[Diagnostic]:
                     yield make("unknown-type", f"unknown type '{t.name}'{hint}", src, t.span,
                                suggestions=[], name=t.name)
                     continue
-                close = did_you_mean(iface, t.name)
+                if close_names is None:
+                    close_names = suggester(iface)
+                close = close_names.suggest(t.name)
                 hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
                 yield make("unknown-type", f"unknown type '{t.name}'{hint}", src, t.span,
                            suggestions=close, name=t.name)
