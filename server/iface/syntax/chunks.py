@@ -1,7 +1,8 @@
 """Split a text into independent top-level chunks, and find its doc comments.
 
 A chunk starts at a definition keyword in column 0 (or at the doc comment
-right before it). Chunks are parsed separately, so a syntax error stays in its
+right before it). A block comment that never closes starts the last chunk: the
+rest of the text is comment, and is neither parsed nor modelled. Chunks are parsed separately, so a syntax error stays in its
 chunk and an edit re-parses only the chunks it touches. The split is a
 heuristic: a chunk that ends inside an open body is merged with the next one
 by the parser (see ``parse``), so it never changes what a valid file means.
@@ -33,6 +34,8 @@ class Chunk:
     start: int
     end: int
     docs: dict[int, str]
+    #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
+    unterminated: bool = False
 
 
 def clean_doc(comment: str) -> str:
@@ -59,9 +62,14 @@ def split(text: str) -> list[Chunk]:
     cuts = [0]
     docs: list[tuple[int, int, str]] = []  # (comment start, documented offset, text)
     pending_doc = -1
+    open_comment = -1
     for match in _SCAN.finditer(text):
         s = match.start()
         c = text[s]
+        closed = match.end() - s >= 4 and text.startswith("*/", match.end() - 2)  # no copy of a long comment
+        if c == "/" and text.startswith("/*", s) and not closed:
+            open_comment = s  # a block comment that never closes: the rest of the text is comment
+            break
         if c == "/" and text.startswith("/**", s) and not text.startswith("/**/", s):
             target = _SPACE.match(text, match.end()).end()  # type: ignore[union-attr]  # \s* always matches
             docs.append((s, target, clean_doc(match.group())))
@@ -75,6 +83,8 @@ def split(text: str) -> list[Chunk]:
         if cut > cuts[-1]:
             cuts.append(cut)
         pending_doc = -1
+    if open_comment > cuts[-1]:
+        cuts.append(open_comment)
     cuts.append(len(text))
     chunks: list[Chunk] = []
     di = 0
@@ -84,7 +94,7 @@ def split(text: str) -> list[Chunk]:
             _, target, doc = docs[di]
             cd[target - a] = doc
             di += 1
-        chunks.append(Chunk(a, b, cd))
+        chunks.append(Chunk(a, b, cd, a == open_comment))
     if not chunks:
         chunks.append(Chunk(0, 0, {}))
     return chunks

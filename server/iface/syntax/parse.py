@@ -16,6 +16,7 @@ from typing import Any, cast
 
 from lark import Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+from lark.parsers.lalr_analysis import Shift
 
 from ..model import nodes as m
 from ..model.source import Span
@@ -196,25 +197,55 @@ def _resync(e: UnexpectedToken) -> None:
     ip = e.interactive_parser
     if not _unwind_to_body(ip):
         return
-    if e.token.type == "RBRACE" and "RBRACE" in ip.accepts():
+    if e.token.type == "RBRACE" and _would_accept(ip.parser_state, "RBRACE"):
         ip.feed_token(e.token)
 
 
 def _close(e: UnexpectedToken, end: int) -> bool:
     """Feed closing tokens until the chunk can end; False when that is impossible."""
     ip = e.interactive_parser
+    ps = ip.parser_state
     for _ in range(256):
-        accepts = ip.accepts()
-        if "$END" in accepts:
+        if _would_accept(ps, "$END"):
             return True
         for closer in _CLOSERS:
-            if closer in accepts:
+            if _would_accept(ps, closer):
                 ip.feed_token(Token(closer, "", start_pos=end, end_pos=end))
                 break
         else:
             if not _unwind_to_body(ip):
                 return False
     return False
+
+
+def _would_accept(ps: Any, terminal: str) -> bool:
+    """Whether the parser would take ``terminal`` now (shift it, or end the input), after the reductions it
+    causes; found on the state numbers alone, without copying the parser (lark's ``accepts()`` copies its
+    stacks for each terminal: quadratic when an unclosed ``[`` × N leaves them N deep)."""
+    states = ps.parse_conf.parse_table.states
+    end_state = ps.parse_conf.end_state
+    stack = ps.state_stack
+    depth = len(stack)  # the states below ``depth`` are the parser's; ``pushed`` are the simulated ones above
+    pushed: list[int] = []
+    while True:
+        action = states[pushed[-1] if pushed else stack[depth - 1]].get(terminal)
+        if action is None:
+            return False
+        kind, arg = action
+        if kind is Shift:
+            return terminal != "$END"
+        size = len(arg.expansion)
+        if size <= len(pushed):
+            del pushed[len(pushed) - size:]
+        else:
+            depth -= size - len(pushed)
+            pushed.clear()
+        if depth <= 0:
+            return False
+        _, goto = states[pushed[-1] if pushed else stack[depth - 1]][arg.origin.name]
+        pushed.append(goto)
+        if terminal == "$END" and goto == end_state:
+            return True
 
 
 def _expected(names: set[str] | frozenset[str]) -> str:
@@ -328,7 +359,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
     """
     parser = chunk_parser()
     chunks = split(text)
-    if cache is None:
+    if cache is None and not chunks[-1].unterminated:
         docs: dict[int, str] = {}
         for ch in chunks:
             docs.update({k + ch.start: v for k, v in ch.docs.items()})
@@ -342,9 +373,14 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         ch = chunks[i]
         ctext = text[ch.start:ch.end]
         r = cache.take(ctext) if cache is not None else None
+        if r is None and ch.unterminated:
+            opening = Span(0, 2)  # recorded, so that placing the chunk moves it
+            r = ChunkResult(ctext, [], [opening], [Problem("syntax-error", "unterminated comment: '/*' has no "
+                                                           "closing '*/', so the rest of the file is comment",
+                                                           opening)])
         if r is None:
             r = parser.parse(ctext, ch.docs)
-            if r.open_at_end and i + 1 < n:
+            if r.open_at_end and i + 1 < n and not chunks[i + 1].unterminated:
                 merged = _merge(parser, text, chunks, i)
                 if merged is not None:
                     r, i = merged
@@ -367,6 +403,8 @@ def _merge(parser: _ChunkParser, text: str, chunks: list[Chunk], i: int) -> tupl
     docs = dict(first.docs)
     for j in range(i + 1, min(len(chunks), i + 1 + _MAX_MERGE)):
         nxt = chunks[j]
+        if nxt.unterminated:
+            return None
         docs.update({k + nxt.start - first.start: v for k, v in nxt.docs.items()})
         r = parser.parse(text[first.start:nxt.end], docs)
         if not r.problems:
