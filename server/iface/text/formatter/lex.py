@@ -136,11 +136,6 @@ class Attached:
         return self.leading[0].blank_before if self.leading else self.blank_before
 
 
-def _column(text: str, offset: int, tab: int) -> int:
-    line_start = text.rfind("\n", 0, offset) + 1
-    return len(text[line_start:offset].expandtabs(tab))
-
-
 def attach_comments(text: str, start: int, end: int, tokens: list[tuple[int, int]],
                     tab: int = 4) -> tuple[dict[int, Attached], list[Comment]]:
     """Attach every comment of ``text[start:end]`` to a token.
@@ -170,6 +165,26 @@ class _GapScanner:
         self.text = text
         self.tab = tab
         self.pattern = _gap_pattern()
+        # the column at offset ``_at``: columns are asked for in text order, so each character is read once
+        self._at = 0
+        self._col = 0
+
+    def column(self, offset: int) -> int:
+        """The column of ``offset`` (tabs expanded); offsets must not decrease from one call to the next."""
+        text = self.text
+        nl = text.rfind("\n", self._at, offset)
+        if nl >= 0:
+            self._at, self._col = nl + 1, 0
+        seg = text[self._at:offset]
+        col = self._col
+        if "\t" in seg:
+            tab = self.tab
+            for ch in seg:
+                col = (col // tab + 1) * tab if ch == "\t" else col + 1
+        else:
+            col += len(seg)
+        self._at, self._col = offset, col
+        return col
 
     def scan(self, pos: int, stop: int, prev: Attached | None, at_end: bool) -> tuple[list[Comment], int]:
         """Comments of ``text[pos:stop]``: same-line ones go to ``prev``; the rest are returned.
@@ -189,7 +204,7 @@ class _GapScanner:
             elif m.lastgroup == "comment":
                 if last is not None:
                     last.break_after = last.is_line or newlines > 0
-                last = Comment(m.group(), m.start(), _column(self.text, m.start(), self.tab),
+                last = Comment(m.group(), m.start(), self.column(m.start()),
                                blank_before=newlines >= 2)
                 if on_prev_line and newlines == 0:
                     assert prev is not None
