@@ -212,3 +212,16 @@ def test_px4_component_named_like_a_px4_base_class_is_an_error(tmp_path: Path) -
     ok = generate(compile_text("component module_base_user\nmessage M { u64 timestamp, i32 x }\n"
                                "publishes M on \"/fmu/out/m\"\n", "c.iface", tmp_path), "px4")
     assert not ok.has_errors
+
+
+@pytest.mark.parametrize("signame, code", [("SIGTERM", 143), ("SIGINT", 130)])
+def test_a_signal_while_fmt_rewrites_a_file_leaves_no_temporary_file(tmp_path: Path, signame: str,
+                                                                     code: int) -> None:
+    src = tmp_path / "messy.iface"
+    messy = "message   M {i32 x}\npublishes M on \"/m\"\n"
+    src.write_text(messy)
+    r = subprocess.run([sys.executable, "-c", _SIGNAL_ITSELF, "mkstemp", "1", signame, "fmt", str(src)],
+                       capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert r.returncode == code, (r.returncode, r.stderr)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["messy.iface"]
+    assert src.read_text() in (messy, "message M {\n    i32 x\n}\n\npublishes M on \"/m\"\n")  # old or new, whole

@@ -146,25 +146,28 @@ def _write_atomically(path: str, text: str) -> None:
 
     A symbolic link is followed, so the link stays and its target is replaced.
     """
+    from ..emit.write import signals_deferred  # only when writing: emit loads jinja2
+
     path = os.path.realpath(path)
     folder = os.path.dirname(path)
-    try:
-        mode = os.stat(path).st_mode & 0o7777
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{os.path.basename(path)}.", suffix=".tmp")
-    except OSError as e:
-        raise UsageError(f"{path}: cannot write beside the file ({e.strerror or e})") from None
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(text.encode("utf-8"))
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, mode)
-        os.replace(tmp, path)
-    except BaseException as e:  # an error, Ctrl-C or SIGTERM: no temporary file is left behind
+    with signals_deferred():  # Ctrl-C or SIGTERM lands after the file is replaced (or left as it was)
         try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        if isinstance(e, OSError):
-            raise UsageError(f"{path}: cannot write the file ({e.strerror or e})") from None
-        raise
+            mode = os.stat(path).st_mode & 0o7777
+            fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{os.path.basename(path)}.", suffix=".tmp")
+        except OSError as e:
+            raise UsageError(f"{path}: cannot write beside the file ({e.strerror or e})") from None
+        try:
+            with os.fdopen(fd, "wb") as f:
+                f.write(text.encode("utf-8"))
+                f.flush()
+                os.fsync(f.fileno())
+            os.chmod(tmp, mode)
+            os.replace(tmp, path)
+        except BaseException as e:  # no temporary file is left behind
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+            if isinstance(e, OSError):
+                raise UsageError(f"{path}: cannot write the file ({e.strerror or e})") from None
+            raise

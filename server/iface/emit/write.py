@@ -197,7 +197,7 @@ def _mode(path: Path) -> int:
 
 
 @contextmanager
-def _signals_deferred() -> Iterator[None]:
+def signals_deferred() -> Iterator[None]:
     """Hold back SIGINT and SIGTERM while the block runs (where the system can)."""
     if not hasattr(signal, "pthread_sigmask"):
         yield
@@ -218,7 +218,7 @@ def atomic_write(path: Path, text: str | bytes) -> None:
     data = text.encode("utf-8") if isinstance(text, str) else text
     path.parent.mkdir(parents=True, exist_ok=True)
     mode = _mode(path)
-    with _signals_deferred():  # the temporary file exists only inside the try below
+    with signals_deferred():  # the temporary file exists only inside the try below
         fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=path.parent)
         try:
             os.fchmod(fd, mode)
