@@ -115,3 +115,13 @@ def test_shared_includes_are_compiled_and_checked_once(tmp_path: Path, monkeypat
     stamps["n"] = 0
     assert ws.compile_path(str(tmp_path / "l0a.iface")) is comp  # unchanged: the cached compilation
     assert stamps["n"] < 20 * levels, stamps
+
+
+def test_the_references_that_close_a_cycle_are_left_unresolved() -> None:
+    """So that no walk of the model (emitters, hover, compat) follows the cycle round."""
+    comp = Workspace().compile_text("/virtual/c.thrift", "typedef list<A> A\ntypedef C B\ntypedef B C\n"
+                                    "service S extends S {}\ntypedef i32 Fine\ntypedef Fine AlsoFine\n")
+    a, b, c, s, fine, also = comp.interface.definitions
+    assert a.type.element.target is None and b.type.target is None and c.type.target is None
+    assert s.extends.target is None
+    assert also.type.target is fine

@@ -59,3 +59,14 @@ async def test_base_type_and_nothing_on_blank(client: Client) -> None:
     assert "float64" in text and "double" in text  # IDL spells it double
     blank = await client.text_document_hover_async(lsp.HoverParams(client.doc(uri), lsp.Position(line=4, character=0)))
     assert blank is None
+
+
+async def test_hover_over_a_typedef_cycle_answers(client: Client) -> None:
+    """`typedef list<Loop> Loop` is an error; hovering its uses still answers (and ends)."""
+    uri = client.open("loop.iface", 'typedef list<Loop> Loop\nmessage UsesLoop {\n    Loop field\n}\n'
+                                    'publishes UsesLoop on "/loop"\n')
+    diags = await client.wait_diagnostics(uri, 1)
+    assert [d.code for d in diags if d.severity == lsp.DiagnosticSeverity.Error] == ["typedef-cycle"]
+    text = await hover(client, uri, "Loop field", 1)
+    assert "Loop" in text
+    client.close(uri)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
@@ -87,6 +87,77 @@ def resolve_references(iface: m.Interface) -> Iterator[Diagnostic]:
                 hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
                 yield make("unknown-type", f"unknown type '{t.name}'{hint}", src, t.span,
                            suggestions=close, name=t.name)
+
+
+def break_cycles(iface: m.Interface) -> Iterator[Diagnostic]:
+    """Typedefs that stand for themselves (``typedef B A``, ``typedef A B``; ``typedef list<A> A``) and services
+    that extend themselves: each definition of a cycle gets an error naming it, and its references to the
+    cycle are left unresolved, so that no walk of the model follows the cycle round."""
+    src = iface.source
+    local = {id(d) for d in iface.definitions}
+
+    def aliased(d: m.Definition) -> Iterator[m.Definition]:
+        for t in _cycle_refs(d):
+            assert t.target is not None
+            yield t.target
+
+    cycles = find_cycles([d for d in iface.definitions if isinstance(d, (m.Typedef, m.Service))], aliased)
+    for cycle in cycles:
+        kind = "typedef" if isinstance(cycle[0], m.Typedef) else "extends"
+        for i, d in enumerate(cycle):
+            if id(d) not in local:
+                continue
+            names = " → ".join(x.name for x in [*cycle[i:], *cycle[:i], d])
+            if kind == "typedef":
+                message = (f"typedef '{d.name}' stands for itself: {names}; a typedef must end in a type "
+                           "(wrap the recursion in a struct or message)")
+            else:
+                message = f"service '{d.name}' extends itself: {names}; the chain of extends must end"
+            yield make(f"{kind}-cycle", message, src, d.name_span, cycle=[x.name for x in cycle])
+    members = {id(d) for cycle in cycles for d in cycle}
+    for cycle in cycles:
+        for d in cycle:
+            if id(d) in local:
+                for t in _cycle_refs(d):
+                    if id(t.target) in members:
+                        t.target = None
+
+
+def _cycle_refs(d: m.Definition) -> Iterator[m.NamedType]:
+    """The references a typedef (through containers, not through structs) or an ``extends`` follows."""
+    if isinstance(d, m.Typedef):
+        for t in named_types(d.type):
+            if isinstance(t.target, m.Typedef):
+                yield t
+    elif isinstance(d, m.Service) and d.extends is not None and isinstance(d.extends.target, m.Service):
+        yield d.extends
+
+
+def find_cycles(roots: list[m.Definition],
+                edges: Callable[[m.Definition], Iterator[m.Definition]]) -> list[list[m.Definition]]:
+    """The cycles of the graph ``edges`` spans from ``roots``, each once, in the order first met (iterative)."""
+    state: dict[int, int] = {}  # id -> 1 on the path, 2 done
+    cycles: list[list[m.Definition]] = []
+    for root in roots:
+        if id(root) in state:
+            continue
+        path: list[m.Definition] = [root]
+        stack = [edges(root)]
+        state[id(root)] = 1
+        while stack:
+            nxt = next(stack[-1], None)
+            if nxt is None:
+                state[id(path.pop())] = 2
+                stack.pop()
+                continue
+            mark = state.get(id(nxt))
+            if mark == 1:
+                cycles.append(path[next(i for i, x in enumerate(path) if x is nxt):])
+            elif mark is None:
+                state[id(nxt)] = 1
+                path.append(nxt)
+                stack.append(edges(nxt))
+    return cycles
 
 
 def constant_value(iface: m.Interface, name: str) -> m.Const | m.EnumValue | None:

@@ -26,7 +26,7 @@ from ..model.naming import (
 from ..model.normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
 from ..model.qos import problem as qos_problem
 from ..model.source import Source
-from ..model.walk import all_consts, bodies, named_types, resolve_typedefs, type_text
+from ..model.walk import all_consts, bodies, resolve_typedefs, type_text
 from ..syntax.transform import shorten
 from .resolve import constant_value
 
@@ -383,62 +383,6 @@ def functions(iface: m.Interface) -> Iterator[Diagnostic]:
                         isinstance(target.target, m.Struct) and target.target.kind == "exception"):
                     yield make("throws-not-exception", f"'{type_text(t.type)}' is not an exception",
                                src, t.type.span)
-
-
-@rule()
-def definition_cycles(iface: m.Interface) -> Iterator[Diagnostic]:
-    """Typedefs that stand for themselves (``typedef B A``, ``typedef A B``; ``typedef list<A> A``) and services
-    that extend themselves: no type or service results. Each definition of the cycle gets an error naming it."""
-    src = iface.source
-    local = {id(d) for d in iface.definitions}
-
-    def aliased(d: m.Definition) -> Iterator[m.Definition]:
-        if isinstance(d, m.Typedef):  # every typedef the type names, through containers (not through structs)
-            for t in named_types(d.type):
-                if isinstance(t.target, m.Typedef):
-                    yield t.target
-        elif isinstance(d, m.Service) and d.extends is not None and isinstance(d.extends.target, m.Service):
-            yield d.extends.target
-
-    for cycle in find_cycles([d for d in iface.definitions if isinstance(d, (m.Typedef, m.Service))], aliased):
-        kind = "typedef" if isinstance(cycle[0], m.Typedef) else "extends"
-        for i, d in enumerate(cycle):
-            if id(d) not in local:
-                continue
-            names = " → ".join(x.name for x in [*cycle[i:], *cycle[:i], d])
-            if kind == "typedef":
-                message = (f"typedef '{d.name}' stands for itself: {names}; a typedef must end in a type "
-                           "(wrap the recursion in a struct or message)")
-            else:
-                message = f"service '{d.name}' extends itself: {names}; the chain of extends must end"
-            yield make(f"{kind}-cycle", message, src, d.name_span, cycle=[x.name for x in cycle])
-
-
-def find_cycles(roots: list[m.Definition],
-                edges: Callable[[m.Definition], Iterator[m.Definition]]) -> list[list[m.Definition]]:
-    """The cycles of the graph ``edges`` spans from ``roots``, each once, in the order first met (iterative)."""
-    state: dict[int, int] = {}  # id -> 1 on the path, 2 done
-    cycles: list[list[m.Definition]] = []
-    for root in roots:
-        if id(root) in state:
-            continue
-        path: list[m.Definition] = [root]
-        stack = [edges(root)]
-        state[id(root)] = 1
-        while stack:
-            nxt = next(stack[-1], None)
-            if nxt is None:
-                state[id(path.pop())] = 2
-                stack.pop()
-                continue
-            mark = state.get(id(nxt))
-            if mark == 1:
-                cycles.append(path[next(i for i, x in enumerate(path) if x is nxt):])
-            elif mark is None:
-                state[id(nxt)] = 1
-                path.append(nxt)
-                stack.append(edges(nxt))
-    return cycles
 
 
 @rule()
