@@ -78,7 +78,7 @@ def test_the_cli_reports_a_broken_target_without_a_traceback(tmp_path: Path) -> 
     out = tmp_path / "out"
     proc = subprocess.run([sys.executable, "-m", "iface", "generate", str(CASES["listing1"]), "-t", "boom",
                            "-o", str(out)], capture_output=True, text=True, env=env, timeout=300)
-    assert proc.returncode == 1
+    assert proc.returncode == 3  # an internal error (issue 15): not a finding (1), not a usage error (2)
     text = proc.stdout + proc.stderr
     assert "error[internal-error]: the boom target failed: KeyError: 'missing'" in text
     assert "Traceback" not in text and not out.exists()

@@ -2,7 +2,8 @@
 
 Exit 0 on success; 1 when the input has errors (nothing is written), when ``--check``
 finds files that differ, or when a hand-edited file is refused; 2 on usage or I/O errors,
-including an output path the file system cannot hold (found before anything is written).
+including an output path the file system cannot hold (found before anything is written);
+3 when a target fails with an unexpected exception (its ``internal-error``: a bug, nothing written).
 """
 
 from __future__ import annotations
@@ -151,7 +152,8 @@ def run(args: argparse.Namespace) -> int:
     shown = [d for d in diags if d.severity == Severity.ERROR or not args.quiet]
     if code:
         print_diagnostics(shown)
-        return code
+        # a target that raised (the guard's internal-error) is a bug, not a finding: exit 3 as any internal error
+        return 3 if any(d.code == "internal-error" for d in diags) else code
     print_diagnostics(shown, stream=sys.stderr)
     try:
         report = write_files(files, args.out, force=args.force, dry_run=args.dry_run, check=args.check)
