@@ -130,3 +130,13 @@ def test_json_output_stays_valid_and_keeps_the_characters(tmp_path: Path) -> Non
     assert any("\x1b[2J" in m for m in messages)
     r = run_cli("dump", str(src))
     assert "\u0085" in json.dumps(json.loads(r.stdout), ensure_ascii=False)
+
+
+def test_json_import_of_numbers_and_nesting_no_parser_takes(tmp_path: Path) -> None:
+    (tmp_path / "digits.json").write_text('{"format": "iface-json/1", "items": [], "id": ' + "9" * 5000 + "}")
+    (tmp_path / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    for name in ("digits.json", "deep.json"):
+        r = run_cli("import", "--from", "json", str(tmp_path / name), "--out", str(tmp_path / "out"))
+        assert r.returncode == 1, r.stderr
+        assert "Traceback" not in r.stderr and "internal error" not in r.stderr
+        assert f"{name}: not the iface JSON form" in r.stderr

@@ -35,6 +35,10 @@ def import_file(path: Path, result: ImportResult) -> None:
     except json.JSONDecodeError as e:
         result.problems.append(Problem(str(path), _line_of(text, e), f"not JSON: {e.msg}"))
         return
+    except (ValueError, RecursionError) as e:  # a number of 5,000 digits; arrays nested 100,000 deep
+        reason = "nested too deeply" if isinstance(e, RecursionError) else str(e).split(";")[0]
+        result.problems.append(Problem(str(path), 0, f"not the iface JSON form: {reason}"))
+        return
     name = _file_name(doc, path)
     try:
         files = [(name, from_json(doc))] + _included_files(doc, PurePosixPath(name).parent, "")
