@@ -19,6 +19,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import LarkError
 
 from ...syntax.grammar import grammar_text
+from ...syntax.lexer import FastScanner, ScanError, parse_fast
 
 #: Token types of the separators ``,`` and ``;`` (the grammar's filtered ``_SEP`` terminal).
 SEPARATOR_TYPES = frozenset({"_SEP"})
@@ -49,12 +50,25 @@ def _gap_pattern() -> re.Pattern[str]:
     return re.compile(rf"(?P<comment>{terminals['COMMENT']})|(?P<ws>{terminals['WS']})|(?P<sep>[,;])")
 
 
+@lru_cache(maxsize=1)
+def _scanner() -> FastScanner:
+    return FastScanner(tree_parser())
+
+
 def parse_strict(text: str) -> Tree | None:
-    """The full tree of ``text``, or None when it does not parse cleanly."""
+    """The full tree of ``text``, or None when it does not parse cleanly.
+
+    Tokens come from the compiler's fast scanner (one regex, the same terminals);
+    only where it gives up does lark's own lexer read the text.
+    """
     parser = tree_parser()
     try:
         with _lock:
-            return parser.parse(text)
+            try:
+                tree = parse_fast(parser, _scanner(), text)
+            except ScanError:
+                tree = parser.parse(text)
+            return tree if isinstance(tree, Tree) else None
     except (LarkError, RecursionError):
         return None
 
