@@ -29,6 +29,7 @@ from collections.abc import Callable
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "server"))
 sys.path.insert(0, os.path.dirname(__file__))
 
+from check_bench import best  # noqa: E402
 from gen_thrift import generate  # noqa: E402
 
 from iface.model.source import Source  # noqa: E402
@@ -73,17 +74,6 @@ CASES: list[tuple[str, Callable[[int], str], Callable[[str], Callable[[], object
     ("check: /* + 3N lines, never closed", open_comment, check),
     ("fmt /* + 3N lines, never closed", open_comment, fmt),
 ]
-
-
-def best(fn: Callable[[], object], repeat: int) -> float:
-    """The best wall time of ``repeat`` runs, in seconds."""
-    times = []
-    for _ in range(repeat):
-        gc.collect()
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def peak_mb(fn: Callable[[], object]) -> float:

@@ -101,14 +101,18 @@ def test_unclosed_brackets_cost_linear_parser_work(monkeypatch: pytest.MonkeyPat
     assert work[2] <= 2.5 * work[1] + 1000 and work[2] <= 20 * 8000, work
 
 
-def test_an_unterminated_comment_holds_no_memory_per_character() -> None:
-    text = "struct A { 1: i32 x }\n/*\n" + "struct S { 1: i32 x }\n" * 50_000  # 1.1 MB
+def _peak(fn: Callable[[], object]) -> tuple[object, int]:
+    """What ``fn`` returns, and the most memory Python held while it ran (bytes)."""
     tracemalloc.start()
     try:
-        comp = _compile(text, "c.iface")
-        peak = tracemalloc.get_traced_memory()[1]
+        return fn(), tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
+
+
+def test_an_unterminated_comment_holds_no_memory_per_character() -> None:
+    text = "struct A { 1: i32 x }\n/*\n" + "struct S { 1: i32 x }\n" * 50_000  # 1.1 MB
+    comp, peak = _peak(lambda: _compile(text, "c.iface"))
     assert peak < 2 * len(text), f"{peak / 1e6:.1f} MB for a {len(text) / 1e6:.1f} MB text"
     assert [(d.code, d.location()[:2]) for d in comp.diagnostics if d.severity == 1] == [("syntax-error", (2, 1))]
     assert "unterminated comment" in comp.diagnostics[0].message
@@ -117,24 +121,15 @@ def test_an_unterminated_comment_holds_no_memory_per_character() -> None:
 
 def test_formatting_after_an_unterminated_comment_holds_no_memory_per_character() -> None:
     text = "struct A { 1: i32 x }\n/*\n" + "struct S { 1: i32 x }\n" * 50_000
-    tracemalloc.start()
-    try:
-        out = format_text(text)
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    out, peak = _peak(lambda: format_text(text))
+    assert isinstance(out, str)
     assert peak < 4 * len(text), f"{peak / 1e6:.1f} MB for a {len(text) / 1e6:.1f} MB text"
     assert out.endswith(text[text.index("/*"):])  # the comment is kept as written
 
 
 def test_a_long_block_comment_is_read_without_memory_per_character() -> None:
     text = "/* " + "x * y / z\n" * 200_000 + "*/\nstruct A { 1: i32 x }\n"  # 2 MB, closed
-    tracemalloc.start()
-    try:
-        comp = _compile(text, "c.iface")
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    comp, peak = _peak(lambda: _compile(text, "c.iface"))
     assert peak < len(text) and [d.name for d in comp.interface.definitions] == ["A"], peak
 
 
