@@ -38,15 +38,12 @@ def unreadable(path: str) -> str | None:
 
 
 def compile_files(paths: Sequence[str], include_paths: Iterable[str] = ()) -> list[Compilation]:
-    """Compile every file; a missing or unreadable file is a UsageError."""
-    ws = Workspace(include_paths)
-    out = []
+    """Compile every file; a missing or unreadable file is a UsageError (raised before any is compiled)."""
     for p in paths:
         problem = unreadable(p)
         if problem is not None:
             raise UsageError(f"{p}: {problem}")
-        out.append(ws.compile_path(p))
-    return out
+    return compile_readable(paths, include_paths)[0]
 
 
 def compile_readable(paths: Sequence[str], include_paths: Iterable[str] = ()) -> tuple[list[Compilation],
