@@ -205,10 +205,9 @@ class Workspace:
         an include is refused with the chain named.
         """
         fresh: set[str] = set()
-        if text is None:
-            cached = self._cached(key, fresh)
-            if cached is not None:
-                return cached
+        cached = self._cached(key, fresh)  # an editor buffer's text is its overlay: its stamp
+        if cached is not None:
+            return cached
         frames: list[tuple[str, object, CompileSteps]] = [(key, self._stamp(key), self._steps(key, text))]
         on_chain = {key}
         answer: Compilation | Refused | None = None
