@@ -125,3 +125,13 @@ def test_the_references_that_close_a_cycle_are_left_unresolved() -> None:
     assert a.type.element.target is None and b.type.target is None and c.type.target is None
     assert s.extends.target is None
     assert also.type.target is fine
+
+
+def test_an_unchanged_buffer_and_its_includes_are_not_compiled_again(tmp_path: Path) -> None:
+    (tmp_path / "inc.iface").write_text("struct Shared { 1: i32 x }\n")
+    ws = Workspace()
+    path = str(tmp_path / "main.iface")
+    text = 'include "inc.iface"\nstruct Uses { 1: inc.Shared s }\n'
+    first = ws.compile_text(path, text)
+    assert ws.compile_text(path, text) is first
+    assert ws.compile_text(path, text + "\n") is not first
