@@ -11,6 +11,8 @@ Shapes (issue 15, "Linear time and bounded memory"):
 - ``unknown types, N structs``: N one-field structs, each with its own unknown type (did-you-mean);
 - ``fmt N lines``: formatting the generated N-line Thrift file of ``check_bench.py``;
 - ``fmt one line``: formatting one line of N fields, each with a block comment;
+- ``N definitions with syntax errors``: each also with an unknown type (findings inside broken
+  definitions are dropped);
 - ``[ x N``: ``const list<i32> X = [[[…`` never closed;
 - ``/* + N lines``: an unterminated block comment before 3N lines of definitions (3.3 MB at 50k).
 
@@ -38,7 +40,12 @@ from iface.text.formatter import format_text  # noqa: E402
 
 
 def unknown_in_one_struct(n: int) -> str:
-    return "struct S {\n" + "".join(f"    {i + 1}: T{i} f{i},\n" for i in range(n)) + "}\n"
+    # no field ids: ids past 32767 would add findings at 50k that 10k does not have
+    return "struct S {\n" + "".join(f"    T{i} f{i},\n" for i in range(n)) + "}\n"
+
+
+def broken_definitions(n: int) -> str:
+    return "".join(f"struct S{i} {{\n    Unknown{i} x\n    i32 = \n}}\n" for i in range(n))
 
 
 def unknown_in_many_structs(n: int) -> str:
@@ -70,6 +77,7 @@ CASES: list[tuple[str, Callable[[int], str], Callable[[str], Callable[[], object
     ("check: unknown types, N structs", unknown_in_many_structs, check),
     ("fmt N lines", generate, fmt),
     ("fmt one line of N commented fields", one_line_with_comments, fmt),
+    ("check: N definitions with syntax errors", broken_definitions, check),
     ("check: [ x N, never closed", open_brackets, check),
     ("check: /* + 3N lines, never closed", open_comment, check),
     ("fmt /* + 3N lines, never closed", open_comment, fmt),

@@ -141,3 +141,30 @@ def test_columns_of_comments_on_one_long_line_read_each_character_once(monkeypat
     formatted = format_text(text)
     assert "/* c2999 */" in formatted
     assert 0 < walked["n"] <= 2 * len(text) + len(formatted), (walked["n"], len(text))
+
+
+class _CountingList(list):
+    """A list that counts the elements its iterators hand out."""
+
+    handed = 0
+
+    def __iter__(self):
+        for x in super().__iter__():
+            _CountingList.handed += 1
+            yield x
+
+
+def test_findings_inside_broken_definitions_are_filtered_in_linear_time(monkeypatch: pytest.MonkeyPatch) -> None:
+    from iface.syntax.parse import ParseResult
+
+    real = ParseResult.broken_ranges
+    monkeypatch.setattr(ParseResult, "broken_ranges", lambda self: _CountingList(real(self)))
+    work = []
+    for n in (500, 1000, 2000):
+        _CountingList.handed = 0
+        text = "".join(f"struct S{i} {{\n    Unknown{i} x\n    i32 = \n}}\n" for i in range(n))
+        comp = _compile(text, "b.iface")
+        assert sum(d.code == "syntax-error" for d in comp.diagnostics) == n
+        assert not any(d.code == "unknown-type" for d in comp.diagnostics)  # inside broken definitions
+        work.append(_CountingList.handed)
+    assert work[2] <= 2.5 * work[1] + 100 and work[2] <= 10 * 2000, work

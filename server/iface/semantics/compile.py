@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import gc
+import math
 import os
 import re
+from bisect import bisect_right
 from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -308,15 +310,21 @@ def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
         broken = parsed.broken_ranges()
         if broken:
             diagnostics = [d for d in diagnostics if d.code == "syntax-error" or d.source is not source
-                           or not any(a <= d.span.start < b for a, b in broken)]
+                           or not _inside(broken, d.span.start)]
         if not iface.items and not diagnostics:
             diagnostics.append(make("empty-file", "the file is empty: it defines no interface",
                                     source, Span(0, 0)))
+        diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
     finally:
         if enabled:
             gc.enable()
-    diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
     return Compilation(source, iface, diagnostics, included, parsed)
+
+
+def _inside(ranges: list[tuple[int, int]], offset: int) -> bool:
+    """True when ``offset`` lies in one of ``ranges`` (sorted, not overlapping): a binary search."""
+    i = bisect_right(ranges, (offset, math.inf)) - 1
+    return i >= 0 and offset < ranges[i][1]
 
 
 def _surrogates(source: Source) -> list[Diagnostic]:
