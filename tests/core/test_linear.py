@@ -168,3 +168,47 @@ def test_findings_inside_broken_definitions_are_filtered_in_linear_time(monkeypa
         assert not any(d.code == "unknown-type" for d in comp.diagnostics)  # inside broken definitions
         work.append(_CountingList.handed)
     assert work[2] <= 2.5 * work[1] + 100 and work[2] <= 10 * 2000, work
+
+
+def _count_reads(monkeypatch: pytest.MonkeyPatch, cls: type, attr: str) -> dict[str, int]:
+    """Count reads of a slotted dataclass attribute (the slot's own descriptor still holds the value)."""
+    slot = cls.__dict__[attr]
+    count = {"n": 0}
+
+    def read(self: object) -> object:
+        count["n"] += 1
+        return slot.__get__(self, cls)
+
+    monkeypatch.setattr(cls, attr, property(read, slot.__set__))
+    return count
+
+
+def test_a_long_typedef_chain_is_followed_once_per_compile(monkeypatch: pytest.MonkeyPatch) -> None:
+    from iface.model import nodes as m
+
+    reads = _count_reads(monkeypatch, m.Typedef, "type")
+    work = []
+    for n in (500, 1000, 2000):
+        reads["n"] = 0
+        text = ("component c\ntypedef i32 T0\n" + "".join(f"typedef T{i} T{i + 1}\n" for i in range(n))
+                + "message S {\n" + "".join(f"    T{n} f{i} = 1\n" for i in range(n)) + "}\npublishes S on \"/s\"\n")
+        comp = _compile(text, "chain.iface")
+        assert not [d for d in comp.diagnostics if d.severity == 1]
+        work.append(reads["n"])
+    assert work[2] <= 2.5 * work[1] + 100 and work[2] <= 40 * 2000, work
+
+
+def test_enum_values_are_found_in_constant_time(monkeypatch: pytest.MonkeyPatch) -> None:
+    from iface.model import nodes as m
+
+    reads = _count_reads(monkeypatch, m.EnumValue, "name")
+    work = []
+    for n in (500, 1000, 2000):
+        reads["n"] = 0
+        text = ("enum E {\n" + "".join(f"    V{i}\n" for i in range(n)) + "}\nstruct S {\n"
+                + "".join(f"    E f{i} = V{i}\n" for i in range(n)) + "}\n"
+                + "".join(f"const E C{i} = E.V{i}\n" for i in range(n)))
+        comp = _compile(text, "enums.iface")
+        assert not [d for d in comp.diagnostics if d.severity == 1]
+        work.append(reads["n"])
+    assert work[2] <= 2.5 * work[1] + 100 and work[2] <= 40 * 2000, work

@@ -62,7 +62,7 @@ def _node(node: Any, src: Source) -> Any:
         return node
     out: dict[str, Any] = {"node": type(node).__name__}
     for f in dataclasses.fields(node):
-        if f.name in _SKIP:
+        if f.name in _SKIP or f.metadata.get("derived"):  # derived: computed from the rest, not written
             continue
         value = getattr(node, f.name)
         if isinstance(node, m.Include) and f.name == "resolved" and value:

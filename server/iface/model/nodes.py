@@ -375,6 +375,25 @@ class Enum:
     doc: str | None = None
 
     kind: Literal["enum"] = "enum"
+    #: (number of values, first value by name, the numbers): built when first asked, again if values change
+    _index: tuple[int, dict[str, EnumValue], frozenset[int]] | None = field(default=None, repr=False,
+                                                                            metadata={"derived": True})
+
+    def _indexed(self) -> tuple[int, dict[str, EnumValue], frozenset[int]]:
+        if self._index is None or self._index[0] != len(self.values):
+            by_name: dict[str, EnumValue] = {}
+            for v in self.values:
+                by_name.setdefault(v.name, v)
+            self._index = (len(self.values), by_name, frozenset(v.value for v in self.values))
+        return self._index
+
+    def named(self, name: str) -> EnumValue | None:
+        """The (first) value called ``name``, found in constant time."""
+        return self._indexed()[1].get(name)
+
+    def has_number(self, number: int) -> bool:
+        """True when a value of the enum is ``number``."""
+        return number in self._indexed()[2]
 
 
 @dataclass(slots=True, eq=False)
@@ -403,6 +422,9 @@ class Typedef:
     doc: str | None = None
 
     kind: Literal["typedef"] = "typedef"
+    #: What the typedef finally stands for, through other typedefs; set by resolution on every compile
+    #: (``semantics.resolve.settle_typedefs``), so a chain is followed once per compile, not once per use.
+    final: TypeRef | None = field(default=None, repr=False, metadata={"derived": True})
 
 
 Definition = Union[Struct, Service, Action, Enum, Senum, Typedef, Const]

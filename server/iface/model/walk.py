@@ -102,6 +102,8 @@ def type_text(t: m.TypeRef) -> str:
 
 def resolve_typedefs(t: m.TypeRef) -> m.TypeRef:
     """Follow named types through typedefs to what they finally stand for (a cycle stops where it closes)."""
+    if isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and t.target.final is not None:
+        return t.target.final
     seen: set[int] = set()
     while isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and id(t.target) not in seen:
         seen.add(id(t.target))

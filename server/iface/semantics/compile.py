@@ -17,7 +17,7 @@ from ..model.diagnostics import Diagnostic, Related, Severity, make
 from ..model.normalize import normalize_action, normalize_service
 from ..model.source import Source, Span
 from ..syntax.parse import ChunkCache, ParseResult, parse_text
-from .resolve import break_cycles, build_symbols, resolve_references
+from .resolve import break_cycles, build_symbols, resolve_references, settle_typedefs
 from .sets import derive
 from .validate import Memo, validate
 
@@ -305,6 +305,7 @@ def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
         diagnostics.extend(build_symbols(iface))
         diagnostics.extend(resolve_references(iface))
         diagnostics.extend(break_cycles(iface))
+        settle_typedefs(iface)
         diagnostics.extend(derive(iface))
         diagnostics.extend(validate(iface, memo))
         broken = parsed.broken_ranges()

@@ -133,6 +133,26 @@ def _cycle_refs(d: m.Definition) -> Iterator[m.NamedType]:
         yield d.extends
 
 
+def settle_typedefs(iface: m.Interface) -> None:
+    """Set every typedef's ``final`` (what it stands for through other typedefs), each chain walked once."""
+    local = [d for d in iface.definitions if isinstance(d, m.Typedef)]
+    for d in local:
+        d.final = None
+    for d in local:
+        chain: list[m.Typedef] = []
+        t: m.TypeRef = d.type
+        seen: set[int] = set()
+        while (isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and t.target.final is None
+               and id(t.target) not in seen and t.target is not d):
+            seen.add(id(t.target))
+            chain.append(t.target)
+            t = t.target.type
+        if isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef) and t.target.final is not None:
+            t = t.target.final
+        for x in (d, *chain):
+            x.final = t
+
+
 def find_cycles(roots: list[m.Definition],
                 edges: Callable[[m.Definition], Iterator[m.Definition]]) -> list[list[m.Definition]]:
     """The cycles of the graph ``edges`` spans from ``roots``, each once, in the order first met (iterative)."""
@@ -174,7 +194,5 @@ def constant_value(iface: m.Interface, name: str) -> m.Const | m.EnumValue | Non
         scope = iface.included.get(enum_prefix, iface) if enum_prefix else iface
         e = scope.symbols.get(enum_local or owner_name)
         if isinstance(e, m.Enum):
-            for v in e.values:
-                if v.name == value_name:
-                    return v
+            return e.named(value_name)
     return None

@@ -160,8 +160,7 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
     if v.kind == "name" and not (isinstance(t, m.BaseType) and t.name == "bool" and v.value in ("true", "false")):
         if isinstance(t, m.NamedType) and isinstance(t.target, m.Enum):
             # Thrift reads `Other.VALUE` for an enum-typed value as VALUE of the field's own enum
-            local = str(v.value).rpartition(".")[2]
-            if any(e.name == local for e in t.target.values):
+            if t.target.named(str(v.value).rpartition(".")[2]) is not None:
                 return
         ref = constant_value(iface, str(v.value))
         if ref is None:
@@ -231,7 +230,7 @@ def check_value(iface: m.Interface, t: m.TypeRef, v: m.Value, what: str) -> Iter
     if isinstance(target, m.Enum):
         if v.kind != "int":
             yield make("invalid-default", f"{what}: enum '{target.name}' needs one of its values", src, v.span)
-        elif all(e.value != v.value for e in target.values):
+        elif not target.has_number(v.value):
             yield make("invalid-default", f"{what}: {v.value} is not a value of enum '{target.name}'", src, v.span)
     elif isinstance(target, m.Struct):
         if v.kind != "map":
@@ -545,14 +544,12 @@ def recursion(iface: m.Interface) -> Iterator[Diagnostic]:
     def members(s: m.Struct) -> Iterator[tuple[m.Field, m.Struct]]:
         for f in s.fields:
             stack: list[m.TypeRef] = [f.type]
-            expanded: set[int] = set()  # typedefs already followed: a typedef cycle is reported elsewhere
+            seen: set[int] = set()  # each container once: a typedef cycle (cut, and reported) never loops here
             while stack:
-                t = stack.pop()
-                if isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef):
-                    if id(t.target) not in expanded:
-                        expanded.add(id(t.target))
-                        stack.append(t.target.type)
+                t = resolve_typedefs(stack.pop())
+                if id(t) in seen:
                     continue
+                seen.add(id(t))
                 if isinstance(t, m.NamedType):
                     if isinstance(t.target, m.Struct):
                         yield f, t.target
