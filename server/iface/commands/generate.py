@@ -12,6 +12,7 @@ import argparse
 import os
 import sys
 from collections.abc import Sequence
+from typing import Any
 
 from ..emit.base import GeneratedFile, GenerationError, Target
 from ..emit.registry import targets
@@ -82,7 +83,9 @@ def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedF
     diags = gather(comps)
     if has_errors(diags):
         return [], diags, 1
-    options = {"templates": args.templates} if args.templates else {}
+    options: dict[str, Any] = {"out": args.out, "check": bool(args.check)}
+    if args.templates:
+        options["templates"] = args.templates
     per_input = []
     found: list[Diagnostic] = []
     for comp in comps:
@@ -129,6 +132,7 @@ def _report(report: WriteReport, args: argparse.Namespace) -> int:
     print_link_notes(report, out, "generate")
     if not args.quiet and not args.dry_run:
         print(f"{len(report.written)} written, {len(report.unchanged)} unchanged"
+              + (f", {len(report.kept)} kept (yours)" if report.kept else "")
               + (f", {len(report.refused)} refused" if report.refused else ""), file=sys.stderr)
     return 1 if report.refused else 0
 

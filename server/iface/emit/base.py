@@ -29,12 +29,16 @@ class GeneratedFile:
     """One output file: a relative POSIX path inside the output folder, and its text.
 
     ``origin`` is where the file's name comes from in the source (a definition's
-    name), so a problem with the name can be reported there.
+    name), so a problem with the name can be reported there. A file marked ``once``
+    belongs to the user after it is first written.
     """
 
     path: str
     text: str
     origin: tuple[Source, Span] | None = field(default=None, compare=False)
+    #: Written only when missing, never over an existing file (not even with --force): a user's file
+    #: that generation creates once (the generation-gap pattern).
+    once: bool = False
 
 
 def long_names(path: str, limit: int = NAME_MAX) -> list[tuple[str, int]]:

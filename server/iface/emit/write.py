@@ -39,8 +39,8 @@ TEMP_SUFFIX = ".tmp"
 
 @dataclass(slots=True)
 class WriteReport:
-    """What happened to each file: written, unchanged, refused (hand-edited, or not iface's: ``foreign``),
-    or differing (check).
+    """What happened to each file: written, unchanged, kept (the user's), refused (hand-edited, or not
+    iface's: ``foreign``), or differing (check).
 
     ``errors`` are path problems found before writing (nothing was written then) or
     the I/O error that stopped the run.
@@ -48,6 +48,8 @@ class WriteReport:
 
     written: list[str] = field(default_factory=list)
     unchanged: list[str] = field(default_factory=list)
+    #: Files written once that exist: the user's, left as they are.
+    kept: list[str] = field(default_factory=list)
     refused: list[str] = field(default_factory=list)
     differing: list[str] = field(default_factory=list)
     errors: list[str] = field(default_factory=list)
@@ -269,14 +271,15 @@ def _case_conflicts(paths: Iterable[str]) -> list[str]:
     return out
 
 
-def _encoded(planned: list[tuple[GeneratedFile, Path]], stamped: bool) -> tuple[list[tuple[str, Path, bytes]],
+def _encoded(planned: list[tuple[GeneratedFile, Path]], stamped: bool) -> tuple[list[tuple[str, Path, bytes, bool]],
                                                                                 list[str]]:
     """Every file's bytes as written (stamped, UTF-8), and the files that cannot be encoded."""
-    out: list[tuple[str, Path, bytes]] = []
+    out: list[tuple[str, Path, bytes, bool]] = []
     errors: list[str] = []
     for f, full in planned:
         try:
-            out.append((f.path, full, (stamp(f.text) if stamped else f.text).encode("utf-8")))
+            text = stamp(f.text) if stamped and not f.once else f.text
+            out.append((f.path, full, text.encode("utf-8"), f.once))
         except UnicodeEncodeError as e:
             errors.append(f"{f.path}: cannot be written as UTF-8: character {e.start} is "
                           f"U+{ord(e.object[e.start]):04X} ({e.reason})")
@@ -294,6 +297,8 @@ def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool 
     by hand; unstamped files (imported ``.iface`` files, the user's to edit) refuse
     any different file. A symbolic link where a file goes is refused (``links``),
     or with ``force`` replaced by the file (``replaced_links``); it is never followed.
+    A file marked ``once`` is written only where none exists (``kept`` otherwise, even
+    with ``force``).
     """
     out = Path(out_dir)
     report = WriteReport()
@@ -303,7 +308,10 @@ def write_files(files: list[GeneratedFile], out_dir: str | Path, *, force: bool 
     encoded, report.errors = _encoded(planned, stamped)
     if report.errors:
         return report
-    for rel, full, data in encoded:
+    for rel, full, data, once in encoded:
+        if once and _exists(full):
+            report.kept.append(rel)
+            continue
         link = _link_target(full)
         existing = None
         if link is None and full.is_file():

@@ -211,8 +211,20 @@ PackageCheck = Callable[[RosPackage], Iterable[Diagnostic]]
 
 def lower_checked(comp: Compilation, *checks: PackageCheck) -> tuple[RosPackage | None, list[Diagnostic]]:
     """``lower``, then every check over the package; the diagnostics sorted."""
-    pkg, diagnostics = lower(comp)
+    pkg, diagnostics, _ = lower_run(comp, *checks)
+    return pkg, diagnostics
+
+
+def lower_run(comp: Compilation, *checks: PackageCheck) -> tuple[RosPackage | None, list[Diagnostic],
+                                                                   DefinitionLowering]:
+    """``lower_checked``, and the run itself: node generators ask it the ROS names of wired definitions.
+
+    Its ``package_of``, ``type_name`` and ``ros_type`` give the names the package was written with.
+    """
+    run = _Lowering(comp)
+    pkg = run.package()
+    diagnostics = run.diags
     if pkg is not None:
         for check in checks:
             diagnostics.extend(check(pkg))
-    return pkg, sort_diagnostics(diagnostics)
+    return pkg, sort_diagnostics(diagnostics), run

@@ -1,0 +1,14 @@
+"""Running components: what a generated node is made of, and the protocol it speaks.
+
+- ``protocol``: the runtime-facing definitions every generated node shares, whatever its
+  language: the node-relative names of the save/restore/control services, their ``.srv``
+  definitions (written into the interface package), the state document's format, the control
+  commands. The hand-over (issue 14) and nodes in other languages use them unchanged.
+- ``component``: a compiled interface seen as a node: its members with ROS types, QoS and the
+  names of the handlers the user writes, its parameters with their checks, its state schema.
+- ``usercode``: reads a user module (without running it) and says where it no longer matches
+  the interface.
+- ``rclpy``: the ``rclpy`` generation target (an ament_python lifecycle-node package).
+
+May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit``, ``compat``.
+"""

@@ -1,0 +1,21 @@
+"""Diagnostic codes of the component (node) targets."""
+
+from __future__ import annotations
+
+from ..emit.base import CodeTable
+from ..emit.ros2.codes import CODES as ROS2_CODES
+from ..model.diagnostics import CODES as CORE_CODES
+from ..model.diagnostics import Severity
+
+CODES: dict[str, tuple[Severity, str]] = {
+    "runtime-annotation": (Severity.ERROR, "An annotation the node generators read (a diagnostics rate, "
+                           "read_only) with a value they cannot use."),
+    "runtime-name-clash": (Severity.ERROR, "A definition named like a service of the component protocol "
+                           "(SaveState, RestoreState, ComponentControl), or two members whose handlers would "
+                           "get one name."),
+    "runtime-user-code": (Severity.WARNING, "The user module of a generated component no longer matches the "
+                          "interface: a handler is missing, takes other arguments, or handles nothing "
+                          "(an error with `generate --check`)."),
+}
+
+diag = CodeTable(CODES, {**CORE_CODES, **ROS2_CODES})

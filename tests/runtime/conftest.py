@@ -1,0 +1,55 @@
+"""Fixtures of the runtime tests: the ROS 2 runtime and one workspace built per session."""
+
+from __future__ import annotations
+
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from .ros import DATA, ROOT, build, generate, runtime_venv
+
+#: The components the end-to-end tests build and run: (interface, user module of the tests).
+COMPONENTS = {
+    "robot_arm": (ROOT / "examples" / "robot_arm.iface", DATA / "robot_arm_node.py"),
+    "every_member": (DATA / "every_member.iface", DATA / "every_member_node.py"),
+}
+
+
+@dataclass
+class Workspace:
+    """A colcon workspace with the generated packages of COMPONENTS built and installed."""
+
+    venv: Path
+    generated: Path
+    path: Path
+    seconds: float
+
+
+@pytest.fixture(scope="session")
+def ros_venv() -> Path:
+    venv, why = runtime_venv()
+    if venv is None:
+        pytest.skip(why)
+    return venv
+
+
+@pytest.fixture(scope="session")
+def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
+    """Generate each component (then put the tests' user module in place and generate again), build once."""
+    root = tmp_path_factory.mktemp("ros2")
+    gen = root / "gen"
+    for package, (iface, user) in COMPONENTS.items():
+        first = generate(iface, gen)
+        assert first.returncode == 0, first.stderr
+        shutil.copyfile(user, gen / package / package / "node.py")
+        again = generate(iface, gen)
+        assert again.returncode == 0, again.stderr
+        assert (gen / package / package / "node.py").read_text() == user.read_text(), "node.py was overwritten"
+    ws = root / "ws"
+    ws.mkdir()
+    ok, tail, seconds = build(ros_venv, gen, ws)
+    assert ok, f"the generated packages did not build:\n{tail}"
+    print(f"\nros2-runtime build of {', '.join(COMPONENTS)}: {seconds:.0f} s")
+    return Workspace(ros_venv, gen, ws, seconds)
