@@ -1,0 +1,486 @@
+"""The rclpy target without ROS: goldens, the generation gap, the user-code check, the parsers' view."""
+
+from __future__ import annotations
+
+import ast
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from iface.emit import generate, get_target
+from iface.emit.base import GeneratedFile
+from iface.runtime import protocol
+from iface.semantics.compile import Workspace
+from tests.emit.golden_util import check_golden
+from tests.emit.oracles import catkin_package, load_yaml, rosbags_parse, rosidl_parse
+
+from .ros import DATA, ROOT
+
+CASES = {
+    "robot_arm": ROOT / "examples" / "robot_arm.iface",
+    "every_member": DATA / "every_member.iface",
+    "listing1": ROOT / "examples" / "listing1.iface",
+}
+_INTERFACE = re.compile(r"^([a-z0-9_]+)/(msg|srv|action)/([A-Za-z0-9]+)\.(msg|srv|action)$")
+
+
+def files_of(case: str) -> list[GeneratedFile]:
+    result = generate(Workspace().compile_path(str(CASES[case])), "rclpy")
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    return result.files
+
+
+def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True, timeout=120,
+                          cwd=cwd, check=False)
+
+
+def test_found_through_the_entry_point() -> None:
+    target = get_target("rclpy")
+    assert target is not None and target.name == "rclpy"
+    assert "rclpy" in cli("targets").stdout
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_golden(case: str) -> None:
+    check_golden("rclpy", case, files_of(case))
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_byte_identical_across_runs(case: str) -> None:
+    assert [(f.path, f.text) for f in files_of(case)] == [(f.path, f.text) for f in files_of(case)]
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_every_file_passes_its_parser(case: str) -> None:
+    """Python compiles, package.xml validates, YAML loads, every interface file passes rosidl and rosbags."""
+    files = {f.path: f.text for f in files_of(case)}
+    component = next(p.split("/")[0] for p in files if p.endswith("/setup.py"))
+    for path, text in files.items():
+        m = _INTERFACE.match(path)
+        if m:
+            pkg, kind, name = m.groups()[:3]
+            specs = rosidl_parse(text, pkg, kind, name)
+            bags = rosbags_parse(text, pkg, kind, name)
+            assert len(specs) == len(bags)
+        elif path.endswith(".py"):
+            compile(text, path, "exec")
+        elif path.endswith("package.xml"):
+            pkg_xml = catkin_package(text)
+            if path.startswith(component + "/"):
+                assert pkg_xml.get_build_type() == "ament_python"
+                depends = {d.name for d in pkg_xml.exec_depends}
+                assert {"rclpy", "diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces"} <= depends
+        elif path.endswith(".yaml"):
+            assert "ros__parameters" in next(iter(load_yaml(text).values()))
+
+
+def test_the_protocol_services_are_in_the_interface_package() -> None:
+    files = {f.path: f.text for f in files_of("robot_arm")}
+    cmake = files["robot_arm_msgs/CMakeLists.txt"]
+    for service in protocol.SERVICES:
+        text = files[f"robot_arm_msgs/srv/{service.type_name}.srv"]
+        request, response = rosidl_parse(text, "robot_arm_msgs", "srv", service.type_name)
+        assert [f.name for f in request.fields] == [f.name for f in service.request]
+        assert [f.name for f in response.fields] == [f.name for f in service.response]
+        assert f'"srv/{service.type_name}.srv"' in cmake
+    control = rosidl_parse(files["robot_arm_msgs/srv/ComponentControl.srv"], "robot_arm_msgs", "srv",
+                           "ComponentControl")[0]
+    assert {c.name: c.value for c in control.constants} == {"STATUS": 0, "PAUSE": 1, "RESUME": 2, "SAVE": 3}
+
+
+def test_the_interface_package_is_the_ros2_targets_plus_the_protocol() -> None:
+    comp = Workspace().compile_path(str(CASES["robot_arm"]))
+    ros2 = {f.path: f.text for f in generate(comp, "ros2").files}
+    rclpy = {f.path: f.text for f in generate(comp, "rclpy").files if f.path.startswith("robot_arm_msgs/")}
+    extra = {f"robot_arm_msgs/srv/{s.type_name}.srv" for s in protocol.SERVICES}
+    assert set(rclpy) == set(ros2) | extra
+    different = sorted(p for p in ros2 if ros2[p] != rclpy[p])
+    assert different == ["robot_arm_msgs/CMakeLists.txt"]
+
+
+# ---- the generation gap -------------------------------------------------------------------------------
+
+
+def test_the_user_module_is_written_once_and_survives_regeneration_and_force(tmp_path: Path) -> None:
+    iface = str(CASES["robot_arm"])
+    assert cli("generate", iface, "--target", "rclpy", "--out", str(tmp_path)).returncode == 0
+    node = tmp_path / "robot_arm" / "robot_arm" / "node.py"
+    base = tmp_path / "robot_arm" / "robot_arm" / "base.py"
+    assert "generated by iface" not in node.read_text()
+    assert "generated by iface (iface-hash:" in base.read_text().splitlines()[0]
+    mine = (DATA / "robot_arm_node.py").read_text()
+    node.write_text(mine)
+    before = {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file() and p != node}
+    again = cli("generate", iface, "--target", "rclpy", "--out", str(tmp_path))
+    assert again.returncode == 0, again.stderr
+    assert "0 written" in again.stderr and "1 kept (yours)" in again.stderr
+    assert node.read_text() == mine
+    assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file() and p != node} == before
+    base.write_text(base.read_text() + "# edited\n")
+    refused = cli("generate", iface, "--target", "rclpy", "--out", str(tmp_path))
+    assert refused.returncode == 1 and "base.py was edited by hand" in refused.stderr
+    forced = cli("generate", iface, "--target", "rclpy", "--out", str(tmp_path), "--force")
+    assert forced.returncode == 0, forced.stderr
+    assert "# edited" not in base.read_text()
+    assert node.read_text() == mine
+    check = cli("generate", iface, "--target", "rclpy", "--out", str(tmp_path), "--check")
+    assert check.returncode == 0, check.stdout + check.stderr
+
+
+def _changed(tmp_path: Path, old: str, new: str) -> Path:
+    text = CASES["robot_arm"].read_text()
+    assert old in text
+    path = tmp_path / "src" / "robot_arm.iface"
+    path.parent.mkdir()
+    path.write_text(text.replace(old, new))
+    (path.parent / "arm_common.iface").write_text((ROOT / "examples" / "arm_common.iface").read_text())
+    return path
+
+
+def test_a_member_added_to_the_interface_is_a_missing_handler_in_check(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert cli("generate", str(CASES["robot_arm"]), "--target", "rclpy", "--out", str(out)).returncode == 0
+    changed = _changed(tmp_path, 'provides MoveToPose on "/arm/move_to_pose"',
+                       'provides MoveToPose on "/arm/move_to_pose"\nsubscribes JointCommand on "/arm/nudge"')
+    regenerated = cli("generate", str(changed), "--target", "rclpy", "--out", str(out))
+    assert regenerated.returncode == 0, regenerated.stderr
+    assert "warning[runtime-user-code]" in regenerated.stderr
+    assert "on_nudge(self, msg)" in regenerated.stderr
+    check = cli("generate", str(changed), "--target", "rclpy", "--out", str(out), "--check")
+    assert check.returncode == 1
+    line = next(x for x in check.stdout.splitlines() if "runtime-user-code" in x)
+    assert re.match(r".*robot_arm/robot_arm/node\.py:\d+:\d+: error\[runtime-user-code\]: RobotArm has no "
+                    r"on_nudge\(self, msg\), which handles 'subscribes JointCommand on /arm/nudge'", line), line
+
+
+def test_a_member_removed_from_the_interface_is_a_handler_that_handles_nothing(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert cli("generate", str(CASES["robot_arm"]), "--target", "rclpy", "--out", str(out)).returncode == 0
+    changed = _changed(tmp_path, 'subscribes JointCommand on "/arm/joint_command" (qos.depth = 10)\n', "")
+    check = cli("generate", str(changed), "--target", "rclpy", "--out", str(out), "--check")
+    assert check.returncode == 1
+    assert "RobotArm.on_joint_command handles nothing in robot_arm.iface" in check.stdout
+
+
+def test_a_handler_with_other_arguments_is_reported_at_its_line(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert cli("generate", str(CASES["robot_arm"]), "--target", "rclpy", "--out", str(out)).returncode == 0
+    node = out / "robot_arm" / "robot_arm" / "node.py"
+    text = node.read_text().replace("def on_joint_command(self, msg: JointCommand)",
+                                    "def on_joint_command(self, msg: JointCommand, extra)")
+    node.write_text(text)
+    line = 1 + text[:text.index("def on_joint_command")].count("\n")
+    check = cli("generate", str(CASES["robot_arm"]), "--target", "rclpy", "--out", str(out), "--check")
+    assert check.returncode == 1
+    assert f"node.py:{line}:5: error[runtime-user-code]: RobotArm.on_joint_command cannot be called with (msg)" \
+        in check.stdout
+
+
+def test_a_user_module_that_does_not_parse_is_reported_not_raised(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert cli("generate", str(CASES["robot_arm"]), "--target", "rclpy", "--out", str(out)).returncode == 0
+    (out / "robot_arm" / "robot_arm" / "node.py").write_text("class RobotArm(:\n")
+    check = cli("generate", str(CASES["robot_arm"]), "--target", "rclpy", "--out", str(out), "--check")
+    assert check.returncode == 1 and "Traceback" not in check.stderr
+    assert "error[runtime-user-code]: the user module does not parse" in check.stdout
+
+
+# ---- names, annotations, clashes -------------------------------------------------------------------------
+
+
+def _generated(text: str, tmp_path: Path) -> tuple[dict[str, str], list[str]]:
+    path = tmp_path / "c.iface"
+    path.write_text(text)
+    result = generate(Workspace().compile_path(str(path)), "rclpy")
+    return {f.path: f.text for f in result.files}, [d.format() for d in result.diagnostics]
+
+
+HEAD = "component c\nnamespace ros2 c_msgs\nmessage M { i32 x }\n"
+
+
+def test_handlers_of_one_kind_with_one_last_segment_use_the_whole_name(tmp_path: Path) -> None:
+    files, diags = _generated(HEAD + 'subscribes M on "/a/x"\nsubscribes M on "/b/x"\npublishes M on "/x"\n'
+                              'subscribes M on "/configure"\n', tmp_path)
+    base = files["c/c/base.py"]
+    for name in ("def on_a_x(self, msg: M)", "def on_b_x(self, msg: M)", "def publish_x(self, msg: M)"):
+        assert name in base, name
+    assert "def on_configure(self, msg" not in base
+    assert "def on_configure_subscription(self, msg: M)" in base
+
+
+def test_a_definition_named_like_a_protocol_service_is_an_error(tmp_path: Path) -> None:
+    files, diags = _generated(HEAD + "service SaveState { request {} response {} }\n", tmp_path)
+    assert files == {}
+    assert any("error[runtime-name-clash]" in d and "SaveState" in d for d in diags)
+
+
+@pytest.mark.parametrize(("annotation", "rate"), [("rate = 4", 4.0), ('rate = "500ms"', 2.0), ('rate = "10 Hz"', 10.0)])
+def test_the_diagnostics_rate_comes_from_the_file(annotation: str, rate: float, tmp_path: Path) -> None:
+    files, _ = _generated(HEAD + f"service diagnostics {{ request {{}} response {{}} }} ({annotation})\n", tmp_path)
+    assert f"DIAGNOSTICS_RATE = {rate!r}" in files["c/c/base.py"]
+
+
+def test_bad_runtime_annotations_are_errors_at_the_annotation(tmp_path: Path) -> None:
+    _, diags = _generated(HEAD + 'service diagnostics { request {} response {} } (rate = "fast")\n'
+                          'configuration p { i32 a = 1 (read_only = "maybe") }\n', tmp_path)
+    errors = [d for d in diags if "runtime-annotation" in d]
+    assert len(errors) == 2 and all(re.match(r".*c\.iface:\d+:\d+: error", d) for d in errors)
+
+
+def test_parameters_become_declarations_with_their_checks(tmp_path: Path) -> None:
+    files, _ = _generated(DATA.joinpath("every_member.iface").read_text(), tmp_path)
+    base = files["every_member/every_member/base.py"]
+    assert ("ParamSpec('retries', kind='integer', default=3, description='retries', constraints='range: 0..10', "
+            "low=0, high=10)") in base
+    assert "ParamSpec('priority', kind='integer', default=5, description='priority', low=0, high=255)" in base
+    assert "choices=(('IDLE', 0), ('RUNNING', 1), ('FAULT', 2))" in base
+    assert "read_only=True" in base
+    assert "size=3, size_kind='fixed'" in base and "size=4, size_kind='bounded'" in base
+
+
+# ---- the launch file --------------------------------------------------------------------------------------
+
+
+def _launch_constants(text: str) -> dict[str, object]:
+    tree = ast.parse(text)
+    return {t.id: ast.literal_eval(n.value) for n in tree.body if isinstance(n, ast.Assign)
+            for t in n.targets if isinstance(t, ast.Name) and t.id.isupper()}
+
+
+def _setup(text: str) -> tuple[list[str], list[tuple[str, list[str]]]]:
+    """(console scripts, data files) of a generated setup.py, read from its syntax tree."""
+    call = next(n for n in ast.walk(ast.parse(text)) if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "setup")
+    kwargs = {k.arg: k.value for k in call.keywords}
+    package = next(n.value.value for n in ast.parse(text).body if isinstance(n, ast.Assign)
+                   and isinstance(n.value, ast.Constant) and n.targets[0].id == "PACKAGE")  # type: ignore[attr-defined]
+    scripts = ast.literal_eval(kwargs["entry_points"])["console_scripts"]
+    data = []
+    for item in kwargs["data_files"].elts:  # type: ignore[attr-defined]
+        folder = eval(compile(ast.Expression(item.elts[0]), "setup.py", "eval"), {"PACKAGE": package})
+        names = eval(compile(ast.Expression(item.elts[1]), "setup.py", "eval"), {"PACKAGE": package})
+        data.append((folder, names))
+    return scripts, data
+
+
+class _Recorder:
+    """Stands for a launch class: remembers how it was constructed."""
+
+    made: list[tuple[str, tuple[object, ...], dict[str, object]]] = []
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        self.args, self.kwargs = args, kwargs
+        _Recorder.made.append((type(self).__name__, args, kwargs))
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wired_name(case: str,
+                                                                                      monkeypatch) -> None:
+    import types
+
+    files = {f.path: f.text for f in files_of(case)}
+    component = next(p.split("/")[0] for p in files if p.endswith("/setup.py"))
+    launch_path = next(p for p in files if p.startswith(f"{component}/launch/"))
+    launch = files[launch_path]
+    consts = _launch_constants(launch)
+    scripts, data = _setup(files[f"{component}/setup.py"])
+    assert scripts == [f"{consts['EXECUTABLE']} = {component}.__main__:main"]
+    assert (f"share/{component}/config", [f"config/{consts['PARAMS_FILE']}"]) in data
+    assert (f"share/{component}/launch", [launch_path.split("/", 1)[1]]) in data
+    assert f"{component}/config/{consts['PARAMS_FILE']}" in files
+    comp = Workspace().compile_path(str(CASES[case]))
+    from iface.emit.ros2.lower import lower_run
+    from iface.runtime.component import describe
+
+    pkg, _, run = lower_run(comp)
+    assert pkg is not None
+    spec, _ = describe(comp, pkg, run)
+    wired = {m.name for m in spec.all_members() if not m.name.startswith("~")}
+    assert {name for name, _ in consts["REMAPPINGS"]} == wired  # type: ignore[union-attr]
+
+    # run it against stand-ins of launch and launch_ros that record what it builds
+    fakes = {name: types.ModuleType(name) for name in ("launch", "launch.actions", "launch.substitutions",
+                                                      "launch_ros", "launch_ros.actions", "ament_index_python",
+                                                      "ament_index_python.packages")}
+    for cls in ("LaunchDescription",):
+        setattr(fakes["launch"], cls, type(cls, (_Recorder,), {}))
+    fakes["launch.actions"].DeclareLaunchArgument = type("DeclareLaunchArgument", (_Recorder,), {})  # type: ignore[attr-defined]
+    fakes["launch.substitutions"].LaunchConfiguration = type("LaunchConfiguration", (_Recorder,), {})  # type: ignore[attr-defined]
+    fakes["launch_ros.actions"].LifecycleNode = type("LifecycleNode", (_Recorder,), {})  # type: ignore[attr-defined]
+    fakes["ament_index_python.packages"].get_package_share_directory = lambda p: f"/opt/ros/share/{p}"  # type: ignore[attr-defined]
+    for name, module in fakes.items():
+        monkeypatch.setitem(sys.modules, name, module)
+    _Recorder.made = []
+    namespace: dict[str, object] = {}
+    exec(compile(launch, launch_path, "exec"), namespace)
+    description = namespace["generate_launch_description"]()  # type: ignore[operator]
+    node = next(kw for kind, _, kw in _Recorder.made if kind == "LifecycleNode")
+    assert node["package"] == component and node["executable"] == consts["EXECUTABLE"]
+    declared = {args[0]: kw["default_value"] for kind, args, kw in _Recorder.made if kind == "DeclareLaunchArgument"}
+    params = node["parameters"][0]  # type: ignore[index]
+    assert declared[params.args[0]] == f"/opt/ros/share/{component}/config/{consts['PARAMS_FILE']}"
+    remapped = {name: declared[config.args[0]] for name, config in node["remappings"]}  # type: ignore[union-attr]
+    assert remapped == {name: name for name in wired}
+    assert description.args[0][-1].kwargs is node  # type: ignore[attr-defined]
+
+
+# ---- the contract module, without ROS -------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def contract(tmp_path_factory: pytest.TempPathFactory):
+    """The generated _contract.py, imported from the generated package."""
+    import importlib.util
+
+    text = next(f.text for f in files_of("every_member") if f.path.endswith("/_contract.py"))
+    path = tmp_path_factory.mktemp("contract") / "_contract.py"
+    path.write_text(text)
+    spec = importlib.util.spec_from_file_location("iface_generated_contract", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+class Msg:
+    """A message stand-in: attributes."""
+
+    def __init__(self, **values: object) -> None:
+        self.__dict__.update(values)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Msg) and self.__dict__ == other.__dict__
+
+
+TYPES = {"p/Point": {"x": "float64", "name": "string<=4"}}
+SCHEMA = {"count": "uint32", "label": "string<=8", "where": "p/Point", "path": "p/Point[<=3]", "gain": "float32",
+          "raw": "byte[]", "flag": "bool"}
+
+
+def _codec(contract, schema: dict[str, str] = SCHEMA, hash_: str = "sha256:a"):
+    return contract.StateCodec("c", "1.0.0", hash_, schema, lambda t: TYPES[t], lambda t: Msg(x=0.0, name=""))
+
+
+def _state() -> Msg:
+    return Msg(count=7, label="abc", where=Msg(x=1.5, name="home"), path=[Msg(x=1.0, name="a")],
+               gain=float("nan"), raw=b"\x01\x02", flag=True)
+
+
+def test_the_state_document_round_trips(contract) -> None:
+    codec = _codec(contract)
+    text = codec.save(_state())
+    doc = json.loads(text)
+    assert text == json.dumps(doc, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    assert doc["format"] == protocol.STATE_FORMAT and doc["interface_hash"] == "sha256:a"
+    assert doc["types"] == TYPES and doc["schema"] == SCHEMA
+    assert doc["values"]["gain"] == "nan" and doc["values"]["raw"] == [1, 2]
+    target = Msg(count=0, label="", where=Msg(x=0.0, name=""), path=[], gain=0.0, raw=b"", flag=False)
+    report = codec.restore(target, text)
+    assert report.same_interface and report.restored == sorted(SCHEMA) and report.kept == []
+    assert target.count == 7 and target.where == Msg(x=1.5, name="home") and target.raw == b"\x01\x02"
+
+
+def test_a_wider_type_takes_the_state_a_narrower_or_other_one_refuses_it(contract) -> None:
+    text = _codec(contract).save(_state())
+    wider = dict(SCHEMA, count="uint64", label="string", gain="float64", extra="int8")
+    report = _codec(contract, wider, "sha256:b").restore(Msg(), text)
+    assert not report.same_interface and report.kept == ["extra"]
+    for name, other in (("count", "uint16"), ("label", "string<=2"), ("gain", "int32"), ("count", "string")):
+        with pytest.raises(contract.StateError, match=f"state '{name}' is .* in c 1.0.0 but {re.escape(other)}"):
+            _codec(contract, dict(SCHEMA, **{name: other})).read(text)
+    smaller = {k: v for k, v in SCHEMA.items() if k != "flag"}
+    with pytest.raises(contract.StateError, match="state 'flag' of c 1.0.0 has no place in c"):
+        _codec(contract, smaller).read(text)
+
+
+def test_values_that_do_not_fit_are_refused_and_nothing_is_restored(contract) -> None:
+    doc = json.loads(_codec(contract).save(_state()))
+    for name, value, reason in (("count", -1, "does not fit uint32"), ("label", "123456789", "do not fit"),
+                                ("path", [{"x": 1.0}] * 4, "at most 3"), ("flag", 1, "true or false"),
+                                ("where", {"x": 1.0, "z": 2}, "no field z")):
+        bad = json.loads(json.dumps(doc))
+        bad["values"][name] = value
+        target = Msg(count=0)
+        with pytest.raises(contract.StateError, match=reason):
+            _codec(contract).restore(target, json.dumps(bad))
+        assert target.count == 0
+    with pytest.raises(contract.StateError, match="format"):
+        _codec(contract).read(json.dumps(dict(doc, format="other/2")))
+    with pytest.raises(contract.StateError, match="not JSON"):
+        _codec(contract).read("{")
+
+
+def test_parameter_checks(contract) -> None:
+    spec = contract.ParamSpec("gain", "double", low=0.0, high=10.0, unit="1/s")
+    assert spec.problem(5.0) is None
+    assert spec.problem(11.0) == "gain=11.0 1/s is above the maximum 10.0 1/s"
+    mode = contract.ParamSpec("mode", "integer", choices=(("IDLE", 0), ("RUN", 1)))
+    assert mode.problem(1) is None and "not one of IDLE (0), RUN (1)" in mode.problem(3)
+    label = contract.ParamSpec("label", "string", max_length=3)
+    assert "at most 3" in label.problem("abcd")
+    fixed = contract.ParamSpec("v", "double_array", size=2, size_kind="fixed", low=0.0)
+    assert "exactly 2" in fixed.problem([1.0]) and "v[1]=-1.0 is below" in fixed.problem([1.0, -1.0])
+    bounded = contract.ParamSpec("ids", "integer_array", size=2, size_kind="bounded")
+    assert bounded.problem([1, 2]) is None and "at most 2" in bounded.problem([1, 2, 3])
+
+
+def test_pause_waits_for_the_transaction_in_progress_or_leaves_the_gate_as_it_was(contract) -> None:
+    import threading
+    import time
+
+    gate = contract.Gate()
+    assert gate.enter()
+    ok, message = gate.pause(0.05)
+    assert not ok and "still running" in message and not gate.paused
+    threading.Timer(0.1, gate.leave).start()
+    start = time.monotonic()
+    ok, message = gate.pause(5.0)
+    assert ok and gate.paused and time.monotonic() - start >= 0.09
+    assert message == "paused after 1 work transaction(s) in progress ended"
+    assert not gate.enter() and gate.refused == 1
+    with pytest.raises(contract.Paused):
+        with gate.transaction():
+            pass
+    assert gate.resume() == (True, "resumed") and gate.enter()
+    gate.leave()
+    with gate.quiet(1.0):
+        assert gate.paused
+    assert not gate.paused
+
+
+def test_the_handler_check_names_missing_mismatched_and_stale_handlers(contract) -> None:
+    class Base:
+        def on_x(self, msg):  # noqa: ANN001 - a stand-in
+            raise NotImplementedError
+
+        def accept_g_goal(self, goal):  # noqa: ANN001
+            return True
+
+    handlers = {"on_x": contract.HandlerSpec(("msg",), "subscribes M on /x"),
+                "handle_s": contract.HandlerSpec(("request", "response"), "provides S on /s"),
+                "accept_g_goal": contract.HandlerSpec(("goal",), "provides G on /g", required=False)}
+
+    class User(Base):
+        NOT_HANDLERS = ("on_tick",)
+
+        def on_x(self, msg, extra):  # noqa: ANN001
+            pass
+
+        def on_old(self, msg):  # noqa: ANN001
+            pass
+
+        def on_tick(self):
+            pass
+
+    problems = contract.handler_problems(User, Base, handlers, ("on_", "handle_"), "c.iface")
+    assert problems == [
+        "User.on_x cannot be called with (msg), as 'subscribes M on /x' calls it",
+        "User has no handle_s(self, request, response), which handles 'provides S on /s' of c.iface",
+        "User.on_old handles nothing in c.iface (was its member renamed or removed? list helper methods with such "
+        "names in NOT_HANDLERS)",
+    ]
