@@ -549,3 +549,28 @@ def describe(comp: Compilation, pkg: RosPackage, run: DefinitionLowering) -> tup
         deps.add("action_msgs")
     spec.depends = sorted(deps)
     return spec, b.diags
+
+
+def node_spec(comp: Compilation) -> ComponentSpec | None:
+    """The node description of ``comp`` as the node generators see it; None when it cannot be lowered."""
+    from ..emit.ros2.lower import lower_run
+
+    pkg, found, run = lower_run(comp)
+    if pkg is None or any(int(d.severity) == 1 for d in found):
+        return None
+    return describe(comp, pkg, run)[0]
+
+
+def handler_lines(spec: ComponentSpec, wiring: m.Wiring) -> list[str]:
+    """What the generated node makes of one wiring: ``handler(args)`` the user writes or helpers the user calls."""
+    out: list[str] = []
+    for member in spec.all_members():
+        if member.wiring is not wiring:
+            continue
+        for h in member.handlers:
+            optional = "" if h.required else " (optional)"
+            out.append(f"`{h.name}({', '.join(h.args)})`{optional} handles {member.what}")
+        calls = [x for x in member.helpers if not x.endswith("_client")]
+        if calls:
+            out.append(", ".join(f"`{x}`" for x in calls) + f" for {member.what}")
+    return out

@@ -25,6 +25,8 @@ REWRITE = lsp.CodeActionKind.RefactorRewrite.value
 SOURCE_GENERATE = "source.iface.generate"
 SOURCE_PREVIEW = "source.iface.preview"
 SOURCE_EXPORT = "source.iface.exportJson"
+#: The target that writes a runnable component package (the node and its user module) beside the interface package.
+COMPONENT_TARGET = "rclpy"
 KINDS = [QUICKFIX, REWRITE, lsp.CodeActionKind.Source.value, SOURCE_GENERATE, SOURCE_PREVIEW, SOURCE_EXPORT]
 
 ZERO = {"bool": "false", "string": '""', "wstring": '""', "binary": '""', "float32": "0.0", "float64": "0.0"}
@@ -333,6 +335,11 @@ class Fixes:
     def source_actions(self, targets: list[str], defaults: tuple[str, ...]) -> None:
         """Generate for each target, preview, export JSON."""
         uri = self.view.uri
+        iface = self.view.iface
+        if COMPONENT_TARGET in targets and iface is not None and iface.component is not None:
+            self.out.append(convert.code_action(
+                "Generate component package…", SOURCE_GENERATE,
+                cmd=convert.command("Generate component package", "iface.generate", [uri, COMPONENT_TARGET])))
         ordered = [t for t in defaults if t in targets] + [t for t in targets if t not in defaults]
         for t in ordered:
             self.out.append(convert.code_action(f"Generate for {t}", SOURCE_GENERATE,

@@ -4,7 +4,8 @@ Arguments are positional (``[uri, target]``) or one object (``[{"uri": …, "tar
 Answers are JSON objects: ``iface.preview`` gives ``{files: [{path, text}]}``
 (a virtual document for the client to show, nothing written), ``iface.generate``
 and ``iface.exportJson`` give ``{written, unchanged, refused, errors, files, folder}`` (``iface.generate``
-also ``not_iface``: the refused files iface never wrote, as opposed to generated files edited by hand),
+also ``not_iface``: the refused files iface never wrote, as opposed to generated files edited by hand,
+and ``kept``: files written once that are the user's now, such as a component's ``node.py``),
 ``iface.compat`` and ``iface.graph`` give ``{text}``. A missing module or a bad
 argument is answered with an error that says what is wrong.
 """
@@ -125,11 +126,11 @@ class Runner:
             assert snap.comp is not None
             files, errors = self._generate(snap.comp, target)
             if errors:
-                return {"target": target, "folder": out, "written": [], "unchanged": [], "refused": [],
+                return {"target": target, "folder": out, "written": [], "unchanged": [], "kept": [], "refused": [],
                         "errors": errors, "files": []}
             report = write_files(files, out)
             return {"target": target, "folder": out, "written": report.written, "unchanged": report.unchanged,
-                    "refused": report.refused, "not_iface": report.foreign, "errors": report.errors,
+                    "kept": report.kept, "refused": report.refused, "not_iface": report.foreign, "errors": report.errors,
                     "files": [os.path.join(out, p) for p in report.written + report.unchanged]}
 
         return await self.project.run(run)
