@@ -11,9 +11,9 @@ from iface.model.diagnostics import CODES, Severity
 from .helpers import DATA, compile_file, expectations
 
 INVALID = sorted(p for p in (DATA / "invalid").iterdir() if p.is_file())
-#: codes tested programmatically in test_bad_input.py
+#: codes tested programmatically in test_bad_input.py (too-many-findings: the server's, tests/lsp/test_limits.py)
 BAD_INPUT_CODES = {"invalid-encoding", "binary-file", "file-too-large", "empty-file", "cannot-read",
-                   "include-too-deep"}
+                   "include-too-deep", "too-many-findings"}
 
 
 def test_every_code_has_a_fixture() -> None:

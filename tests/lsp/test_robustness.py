@@ -157,6 +157,41 @@ async def test_malformed_json_rpc_does_not_kill_the_server(tmp_path: Path) -> No
 
 
 
+async def test_requests_before_initialize_and_after_shutdown_get_errors_not_silence(tmp_path: Path) -> None:
+    """LSP: -32002 (ServerNotInitialized) before ``initialize``, InvalidRequest after ``shutdown``; ``exit`` ends it."""
+    proc = await asyncio.create_subprocess_exec(*SERVER, stdin=asyncio.subprocess.PIPE,
+                                                stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE)
+    assert proc.stdin is not None and proc.stdout is not None
+    send = proc.stdin.write
+    hover = {"textDocument": {"uri": (tmp_path / "x.iface").as_uri()}, "position": {"line": 0, "character": 0}}
+    send(message({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": (tmp_path / "x.iface").as_uri(), "languageId": "iface", "version": 1, "text": "message M {}"}}}))
+    send(message({"jsonrpc": "2.0", "id": 1, "method": "textDocument/hover", "params": hover}))
+    send(message({"jsonrpc": "2.0", "id": 2, "method": "shutdown"}))
+    await proc.stdin.drain()
+    for msg_id in (1, 2):
+        early = await response(proc.stdout, msg_id)
+        assert early["error"]["code"] == -32002 and "initialize" in early["error"]["message"], early
+    send(message({"jsonrpc": "2.0", "id": 3, "method": "initialize",
+                  "params": {"processId": None, "rootUri": tmp_path.as_uri(), "capabilities": {}}}))
+    assert "capabilities" in (await response(proc.stdout, 3))["result"]
+    send(message({"jsonrpc": "2.0", "method": "initialized", "params": {}}))
+    send(message({"jsonrpc": "2.0", "id": 4, "method": "textDocument/hover", "params": hover}))
+    send(message({"jsonrpc": "2.0", "id": 5, "method": "shutdown"}))
+    await proc.stdin.drain()
+    assert "error" not in await response(proc.stdout, 4)
+    assert (await response(proc.stdout, 5))["result"] is None
+    send(message({"jsonrpc": "2.0", "id": 6, "method": "textDocument/hover", "params": hover}))
+    send(message({"jsonrpc": "2.0", "id": 7, "method": "shutdown"}))
+    await proc.stdin.drain()
+    for msg_id in (6, 7):
+        late = await response(proc.stdout, msg_id)
+        assert late["error"]["code"] == -32600 and "shut down" in late["error"]["message"], late
+    send(message({"jsonrpc": "2.0", "method": "exit"}))
+    await proc.stdin.drain()
+    assert await asyncio.wait_for(proc.wait(), 30) == 0
+
+
 async def test_tcp_server_answers_on_a_loopback_port() -> None:
     import socket
 

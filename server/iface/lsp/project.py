@@ -24,12 +24,29 @@ from .settings import Settings
 from .snapshots import Name, Snapshot, View, names_of
 
 if TYPE_CHECKING:
+    from ..model.diagnostics import Diagnostic
     from ..model.nodes import Interface
     from ..model.source import Source, Span
     from ..semantics.compile import Compilation, Workspace
 
 log = logging.getLogger("iface.lsp")
 T = TypeVar("T")
+#: Findings published per file; past it one ``too-many-findings`` says how many more there are.
+MAX_DIAGNOSTICS = 500
+
+
+def capped(found: list[Diagnostic]) -> list[Diagnostic]:
+    """The first ``MAX_DIAGNOSTICS`` findings (in order), then one saying how many were left out."""
+    if len(found) <= MAX_DIAGNOSTICS:
+        return found
+    from ..model.diagnostics import make
+
+    rest = found[MAX_DIAGNOSTICS:]
+    first = rest[0]
+    more = make("too-many-findings", f"and {len(rest)} more finding(s) in this file: the editor shows the "
+                f"first {MAX_DIAGNOSTICS}; `iface-lsp check` lists them all", first.source, first.span)
+    return [*found[:MAX_DIAGNOSTICS], more]
+
 
 class Project:
     """Documents, settings, the model thread and the compile scheduler."""
@@ -115,7 +132,7 @@ class Project:
         snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
         self._install(doc, snap)
         uri_of = path_to_uri
-        found = [*comp.diagnostics, *self._compat(path, comp), *self._target_findings(comp)]
+        found = capped([*comp.diagnostics, *self._compat(path, comp), *self._target_findings(comp)])
         pubs: list[tuple[str, int | None, list[Any]]] = [
             (uri, state.version, [convert.diagnostic(d, index, uri_of, self.index_of) for d in found])]
         for inc in comp.closure()[1:]:
@@ -124,7 +141,7 @@ class Project:
                 continue
             inc_index = self.index_of(inc.source)
             pubs.append((inc_uri, None, [convert.diagnostic(d, inc_index, uri_of, self.index_of)
-                                         for d in inc.diagnostics]))
+                                         for d in capped(inc.diagnostics)]))
         return snap, pubs
 
     def _install(self, doc: Document, snap: Snapshot) -> None:
@@ -218,15 +235,27 @@ class Project:
         for _, fut in self._waiters.pop(uri, []):
             if not fut.done():
                 fut.set_result(None)
-        self.model.submit(self._drop_overlay, doc.path)
+        keep = {d.path for d in self.docs.values()}
+        for snap in self.snapshots.values():
+            keep |= snap.deps
+        self.model.submit(self._release, doc.path, keep)
         self.publish(uri, None, [])
         for other, snap in list(self.snapshots.items()):
             if doc.path in snap.deps:
                 self.changed(other)
 
-    def _drop_overlay(self, path: str) -> None:
+    def _release(self, path: str, keep: set[str]) -> None:
+        """Forget what was cached for a closed document, unless an open document (``keep``) still uses it.
+
+        Files of the workspace index stay cached: the index holds their compilations anyway.
+        """
         if self._ws is not None:
             self._ws.set_overlay(path, None)
+            indexed = set(getattr(self.workspace_index, "compilations", {}) or {})
+            self._ws.retain({self._ws.normpath(p) for p in keep | indexed})
+        self._name_cache.clear()
+        self._indexes = {k: v for k, v in self._indexes.items() if v[0].path in keep}
+        self._baselines = {k: v for k, v in self._baselines.items() if k[0] in keep}
 
     def file_changed_on_disk(self, path: str) -> None:
         """A file that is not open changed: recheck the open documents that include it."""

@@ -14,7 +14,7 @@ from collections.abc import Generator
 from typing import Any
 
 from lsprotocol import types as lsp
-from pygls.exceptions import JsonRpcException
+from pygls.exceptions import JsonRpcException, JsonRpcInvalidRequest, JsonRpcServerNotInitialized
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol, lsp_method
 
@@ -42,6 +42,7 @@ class IfaceProtocol(LanguageServerProtocol):
         if lsp.PositionEncodingKind.Utf32 in offered and general is not None:
             general.position_encodings = [lsp.PositionEncodingKind.Utf32]
         result = yield from super().lsp_initialize(params)
+        self.initialized = True
         chosen = result.capabilities.position_encoding or lsp.PositionEncodingKind.Utf16
         server = self._server
         assert isinstance(server, IfaceServer)
@@ -69,6 +70,29 @@ class IfaceProtocol(LanguageServerProtocol):
         """Hand the closing to the user handler only."""
         if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_CLOSE)) is not None:
             yield handler, (params,), None
+
+    #: Set once ``initialize`` has been answered; before it only ``initialize`` and ``exit`` are served.
+    initialized = False
+
+    def handle_message(self, message: Any) -> None:
+        """LSP's rules around the session: a request before ``initialize`` gets -32002 (ServerNotInitialized),
+        one after ``shutdown`` gets InvalidRequest; notifications then are dropped, ``exit`` always works."""
+        method = getattr(message, "method", None)
+        is_request = method is not None and getattr(message, "id", None) is not None
+        if method == lsp.EXIT or (not self.initialized and method == lsp.INITIALIZE and not self._shutdown):
+            super().handle_message(message)
+            return
+        if self._shutdown and method is not None:
+            if is_request:
+                self._send_response(message.id, None, JsonRpcInvalidRequest(
+                    f"the server is shut down: only 'exit' is accepted, not '{method}'").to_response_error())
+            return
+        if not self.initialized and method is not None:
+            if is_request:
+                self._send_response(message.id, None, JsonRpcServerNotInitialized(
+                    f"'{method}' before 'initialize': send 'initialize' first").to_response_error())
+            return
+        super().handle_message(message)
 
     def structure_message(self, data: dict[str, Any]) -> Any:
         """Read a message; a request whose parameters cannot be read is answered with an error."""

@@ -34,6 +34,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "empty-file": (Severity.INFORMATION, "The file defines nothing."),
     "cannot-read": (Severity.ERROR, "A file named on the command line that cannot be read (exit code 2)."),
     "nesting-too-deep": (Severity.ERROR, "Containers nested deeper than iface allows."),
+    "too-many-findings": (Severity.INFORMATION, "The editor shows the first findings of a file only "
+                          "(500): this one says how many more there are."),
     # names and references
     "unknown-type": (Severity.ERROR, "A type name that no definition, include or external package provides."),
     "duplicate-definition": (Severity.ERROR, "Two definitions with one name."),

@@ -68,14 +68,24 @@ class Compilation:
         return out
 
 
+def too_large(text: str) -> bool:
+    """True when ``text`` is more than ``MAX_FILE_BYTES`` as UTF-8 (an editor buffer: the limit files have)."""
+    if len(text) > MAX_FILE_BYTES:
+        return True
+    return len(text) * 4 > MAX_FILE_BYTES and len(text.encode("utf-8", errors="surrogatepass")) > MAX_FILE_BYTES
+
+
+def too_large_diagnostic(path: str, size: int) -> Diagnostic:
+    """The one finding of a file over the limit: nothing of it is read."""
+    return make("file-too-large", f"the file is {size / (1024 * 1024):.1f} MB; iface reads interface files up to "
+                f"{MAX_FILE_BYTES // (1024 * 1024)} MB", Source(path, ""), Span(0, 0))
+
+
 def decode(data: bytes, path: str) -> tuple[str, list[Diagnostic]]:
     """Bytes → text; bad input gets a diagnostic instead of an exception."""
     problems: list[Diagnostic] = []
     if len(data) > MAX_FILE_BYTES:
-        src = Source(path, "")
-        size = len(data) / (1024 * 1024)
-        return "", [make("file-too-large", f"the file is {size:.1f} MB; iface reads interface files up to "
-                         f"{MAX_FILE_BYTES // (1024 * 1024)} MB", src, Span(0, 0))]
+        return "", [too_large_diagnostic(path, len(data))]
     nul = data.find(b"\0")
     if nul >= 0:
         text = data[:nul].decode("utf-8", errors="replace")
@@ -121,6 +131,16 @@ class Workspace:
             self._memos.pop(key, None)
         else:
             self.overlays[key] = text
+
+    def retain(self, keep: set[str]) -> None:
+        """Forget every cached file outside ``keep`` (normalised paths): its compilation, overlay, chunks."""
+        for store in (self._cache, self.overlays, self._chunks, self._memos):
+            for key in [k for k in store if k not in keep]:
+                del store[key]
+
+    def cached_paths(self) -> set[str]:
+        """The files something is cached for."""
+        return {*self._cache, *self.overlays, *self._chunks, *self._memos}
 
     def _stamp(self, key: str) -> object:
         if key in self.overlays:
@@ -249,6 +269,10 @@ class Workspace:
                 src = Source(key, "")
                 return Compilation(src, m.Interface(src, Path(key).stem),
                                    [make("include-not-found", f"cannot read '{key}'", src, Span(0, 0))])
+        elif too_large(text):
+            src = Source(key, "")
+            size = len(text.encode("utf-8", errors="surrogatepass"))
+            return Compilation(src, m.Interface(src, Path(key).stem), [too_large_diagnostic(key, size)])
         editing = key in self.overlays
         cache = self._chunks.setdefault(key, ChunkCache()) if editing else None
         memo = self._memos.setdefault(key, {}) if editing else None

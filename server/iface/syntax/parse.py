@@ -380,10 +380,12 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
                                                            opening)])
         if r is None:
             r = parser.parse(ctext, ch.docs)
-            if r.open_at_end and i + 1 < n and not chunks[i + 1].unterminated:
-                merged = _merge(parser, text, chunks, i)
-                if merged is not None:
-                    r, i = merged
+        # a chunk left open is joined with what follows it now, whether it was parsed now or in an
+        # earlier version: what follows may have changed, and the answer must be a fresh parse's
+        if r.open_at_end and i + 1 < n and not chunks[i + 1].unterminated:
+            merged = _merge(parser, text, chunks, i)
+            if merged is not None:
+                r, i = merged
         r.move_to(ch.start)
         results.append(r)
         i += 1

@@ -20,9 +20,10 @@ def register(server: IfaceServer) -> None:
     @server.feature(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
     async def folding(ls: IfaceServer, params: lsp.FoldingRangeParams) -> list[lsp.FoldingRange] | None:
         def answer(view: View) -> list[lsp.FoldingRange] | None:
+            from ...semantics.compile import too_large
             from ...semantics.query import folding_spans
 
-            if view.iface is None:
+            if view.iface is None or too_large(view.snap.text):
                 return None
             out = [convert.folding_range(view.snap.index, span, kind)
                    for span, kind in folding_spans(view.iface, view.snap.text)]

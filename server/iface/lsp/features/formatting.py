@@ -31,7 +31,14 @@ def _formatter() -> _Formatter:
 
 
 def whole(text: str, index: convert.LineIndex) -> list[lsp.TextEdit]:
-    """One edit covering what the formatter changed (the common head and tail are kept)."""
+    """One edit covering what the formatter changed (the common head and tail are kept).
+
+    A document over the file size limit is left as it is (its one diagnostic says why).
+    """
+    from ...semantics.compile import too_large
+
+    if too_large(text):
+        return []
     fmt = _formatter()
     new = fmt.format_text(text)
     if new == text:
@@ -70,6 +77,10 @@ def register(server: IfaceServer) -> None:
         end = convert.offset(index, params.range.end)
 
         def run() -> list[lsp.TextEdit]:
+            from ...semantics.compile import too_large
+
+            if too_large(state.text):
+                return []
             fmt = _formatter()
             edits = fmt.format_range(state.text, start, end)
             return [convert.text_edit(index, e.start, e.end, e.new_text) for e in edits]

@@ -1,0 +1,89 @@
+"""Bounds of the server: the file size limit, a cap on findings per file, and nothing kept for closed documents."""
+
+from __future__ import annotations
+
+import asyncio
+from pathlib import Path
+from typing import Any
+
+import pytest
+from lsprotocol import types as lsp
+
+from iface.lsp.documents import path_to_uri
+from iface.lsp.project import MAX_DIAGNOSTICS, Project
+from iface.semantics.compile import MAX_FILE_BYTES
+
+from .harness import Client
+
+pytestmark = pytest.mark.asyncio(loop_scope="session")
+
+
+async def test_a_document_over_the_size_limit_gets_one_diagnostic_and_is_not_read(client: Client) -> None:
+    line = "message M%d { u8 a }\n"
+    text = "".join(line % i for i in range(MAX_FILE_BYTES // len(line % 0) + 10_000))
+    assert len(text.encode()) > MAX_FILE_BYTES
+    uri = client.open("huge.iface", text)
+    found = await client.wait_diagnostics(uri, 1)
+    assert [d.code for d in found] == ["file-too-large"], found[:3]
+    assert "iface reads interface files up to 4 MB" in found[0].message
+    edits = await client.text_document_formatting_async(lsp.DocumentFormattingParams(
+        client.doc(uri), lsp.FormattingOptions(tab_size=4, insert_spaces=True)))
+    assert not edits
+    tokens = await client.text_document_semantic_tokens_full_async(lsp.SemanticTokensParams(client.doc(uri)))
+    assert tokens is None or not tokens.data
+    folds = await client.text_document_folding_range_async(lsp.FoldingRangeParams(client.doc(uri)))
+    assert not folds
+    client.close(uri)
+
+
+async def test_findings_per_file_are_capped_with_one_that_counts_the_rest(client: Client) -> None:
+    count = MAX_DIAGNOSTICS + 123
+    text = "".join(f"struct S{i} {{ 1: Missing{i} a }}\n" for i in range(count))
+    uri = client.open("many.iface", text)
+    found = await client.wait_diagnostics(uri, 1)
+    assert len(found) == MAX_DIAGNOSTICS + 1
+    assert [d.code for d in found[:MAX_DIAGNOSTICS]] == ["unknown-type"] * MAX_DIAGNOSTICS
+    last = found[-1]
+    assert last.code == "too-many-findings" and "and 123 more finding(s)" in last.message
+    assert last.range.start.line == MAX_DIAGNOSTICS
+    client.close(uri)
+
+
+async def _compiled(project: Project, uri: str) -> None:
+    assert await project.view(uri, lambda view: view.snap.comp is not None, fresh=True)
+
+
+async def test_closing_documents_releases_what_was_cached_for_them(tmp_path: Path) -> None:
+    """300 opened and closed documents leave nothing cached; an included file stays while its includer is open."""
+    published: list[Any] = []
+    project = Project(lambda uri, version, diags: published.append(uri))
+    shared = tmp_path / "shared.iface"
+    shared.write_text("namespace ros2 shared\nstruct Vec { 1: float64 x }\n")
+    body = "".join(f"struct T{i} {{ 1: i32 a, 2: string b }}\n" for i in range(200))
+    try:
+        for i in range(300):
+            uri = path_to_uri(str(tmp_path / f"doc{i}.iface"))
+            project.open(uri, f'include "shared.iface"\nstruct D{i} {{ 1: shared.Vec v }}\n' + body, 1)
+            await _compiled(project, uri)
+            project.close(uri)
+        await project.run(lambda: None)  # the model thread has released them
+        assert project.workspace().cached_paths() == set()
+        assert not project.docs and not project.snapshots and not project._indexes and not project._name_cache
+
+        keeper = path_to_uri(str(tmp_path / "keeper.iface"))
+        project.open(keeper, 'include "shared.iface"\nstruct K { 1: shared.Vec v }\n', 1)
+        await _compiled(project, keeper)
+        other = path_to_uri(str(tmp_path / "other.iface"))
+        project.open(other, 'include "shared.iface"\nstruct O { 1: shared.Vec v }\n', 1)
+        await _compiled(project, other)
+        project.close(other)
+        await project.run(lambda: None)
+        cached = project.workspace().cached_paths()
+        assert str(shared) in cached and str(tmp_path / "keeper.iface") in cached
+        assert str(tmp_path / "other.iface") not in cached
+        project.close(keeper)
+        await project.run(lambda: None)
+        assert project.workspace().cached_paths() == set()
+    finally:
+        project.model.shutdown(wait=True)
+        await asyncio.sleep(0)
