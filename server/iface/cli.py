@@ -31,6 +31,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "graph": ("iface.commands.graph", "print the system graph of several components"),
     "impact": ("iface.commands.impact", "show what replacing one component affects"),
     "dump": ("iface.commands.dump", "print the model of a file as JSON (for debugging and goldens)"),
+    "handover": ("iface.commands.handover", "replace a running component by a compatible one, moving its state"),
+    "sign": ("iface.commands.sign", "sign a component package (ed25519), verify it, or create a key"),
 }
 
 

@@ -80,6 +80,8 @@ def every_command(path: Path, work: Path) -> Iterator[tuple[list[str], int, str]
         ["check", f], ["check", "--format", "json", f], ["dump", f], ["hash", f], ["contract", f],
         ["graph", f], ["graph", "--format", "json", f], ["compat", f, f], ["compat", "--format", "json", f, f],
         ["impact", "--system", f, "--replace", f, f], ["fmt", "--check", f], ["fmt", "--diff", f],
+        ["handover", "/old", "/new", "--old", f, "--new", f, "--timeout", "1"],
+        ["sign", str(work), "--verify", "--trust-store", str(work)],
     ]
     for argv in commands:
         yield (argv, *run(*argv))

@@ -1,0 +1,243 @@
+"""Replace a running component by another on a live system: the paper's hand-over, with trust.
+
+"Stop a component, save its state, load another component in its place and switch them"
+(docs/runtime.md has the sequence as a diagram). ``decide`` is the offline half: ``compat`` must
+find that NEW may replace OLD, and its verdict fixes the interface hash that NEW must have.
+``HandOver.run`` is the live half, over the component protocol (``iface.runtime.protocol``) and
+the standard lifecycle services, with rclpy:
+
+1. both nodes answer ``~/control`` STATUS within the timeout; OLD is active, NEW is not;
+2. NEW reports the approved interface hash; where a trust store is given, NEW's package carries a
+   valid signature (``iface.runtime.trust``);
+3. NEW is configured if it is not yet;
+4. OLD pauses after its current work transaction; its state is saved;
+5. the state is restored into NEW; NEW is activated; OLD is deactivated (and its gate opened).
+
+Any refusal before step 4 leaves OLD untouched; a failure after OLD paused resumes it, so OLD
+goes on as before. The result is a JSON-able record of every step and the state before and after.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..compat import Report, compare
+from ..semantics.compile import Compilation
+from . import protocol
+from .trust import TrustError, verify
+
+#: Verdicts under which a hand-over may go on.
+ACCEPTED = ("equivalent", "replaceable")
+#: lifecycle_msgs/State ids and Transition ids.
+UNCONFIGURED, INACTIVE, ACTIVE = 1, 2, 3
+STATE_LABELS = {0: "unknown", 1: "unconfigured", 2: "inactive", 3: "active", 4: "finalized"}
+CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
+
+
+class Refused(Exception):
+    """The hand-over stops here: the message says why."""
+
+
+def decide(old: Compilation, new: Compilation, system: list[Compilation] | None) -> Report:
+    """What ``compat`` says of NEW replacing OLD (``report.new_hash`` is the hash NEW must show)."""
+    return compare(old, new, system)
+
+
+def fully_qualified(name: str) -> str:
+    """``/name`` for a node name given with or without its leading slash."""
+    return name if name.startswith("/") else "/" + name
+
+
+@dataclass
+class Step:
+    """One thing the hand-over did or found."""
+
+    step: str
+    ok: bool
+    detail: str = ""
+
+
+@dataclass
+class HandOver:
+    """A hand-over from the node ``old`` to the node ``new``, approved for ``approved_hash``."""
+
+    old: str
+    new: str
+    approved_hash: str
+    timeout: float = 10.0
+    trust_store: Path | None = None
+    new_package: Path | None = None
+    steps: list[Step] = field(default_factory=list)
+    state_before: dict[str, Any] | None = None
+    state_after: dict[str, Any] | None = None
+
+    def __post_init__(self) -> None:
+        self.old, self.new = fully_qualified(self.old), fully_qualified(self.new)
+
+    # ---- talking to the nodes ---------------------------------------------------------------
+    def _open(self) -> None:
+        import rclpy
+        from rclpy.node import Node
+
+        self._rclpy = rclpy
+        self._own_context = not rclpy.ok()
+        if self._own_context:
+            rclpy.init()
+        self._node = Node(f"iface_handover_{int(time.monotonic() * 1000) % 100000}")
+
+    def _close(self) -> None:
+        self._node.destroy_node()
+        if self._own_context:
+            self._rclpy.shutdown()
+
+    def _service_type(self, service: str) -> Any:
+        """The type of a service as the graph shows it, imported; waits at most the timeout."""
+        deadline = time.monotonic() + self.timeout
+        while True:
+            for name, types in self._node.get_service_names_and_types():
+                if name == service and types:
+                    package, kind, type_name = types[0].split("/")
+                    return getattr(importlib.import_module(f"{package}.{kind}"), type_name)
+            if time.monotonic() > deadline:
+                raise Refused(f"{service} does not exist (no answer within {self.timeout:g} s)")
+            self._rclpy.spin_once(self._node, timeout_sec=0.1)
+
+    def _call(self, service: str, fill: dict[str, Any], timeout: float | None = None) -> Any:
+        srv = self._service_type(service)
+        client = self._node.create_client(srv, service)
+        try:
+            limit = timeout if timeout is not None else self.timeout
+            if not client.wait_for_service(timeout_sec=limit):
+                raise Refused(f"{service} does not answer within {limit:g} s")
+            request = srv.Request()
+            for key, value in fill.items():
+                setattr(request, key, value)
+            future = client.call_async(request)
+            self._rclpy.spin_until_future_complete(self._node, future, timeout_sec=limit)
+            if not future.done() or future.result() is None:
+                raise Refused(f"{service} does not answer within {limit:g} s")
+            return future.result()
+        finally:
+            self._node.destroy_client(client)
+
+    def _control(self, node: str, command: int) -> Any:
+        return self._call(f"{node}/control", {"command": command, "timeout_sec": self.timeout},
+                          self.timeout + 5)
+
+    def _transition(self, node: str, transition: int, label: str) -> None:
+        answer = self._call(f"{node}/change_state", {"transition": _transition_msg(transition)})
+        if not answer.success:
+            raise Refused(f"{node} refused to {label}")
+
+    def _note(self, step: str, detail: str = "", ok: bool = True) -> None:
+        self.steps.append(Step(step, ok, detail))
+
+    # ---- the sequence --------------------------------------------------------------------------
+    def run(self) -> bool:
+        """Carry out the hand-over; True when NEW took over, False when it was refused (``steps`` say why)."""
+        self._open()
+        paused = False
+        try:
+            old_status = self._status(self.old, "OLD")
+            new_status = self._status(self.new, "NEW")
+            if old_status.lifecycle_state != ACTIVE:
+                raise Refused(f"OLD {self.old} is {STATE_LABELS.get(old_status.lifecycle_state, '?')}, not active")
+            if new_status.lifecycle_state == ACTIVE:
+                raise Refused(f"NEW {self.new} is active already")
+            if new_status.interface_hash != self.approved_hash:
+                raise Refused(f"NEW {self.new} has interface hash {new_status.interface_hash}, not the one compat "
+                              f"approved ({self.approved_hash})")
+            self._note("hash", f"NEW has the approved interface hash {self.approved_hash}")
+            self._check_trust()
+            if new_status.lifecycle_state == UNCONFIGURED:
+                self._transition(self.new, CONFIGURE, "configure")
+                self._note("configure NEW", f"{self.new} configured")
+            pause = self._control(self.old, protocol.PAUSE)
+            if not pause.success:
+                raise Refused(f"OLD {self.old} did not pause: {pause.message}")
+            paused = True
+            self._note("pause OLD", f"{self.old} paused after its current work transaction "
+                       f"({pause.transactions} done)")
+            saved = self._call(f"{self.old}/save_state", {"timeout_sec": self.timeout}, self.timeout + 5)
+            if not saved.success:
+                raise Refused(f"OLD {self.old} could not save its state: {saved.message}")
+            self.state_before = json.loads(saved.state)
+            self._note("save OLD", saved.message)
+            restored = self._call(f"{self.new}/restore_state", {"state": saved.state, "timeout_sec": self.timeout},
+                                  self.timeout + 5)
+            if not restored.success:
+                raise Refused(f"NEW {self.new} refused the state: {restored.message}")
+            self._note("restore NEW", f"restored {', '.join(restored.restored) or 'nothing'}"
+                       + (f"; kept {', '.join(restored.kept)}" if restored.kept else ""))
+            self._transition(self.new, ACTIVATE, "activate")
+            self._note("activate NEW", f"{self.new} active")
+            self._transition(self.old, DEACTIVATE, "deactivate")
+            self._control(self.old, protocol.RESUME)
+            paused = False
+            self._note("deactivate OLD", f"{self.old} inactive")
+            after = self._call(f"{self.new}/save_state", {"timeout_sec": self.timeout}, self.timeout + 5)
+            self.state_after = json.loads(after.state) if after.success else None
+            return True
+        except Refused as e:
+            self._note("refused", str(e), ok=False)
+            if paused:
+                self._resume_old()
+            return False
+        finally:
+            self._close()
+
+    def _status(self, node: str, role: str) -> Any:
+        try:
+            status = self._control(node, protocol.STATUS)
+        except Refused as e:
+            raise Refused(f"{role} {node} does not answer: {e}") from e
+        self._note(f"status {role}", f"{node}: {status.component} {status.version}, "
+                   f"{STATE_LABELS.get(status.lifecycle_state, '?')}, {status.interface_hash}")
+        return status
+
+    def _check_trust(self) -> None:
+        if self.trust_store is None:
+            return
+        if self.new_package is None:
+            raise Refused("a trust store is configured: name NEW's package folder (--new-package) to check its "
+                          "signature")
+        try:
+            problems = verify(self.new_package, self.trust_store)
+        except TrustError as e:
+            raise Refused(str(e)) from e
+        if problems:
+            raise Refused("NEW is not trusted: " + "; ".join(problems[:5])
+                          + (f" (and {len(problems) - 5} more)" if len(problems) > 5 else ""))
+        self._note("trust", f"{self.new_package} is signed by a key of {self.trust_store}")
+
+    def _resume_old(self) -> None:
+        try:
+            answer = self._control(self.old, protocol.RESUME)
+            self._note("resume OLD", f"{self.old} resumed: {answer.message}", ok=bool(answer.success))
+        except Refused as e:
+            self._note("resume OLD", f"{self.old} could not be resumed: {e}", ok=False)
+
+    def record(self, report: Report | None) -> dict[str, Any]:
+        """What was done, as JSON data."""
+        done = bool(self.steps) and all(s.ok for s in self.steps)
+        out: dict[str, Any] = {
+            "result": "replaced" if done and self.state_after is not None else "refused",
+            "old": self.old, "new": self.new, "approved_hash": self.approved_hash,
+            "steps": [{"step": s.step, "ok": s.ok, "detail": s.detail} for s in self.steps],
+            "state_before": (self.state_before or {}).get("values"),
+            "state_after": (self.state_after or {}).get("values"),
+        }
+        if report is not None:
+            out["verdict"] = report.verdict
+        return out
+
+
+def _transition_msg(transition: int) -> Any:
+    from lifecycle_msgs.msg import Transition
+
+    return Transition(id=transition)
