@@ -73,6 +73,11 @@ def check_header(result: Result, tmp: Path) -> None:
             header.write_text("#pragma once\n#include <uORB/uORB.h>\n"
                               f"struct {stem}_s {{ unsigned long long timestamp; }};\n"
                               + "".join(f"extern const orb_metadata __orb_{t};\n" for t in topics_of(text, name)))
+    # PX4's parameter_update topic header, as PX4 generates it (the module header subscribes it)
+    update = inc / "uORB" / "topics" / "parameter_update.h"
+    update.parent.mkdir(parents=True, exist_ok=True)
+    update.write_text("#pragma once\n#include <uORB/uORB.h>\nstruct parameter_update_s { unsigned long long timestamp; };\n"
+                      "extern const orb_metadata __orb_parameter_update;\n")
     module_yaml = next(t for p, t in out.items() if p.endswith("module.yaml"))
     params = [n for g in yaml.safe_load(module_yaml).get("parameters", []) for n in g["definitions"]]
     inc.mkdir(parents=True, exist_ok=True)
@@ -314,8 +319,8 @@ def test_bridge_names_map_to_their_uorb_topic(tmp_path: Path) -> None:
     assert not result.has_errors, [d.format() for d in result.diagnostics]
     header = files(result)["src/modules/att/Att.hpp"]
     orb_ids = sorted(re.findall(r"ORB_ID\((\w+)\)", header))
-    assert orb_ids == ["estimator_global_position", "sensor_gps", "vehicle_attitude", "vehicle_command",
-                       "vehicle_local_position"]
+    assert orb_ids == ["estimator_global_position", "parameter_update", "sensor_gps", "vehicle_attitude",
+                       "vehicle_command", "vehicle_local_position"]
     assert "fmu" not in header
     assert "uORB::Publication<vehicle_global_position_s> _estimator_global_position_pub" in header
 
@@ -377,7 +382,8 @@ def test_a_message_library_gets_no_module(tmp_path: Path) -> None:
 
 def test_a_parameter_alone_makes_a_module(tmp_path: Path) -> None:
     result, _ = compile_px4(tmp_path, "component tuner\nconfiguration c { float gain = 1 }\n", "tuner.iface")
-    assert sorted(files(ok_result(result))) == ["src/modules/tuner/Tuner.hpp", "src/modules/tuner/module.yaml"]
+    assert sorted(files(ok_result(result))) == [f"src/modules/tuner/{name}" for name in (
+        "CMakeLists.txt", "Kconfig", "Tuner.cpp", "Tuner.hpp", "Tuner_user.cpp", "module.yaml")]
 
 
 def test_imported_px4_messages_generate_back_without_a_module(tmp_path: Path) -> None:
@@ -391,3 +397,57 @@ def test_imported_px4_messages_generate_back_without_a_module(tmp_path: Path) ->
     assert proc.returncode == 0, proc.stdout + proc.stderr
     written = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
     assert written and all(p.startswith("msg/") for p in written)
+
+
+# ---- the module that builds in PX4's tree ----------------------------------------------------
+
+
+def test_the_module_follows_px4s_module_template() -> None:
+    """CMakeLists.txt, Kconfig and the frame .cpp as PX4's template_module and work_item example write them."""
+    out = files(ok(DATA / "flight_arm.iface"))
+    folder = "src/modules/flight_arm"
+    cmake = out[f"{folder}/CMakeLists.txt"]
+    for line in ("px4_add_module(", "MODULE modules__flight_arm", "MAIN flight_arm", "FlightArm.cpp",
+                 "FlightArm_user.cpp", "MODULE_CONFIG", "module.yaml", "DEPENDS", "px4_work_queue"):
+        assert line in cmake, line
+    kconfig = out[f"{folder}/Kconfig"]
+    assert "menuconfig MODULES_FLIGHT_ARM\n\tbool \"flight_arm\"\n\tdefault n\n\t---help---\n" in kconfig
+    cpp = out[f"{folder}/FlightArm.cpp"]
+    assert "ScheduledWorkItem(MODULE_NAME, px4::wq_configurations::lp_default)" in cpp
+    assert "if (!_arm_setpoint_sub.registerCallback()) {" in cpp  # the px4.callback subscription schedules Run()
+    assert "ScheduleOnInterval" not in cpp
+    assert "while (_arm_setpoint_sub.update(&arm_setpoint)) {\n\t\ton_arm_setpoint(arm_setpoint);" in cpp
+    assert "updateParams(); // the members of DEFINE_PARAMETERS\n\t\ton_parameters_updated();" in cpp
+    assert 'extern "C" __EXPORT int flight_arm_main(int argc, char *argv[])' in cpp
+    header = out[f"{folder}/FlightArm.hpp"]
+    for hook in ("void on_start();", "void on_parameters_updated();", "void on_cycle();",
+                 "void on_arm_setpoint(const arm_setpoint_s &msg);"):
+        assert hook in header, hook
+    user = next(f for f in ok(DATA / "flight_arm.iface").files if f.path == f"{folder}/FlightArm_user.cpp")
+    assert user.once and "void FlightArm::on_arm_setpoint(const arm_setpoint_s &msg)" in user.text
+
+
+def test_the_user_file_is_written_once(tmp_path: Path) -> None:
+    from iface.emit.write import write_files
+
+    result = ok(DATA / "flight_arm.iface")
+    write_files(result.files, tmp_path)
+    user = tmp_path / "src/modules/flight_arm/FlightArm_user.cpp"
+    user.write_text(user.read_text() + "// mine\n")
+    again = write_files(result.files, tmp_path, force=True)
+    assert again.kept == ["src/modules/flight_arm/FlightArm_user.cpp"]
+    assert user.read_text().endswith("// mine\n")
+
+
+def test_without_a_callback_subscription_run_is_scheduled_on_an_interval(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, 'component pinger (px4.work_queue = "hp_default", px4.interval_us = 2000)\n'
+                            "message Ping { u64 timestamp }\npublishes Ping on \"/ping\"\n")
+    cpp = files(ok_result(result))["src/modules/pinger/Pinger.cpp"]
+    assert "px4::wq_configurations::hp_default" in cpp and "ScheduleOnInterval(2000);" in cpp
+
+
+def test_a_work_queue_px4_does_not_have_is_an_error(tmp_path: Path) -> None:
+    result, text = compile_px4(tmp_path, 'component pinger (px4.work_queue = "fast_lane")\n'
+                               "message Ping { u64 timestamp }\npublishes Ping on \"/ping\"\n")
+    (d,) = [d for d in result.diagnostics if d.code == "px4-annotation"]
+    assert "fast_lane" in d.message and "lp_default" in d.message and not result.files

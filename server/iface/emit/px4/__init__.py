@@ -58,6 +58,14 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
                                    ts.render("module.hpp.j2", module=module, open="//", **common), named))
         files.append(GeneratedFile(f"{folder}/module.yaml", ts.render("module.yaml.j2", module=module, open="#",
                                                                        **common), named))
+        files.append(GeneratedFile(f"{folder}/{module.class_name}.cpp",
+                                   ts.render("module.cpp.j2", module=module, open="//", **common), named))
+        files.append(GeneratedFile(f"{folder}/{module.class_name}_user.cpp",
+                                   ts.render("module_user.cpp.j2", module=module, **common), named, once=True))
+        files.append(GeneratedFile(f"{folder}/CMakeLists.txt",
+                                   ts.render("CMakeLists.txt.j2", module=module, open="#", **common), named))
+        files.append(GeneratedFile(f"{folder}/Kconfig", ts.render("Kconfig.j2", module=module, open="#", **common),
+                                   named))
     result.files = sorted_files(files)
     return result
 
@@ -87,7 +95,8 @@ def _not_generated(iface: m.Interface) -> Iterator[Diagnostic]:
                        src, d.name_span)
 
 
-TARGET = Target("px4", "PX4: uORB .msg files, a module class header (uORB members, DEFINE_PARAMETERS) "
-                "and module.yaml parameters", generate, str(TEMPLATES))
+TARGET = Target("px4", "PX4: uORB .msg files and a module that builds in PX4's tree (ModuleBase, ModuleParams, "
+                "ScheduledWorkItem; CMakeLists.txt, Kconfig, module.yaml; the user's file written once)",
+                generate, str(TEMPLATES))
 
 __all__ = ["CODES", "TARGET", "generate"]

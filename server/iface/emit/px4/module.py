@@ -46,6 +46,13 @@ PX4_DECLARED = {
     "ParamExtFloat": "PX4's parameter alias ParamExtFloat (px4_platform_common/param.h)",
     "Run": "the class's own Run() method (a method named like its class is a constructor in C++)",
 }
+#: The work queues of PX4 (platforms/common/include/px4_platform_common/px4_work_queue/WorkQueueManager.hpp).
+WORK_QUEUES = frozenset({"rate_ctrl", "SPI0", "SPI1", "SPI2", "SPI3", "SPI4", "SPI5", "SPI6", "I2C0", "I2C1",
+                         "I2C2", "I2C3", "I2C4", "nav_and_controllers", "INS0", "INS1", "INS2", "INS3",
+                         "hp_default", "uavcan", "ttyS0", "ttyS1", "ttyS2", "ttyS3", "ttyS4", "ttyS5", "ttyS6",
+                         "ttyS7", "ttyS8", "ttyS9", "ttyACM0", "ttyUnknown", "lp_default", "test1", "test2"})
+#: The user hooks the module class declares besides one per subscription.
+HOOKS = frozenset({"on_start", "on_parameters_updated", "on_cycle"})
 _INT32_SOURCES = frozenset({"i8", "i16", "i32", "u8", "u16", "char", "octet"})
 _PARAM_CLASS = {"int32": "ParamInt", "enum": "ParamInt", "float": "ParamFloat", "boolean": "ParamBool"}
 
@@ -59,6 +66,8 @@ class Topic:
     topic: str
     message: str
     callback: bool = False
+    #: The user's method called with each message of a subscription.
+    handler: str = ""
 
 
 @dataclass(slots=True)
@@ -100,6 +109,24 @@ class Px4Module:
     publications: list[Topic] = field(default_factory=list)
     subscriptions: list[Topic] = field(default_factory=list)
     params: list[Param] = field(default_factory=list)
+    #: The work queue Run() is scheduled on (``px4.work_queue``), and its period without callback subscriptions.
+    work_queue: str = "lp_default"
+    interval_us: int = 10_000
+
+    @property
+    def callbacks(self) -> bool:
+        """True when a subscription schedules Run()."""
+        return any(t.callback for t in self.subscriptions)
+
+    @property
+    def summary(self) -> str:
+        """The first line of the description."""
+        return self.description.split("\n", 1)[0]
+
+    @property
+    def usage(self) -> str:
+        """The text of PRINT_MODULE_DESCRIPTION."""
+        return "\n### Description\n" + (self.description or self.module_name) + "\n"
 
 
 class ModuleBuilder:
@@ -140,7 +167,29 @@ class ModuleBuilder:
                            humanize(iface.name), doc, "\n".join(doc))
         self._topics(module)
         self._params(module)
+        if comp_decl is not None:
+            self._scheduling(module, comp_decl)
         return module
+
+    def _scheduling(self, module: Px4Module, decl: m.ComponentDecl) -> None:
+        """``px4.work_queue`` and ``px4.interval_us`` of the component."""
+        queue = m.annotation(decl.annotations, "px4.work_queue")
+        if queue is not None:
+            name = one_line(queue.text or "")
+            if name in WORK_QUEUES:
+                module.work_queue = name
+            else:
+                self.diagnostics.append(diag("px4-annotation", f"px4.work_queue = {name!r} is not one of PX4's "
+                                             f"work queues: {', '.join(sorted(WORK_QUEUES))}",
+                                             self.iface.source, queue.span))
+        interval = m.annotation(decl.annotations, "px4.interval_us")
+        if interval is not None:
+            text = one_line(interval.text or "")
+            if text.isdigit() and 0 < int(text) <= 10_000_000:
+                module.interval_us = int(text)
+            else:
+                self.diagnostics.append(diag("px4-annotation", f"px4.interval_us = {text!r}: a whole number of "
+                                             "microseconds from 1 to 10000000", self.iface.source, interval.span))
 
     # ---- topics ------------------------------------------------------------------
     def _topics(self, module: Px4Module) -> None:
@@ -160,7 +209,8 @@ class ModuleBuilder:
             else:
                 callback = m.annotation(w.annotations, "px4.callback") is not None
                 cls = "uORB::SubscriptionCallbackWorkItem" if callback else "uORB::Subscription"
-                module.subscriptions.append(Topic(cls, f"_{topic}_sub", topic, stem, callback))
+                handler = f"on_{topic}" if f"on_{topic}" not in HOOKS else f"on_{topic}_message"
+                module.subscriptions.append(Topic(cls, f"_{topic}_sub", topic, stem, callback, handler))
         module.includes = sorted(includes)
 
     def _message_stem(self, t: m.NamedType) -> str | None:

@@ -11,9 +11,14 @@
 #include <uORB/Publication.hpp>
 #include <uORB/Subscription.hpp>
 #include <uORB/SubscriptionCallback.hpp>
+#include <uORB/topics/parameter_update.h>
 #include <uORB/topics/arm_setpoint.h>
 #include <uORB/topics/arm_status.h>
 
+/**
+ * The flight_arm module, run from a work queue: Run() is generated (FlightArm.cpp),
+ * the behaviour is yours (FlightArm_user.cpp, written once by iface and never overwritten).
+ */
 class FlightArm : public ModuleBase<FlightArm>, public ModuleParams, public px4::ScheduledWorkItem
 {
 public:
@@ -37,12 +42,26 @@ public:
 private:
 	void Run() override;
 
+	// ---- yours (FlightArm_user.cpp) ----
+	/** Called once from init(), before the first Run(). */
+	void on_start();
+	/** Called after the parameters changed (and once at start). */
+	void on_parameters_updated();
+	/** Called from Run() with each new arm_setpoint message on arm_setpoint. */
+	void on_arm_setpoint(const arm_setpoint_s &msg);
+	/** Called from Run() with each new arm_setpoint message on arm_setpoint_override. */
+	void on_arm_setpoint_override(const arm_setpoint_s &msg);
+	/** Called at the end of every Run(). */
+	void on_cycle();
+
 	// published topics (N)
 	uORB::Publication<arm_status_s> _flight_arm_status_pub{ORB_ID(flight_arm_status)};
 
 	// subscribed topics (M)
 	uORB::SubscriptionCallbackWorkItem _arm_setpoint_sub{this, ORB_ID(arm_setpoint)};
 	uORB::Subscription _arm_setpoint_override_sub{ORB_ID(arm_setpoint_override)};
+
+	uORB::Subscription _parameter_update_sub{ORB_ID(parameter_update)};
 
 	// parameters (P)
 	DEFINE_PARAMETERS(

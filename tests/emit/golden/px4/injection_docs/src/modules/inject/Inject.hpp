@@ -13,8 +13,14 @@
 #include <px4_platform_common/module_params.h>
 #include <px4_platform_common/px4_work_queue/ScheduledWorkItem.hpp>
 #include <uORB/Publication.hpp>
+#include <uORB/Subscription.hpp>
+#include <uORB/topics/parameter_update.h>
 #include <uORB/topics/probe.h>
 
+/**
+ * The inject module, run from a work queue: Run() is generated (Inject.cpp),
+ * the behaviour is yours (Inject_user.cpp, written once by iface and never overwritten).
+ */
 class Inject : public ModuleBase<Inject>, public ModuleParams, public px4::ScheduledWorkItem
 {
 public:
@@ -38,8 +44,18 @@ public:
 private:
 	void Run() override;
 
+	// ---- yours (Inject_user.cpp) ----
+	/** Called once from init(), before the first Run(). */
+	void on_start();
+	/** Called after the parameters changed (and once at start). */
+	void on_parameters_updated();
+	/** Called at the end of every Run() (every 10000 us). */
+	void on_cycle();
+
 	// published topics (N)
 	uORB::Publication<probe_s> _probe_pub{ORB_ID(probe)};
+
+	uORB::Subscription _parameter_update_sub{ORB_ID(parameter_update)};
 
 	// parameters (P)
 	DEFINE_PARAMETERS(
