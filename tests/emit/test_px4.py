@@ -451,3 +451,16 @@ def test_a_work_queue_px4_does_not_have_is_an_error(tmp_path: Path) -> None:
                                "message Ping { u64 timestamp }\npublishes Ping on \"/ping\"\n")
     (d,) = [d for d in result.diagnostics if d.code == "px4-annotation"]
     assert "fast_lane" in d.message and "lp_default" in d.message and not result.files
+
+
+def test_a_long_description_is_cut_for_short_and_kept_whole_in_long(tmp_path: Path) -> None:
+    doc = ("The largest speed any joint of the arm may reach while it follows a trajectory planned by the "
+           "motion planner, in either direction")
+    result, _ = compile_px4(tmp_path, f"component tuner\nconfiguration c {{\n    /** {doc}. Tune it with care. */\n"
+                            "    float gain = 1\n}\n", "tuner.iface")
+    doc_yaml = yaml.safe_load(files(ok_result(result))["src/modules/tuner/module.yaml"])
+    (entry,) = doc_yaml["parameters"][0]["definitions"].values()
+    short, long = entry["description"]["short"], entry["description"]["long"]
+    assert len(short) <= 70 and short.endswith("...") and doc.startswith(short[:-3])
+    assert long == f"{doc}. Tune it with care."
+    jsonschema.validate(doc_yaml, json.loads((DATA / "module_schema.json").read_text()))

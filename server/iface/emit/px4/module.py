@@ -25,6 +25,16 @@ from .codes import diag
 from .messages import PX4_PACKAGES, UorbMessage
 
 MAX_PARAM_NAME = 16
+#: PX4's limit for a parameter's short description (its parameter metadata and QGroundControl show this much).
+MAX_SHORT_DESC = 70
+
+
+def short_desc(text: str) -> str:
+    """``text`` within MAX_SHORT_DESC characters: cut at a word and marked with "..." (the long one keeps all)."""
+    if len(text) <= MAX_SHORT_DESC:
+        return text
+    cut = text[: MAX_SHORT_DESC - 3].rsplit(" ", 1)[0].rstrip(" ,;:") or text[: MAX_SHORT_DESC - 3]
+    return cut + "..."
 #: Units PX4's module.yaml schema accepts (validation/module_schema.yaml).
 PX4_UNITS = frozenset({
     "%", "Hz", "mAh", "rad", "%/rad", "rad/s", "rad/s^2", "%/rad/s", "rad s^2/m", "rad s/m", "bit/s", "B/s",
@@ -261,7 +271,7 @@ class ModuleBuilder:
         ptype = self._param_type(f)
         if ptype is None or not named:
             return None
-        short = summary(f.doc) or humanize(f.name)
+        short = short_desc(summary(f.doc) or humanize(f.name))
         param = Param(name, ptype, "", short, one_line(f.doc) or short)
         if not self._param_default(f, param):
             return None
