@@ -447,7 +447,7 @@ def test_without_a_callback_subscription_run_is_scheduled_on_an_interval(tmp_pat
 
 
 def test_a_work_queue_px4_does_not_have_is_an_error(tmp_path: Path) -> None:
-    result, text = compile_px4(tmp_path, 'component pinger (px4.work_queue = "fast_lane")\n'
+    result, _ = compile_px4(tmp_path, 'component pinger (px4.work_queue = "fast_lane")\n'
                                "message Ping { u64 timestamp }\npublishes Ping on \"/ping\"\n")
     (d,) = [d for d in result.diagnostics if d.code == "px4-annotation"]
     assert "fast_lane" in d.message and "lp_default" in d.message and not result.files

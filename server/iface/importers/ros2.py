@@ -263,7 +263,11 @@ def _kind(d: m.Definition) -> Kind:
 
 
 def _idl_files(pkg: Package, result: ImportResult) -> None:
-    """Read .idl files through rosbags' IDL parser (fields and constants; defaults and comments are not read)."""
+    """Read .idl files through rosbags' IDL parser (fields and constants; defaults and comments are not read).
+
+    Each .idl file is a source of the import, so that a round trip counts it whether it imports or not.
+    """
+    result.sources.extend(str(p) for p in pkg.idl)
     try:
         from rosbags.typesys import get_types_from_idl
     except ImportError:
