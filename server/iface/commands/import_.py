@@ -18,6 +18,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--from", dest="source", required=True, metavar="FORMAT",
                    help="what to import: " + ", ".join(sorted(importers())))
     p.add_argument("--out", required=True, metavar="DIR", help="the folder to write the .iface files to")
+    p.add_argument("--deps", metavar="DIR",
+                   help="ros2: a folder of ROS 2 packages; the packages the inputs use that are found there are "
+                        "imported too, each into its own .iface, with includes between them")
     p.add_argument("--force", action="store_true", help="overwrite existing files whose content differs")
     p.add_argument("-q", "--quiet", action="store_true", help="print problems only, not the files written")
 
@@ -38,7 +41,10 @@ def run(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return 2
     try:
-        result = importer.run(list(args.inputs), {})
+        if args.deps and args.source != "ros2":
+            print("iface-lsp import: --deps applies to --from ros2 only", file=sys.stderr)
+            return 2
+        result = importer.run(list(args.inputs), {"deps": args.deps} if args.deps else {})
     except InputError as e:
         print(f"iface-lsp import: {e}", file=sys.stderr)
         return 2

@@ -62,6 +62,8 @@ class ImportResult:
     origins: list[Origin] = field(default_factory=list)
     #: Every interface file read (imported or not), for counting what a round trip compares.
     sources: list[str] = field(default_factory=list)
+    #: Packages whose types are used but that were not imported (kept as ``external``).
+    missing: list[str] = field(default_factory=list)
 
     @property
     def has_errors(self) -> bool:

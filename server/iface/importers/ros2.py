@@ -173,7 +173,8 @@ class _PackageImport:
         if other not in self.externals_seen and other not in self.known:
             self.externals_seen.add(other)
             self.problem(path, line, f"'{other}/{t.name}' is from the package '{other}', which was not imported: "
-                         f"kept as an external reference (`external {other}`)", "note")
+                         f"kept as an external reference (`external {other}`); to import it too, give its "
+                         "folder as well or `--deps DIR` with a folder that holds it", "note")
         return f"{other}.{t.name}"
 
     def definition(self, path: Path, rf: RosFile, local_prefix: str, uses: dict[str, str]) -> m.Definition | None:
@@ -291,7 +292,36 @@ def _idl_files(pkg: Package, result: ImportResult) -> None:
 
 
 def run(inputs: list[str], options: dict[str, Any]) -> ImportResult:
-    """Import every package given; problems are reported per line, the other files still import."""
+    """Import every package given; problems are reported per line, the other files still import.
+
+    ``options["deps"]``: a folder searched (recursively) for the packages the inputs use; each one
+    found is imported too, into its own ``.iface`` that the users include, and so on for its own
+    dependencies.
+    """
+    deps = options.get("deps")
+    if not deps:
+        return _run_once(inputs)
+    found = dependency_folders(Path(deps))
+    given = list(inputs)
+    while True:
+        result = _run_once(given)
+        extra = [str(found[name]) for name in result.missing if name in found and str(found[name]) not in given]
+        if not extra:
+            return result
+        given += extra
+
+
+def dependency_folders(root: Path) -> dict[str, Path]:
+    """ROS 2 package folders under ``root`` by package name (the first found by sorted path wins)."""
+    if not root.is_dir():
+        raise InputError(f"{root}: --deps needs a folder of ROS 2 packages")
+    out: dict[str, Path] = {}
+    for xml in sorted(root.rglob("package.xml")):
+        out.setdefault(package_name(xml.parent), xml.parent)
+    return out
+
+
+def _run_once(inputs: list[str]) -> ImportResult:
     result = ImportResult()
     packages = find_packages(inputs, result.problems)
     known: dict[str, dict[str, Kind]] = {}
@@ -320,6 +350,7 @@ def run(inputs: list[str], options: dict[str, Any]) -> ImportResult:
             _PackageImport(pkg, known, result, edges, externals).run()
     result.files.sort(key=lambda f: f.path)
     result.problems.sort(key=lambda p: (p.path, p.line))
+    result.missing = sorted(externals)
     return result
 
 
