@@ -36,7 +36,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "px4-param-name-conflict": (Severity.ERROR, "Two parameters with one PX4 name."),
     "px4-param-unit": (Severity.WARNING, "A parameter unit PX4's module.yaml does not accept: it is left out."),
     "px4-param-default": (Severity.ERROR, "A parameter default PX4 cannot state."),
-    "px4-annotation": (Severity.ERROR, "A px4.work_queue or px4.interval_us annotation PX4 cannot use."),
+    "px4-annotation": (Severity.ERROR, "A px4.work_queue, px4.interval_us or px4.increment annotation PX4 "
+                       "cannot use."),
 }
 
 diag = CodeTable(CODES)

@@ -93,6 +93,7 @@ class Param:
     max: str | None = None
     unit: str | None = None
     decimal: str | None = None
+    increment: str | None = None
     values: list[tuple[int, str]] = field(default_factory=list)
 
     @property
@@ -290,6 +291,12 @@ class ModuleBuilder:
         dec = m.annotation(f.annotations, "px4.decimal")
         if dec is not None and ptype == "float" and dec.text.isdigit():
             param.decimal = dec.text
+        step = m.annotation(f.annotations, "px4.increment")
+        if step is not None and ptype == "float":
+            param.increment = _increment(step.text)
+            if param.increment is None:
+                self.diagnostics.append(diag("px4-annotation", f"parameter '{f.name}': px4.increment = "
+                                             f"{one_line(step.text)!r} is not a positive number", src, step.span))
         enum = enum_of(f.type)
         if enum is not None:
             param.values = [(v.value, humanize(v.name)) for v in enum.values]
@@ -339,3 +346,12 @@ class ModuleBuilder:
 
 def _bound(value: float, ptype: str) -> str:
     return number(value) if ptype == "float" else compact_number(value)
+
+
+def _increment(text: str) -> str | None:
+    """A GCS step size as module.yaml writes it, None unless a positive finite number."""
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return number(value) if 0 < value < float("inf") else None
