@@ -4,6 +4,9 @@ JSON needs no templates: the form is a dict built in a fixed order and written
 with ``json.dumps(indent=2, ensure_ascii=False)``, so the same input gives the
 same bytes. ``iface-lsp schema`` prints the JSON Schema every output validates
 against; ``iface-lsp import --from json`` reads an output back into ``.iface``.
+
+May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``) and the shared
+modules of ``emit``.
 """
 
 from __future__ import annotations

@@ -4,6 +4,9 @@ Interfaces double as documentation: a title, the description, the seven sets
 as tables, the contract (assumptions and guarantees) and a table per type.
 Every piece of text from the interface is escaped, so a doc comment cannot
 start a heading, close a table cell or inject HTML.
+
+May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``) and the shared
+modules of ``emit``.
 """
 
 from __future__ import annotations

@@ -4,6 +4,9 @@ PX4 speaks uORB: fixed-size messages with ``uint64 timestamp`` first, published
 and subscribed on snake_case topics. Anything uORB cannot hold (strings,
 variable-length arrays, defaults, services, actions) is reported, never dropped
 in silence; see docs/targets-px4-ardupilot.md.
+
+May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``) and the shared
+modules of ``emit``.
 """
 
 from __future__ import annotations

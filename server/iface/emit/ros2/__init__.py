@@ -3,6 +3,9 @@
 Layout under the output folder: ``<package>/msg/*.msg``, ``srv/*.srv``, ``action/*.action``,
 ``package.xml``, ``CMakeLists.txt`` and ``config/<component>.params.yaml``. How the model is
 mapped is described in ``lower`` and in docs/targets.md.
+
+May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``) and the shared
+modules of ``emit``.
 """
 
 from __future__ import annotations

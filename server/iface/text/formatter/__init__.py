@@ -4,6 +4,8 @@
 keeping every comment; ``format_range`` re-formats only the top-level
 definitions a range touches and returns the edits that do it. Both leave
 definitions with syntax errors exactly as written, and both are idempotent.
+
+May import: ``model``, ``syntax`` (as ``text`` may).
 """
 
 from __future__ import annotations
