@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -20,6 +21,10 @@ from .golden_util import check_golden
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).parent / "data" / "ardupilot"
 ROBOT_ARM = ROOT / "examples" / "robot_arm.iface"
+SHARED = DATA / "shared"
+IDLC = shutil.which("idlc")
+NO_IDLC = "idlc (Cyclone DDS's IDL compiler, Debian package cyclonedds-tools) is not installed: scripts/test.sh " \
+          "installs it where it runs as root"
 CASES = ["listing1", "rover_v1", "injection_docs"]
 ENTRY = re.compile(r'AP_GROUPINFO\("([A-Z0-9_]+)", (\d+), (\w+), (\w+), ([^)]+)\),')
 
@@ -47,10 +52,23 @@ def idl_types(result: Result) -> dict[str, tuple[list, list]]:
             for inc in re.findall(r'^#include "([^"]+)"$', text, re.M):
                 package = inc.split("/")[0]
                 assert f"libraries/AP_DDS/Idl/{inc}" in generated or package != path.split("/")[3], inc
-            types = get_types_from_idl(re.sub(r"^#include .*$", "", text, flags=re.M))
+            assert_guarded(path, text)
+            types = get_types_from_idl(re.sub(r"^\s*#(include|ifndef|define|endif)\b.*$", "", text, flags=re.M))
             assert types, f"{path}: rosbags found no type"
             out.update(types)
     return out
+
+
+def assert_guarded(path: str, text: str) -> None:
+    """The file's declarations sit in ``#ifndef <pkg>_<kind>_<Name>_defined`` guards, as ArduPilot writes them."""
+    _, _, _, pkg, kind, file = path.split("/")
+    lines = [line.strip() for line in text.splitlines()]
+    opened = [line.split()[1] for line in lines if line.startswith("#ifndef")]
+    defined = [line.split()[1] for line in lines if line.startswith("#define")]
+    assert opened == defined and len(opened) == sum(line == "#endif" for line in lines), path
+    assert opened[0] == f"{pkg}_{kind}_{file.removesuffix('.idl')}_defined", path
+    typedefs = re.findall(r"^    typedef \S+ (\w+)\[\d+\];$", text, re.M)
+    assert opened[1:] == [f"{pkg}_{kind}_{name}_defined" for name in typedefs], path
 
 
 def entries(result: Result) -> dict[str, int]:
@@ -115,6 +133,74 @@ def test_robot_arm(tmp_path: Path) -> None:
     result = ok(ROBOT_ARM)
     assert idl_types(result)
     compile_params(result, tmp_path)
+
+
+# ---- a real IDL compiler ------------------------------------------------------------------
+
+
+def generate_cli(target: str, out: Path, *sources: Path) -> None:
+    """``iface-lsp generate -t TARGET -o OUT SOURCE`` for each source, as a user runs it."""
+    for source in sources:
+        proc = subprocess.run([sys.executable, "-m", "iface", "generate", "-t", target, "-o", str(out), str(source)],
+                              capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def idlc(root: Path, files: list[str], tmp: Path) -> subprocess.CompletedProcess[str]:
+    """idlc over one top-level IDL file that includes ``files`` (paths under ``root``), writing C into ``tmp``."""
+    top = tmp / "together.idl"
+    top.write_text("".join(f'#include "{f}"\n' for f in files))
+    out = tmp / "c"
+    out.mkdir()
+    return subprocess.run([str(IDLC), "-I", str(root), "-o", str(out), str(top)], capture_output=True, text=True,
+                          timeout=120)
+
+
+@pytest.mark.skipif(IDLC is None, reason=NO_IDLC)
+def test_two_components_including_one_dependency_compile_together(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    generate_cli("ardupilot", out, SHARED / "common.iface", SHARED / "comp_a.iface", SHARED / "comp_b.iface")
+    root = out / "libraries" / "AP_DDS" / "Idl"
+    parts = sorted(p.relative_to(root).as_posix() for p in root.rglob("*.idl") if not p.parts[-3] == "common_msgs")
+    assert parts == ["comp_a/msg/Report.idl", "comp_b/msg/Target.idl"]
+    proc = idlc(root, parts, tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    header = (tmp_path / "c" / "together.h").read_text()
+    assert '#include "comp_a/msg/Report.h"' in header and '#include "comp_b/msg/Target.h"' in header
+    # idlc writes C for the top-level file only; each file on its own declares its struct
+    for part, struct in (("common_msgs/msg/Stamp.idl", "common_msgs_msg_Stamp"),
+                         ("common_msgs/msg/Position.idl", "common_msgs_msg_Position"),
+                         ("comp_a/msg/Report.idl", "comp_a_msg_Report")):
+        alone = tmp_path / struct
+        alone.mkdir()
+        proc = subprocess.run([str(IDLC), "-I", str(root), "-o", str(alone), str(root / part)], capture_output=True,
+                              text=True, timeout=120)
+        assert proc.returncode == 0, proc.stderr
+        assert f"typedef struct {struct}\n" in (alone / Path(part).with_suffix(".h").name).read_text()
+
+
+@pytest.mark.skipif(IDLC is None, reason=NO_IDLC)
+def test_without_the_guards_the_same_files_do_not_compile_together(tmp_path: Path) -> None:
+    """The control: the idl target writes rosidl's IDL, which has no guards, and idlc refuses the second Stamp."""
+    out = tmp_path / "out"
+    generate_cli("idl", out, SHARED / "common.iface", SHARED / "comp_a.iface", SHARED / "comp_b.iface")
+    proc = idlc(out, ["comp_a/msg/Report.idl", "comp_b/msg/Target.idl"], tmp_path)
+    assert proc.returncode != 0 and "collides" in proc.stderr, proc.stderr
+
+
+@pytest.mark.skipif(IDLC is None, reason=NO_IDLC)
+@pytest.mark.parametrize("case", CASES)
+def test_every_case_compiles_with_idlc(tmp_path: Path, case: str) -> None:
+    root = tmp_path / "out"
+    for f in ok(DATA / f"{case}.iface").files:
+        if f.path.endswith(".idl"):
+            path = root / f.path.removeprefix("libraries/AP_DDS/Idl/")
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(f.text)
+    parts = sorted(p.relative_to(root).as_posix() for p in root.rglob("*.idl"))
+    assert parts
+    proc = idlc(root, parts, tmp_path)
+    assert proc.returncode == 0, proc.stderr
 
 
 # ---- AP_Param ------------------------------------------------------------------------------

@@ -57,8 +57,8 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         return result
     ts = TemplateSet(TEMPLATES, "ardupilot", filters=FILTERS, override=options.get("templates"))
     common = {"source_name": header_name(comp.path), "open": "//", "close": ""}
-    files = [GeneratedFile(f"{IDL_ROOT}/{f.path}", f.text, f.origin) for f in render_package(pkg, idl_templates())
-             if "/action/" not in f.path]
+    files = [GeneratedFile(f"{IDL_ROOT}/{f.path}", f.text, f.origin)
+             for f in render_package(pkg, idl_templates(), guards=True) if "/action/" not in f.path]
     if table.params:
         folder = f"libraries/{table.library}"
         named = (comp.interface.source, component_span(comp.interface))

@@ -32,14 +32,21 @@ TEMPLATES = Path(__file__).parent / "templates"
 __all__ = ["TARGET", "generate"]
 
 
-def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFile]:
-    """One .idl file per interface."""
+def render_package(pkg: RosPackage, templates: TemplateSet, *, guards: bool = False) -> list[GeneratedFile]:
+    """One .idl file per interface.
+
+    ``guards`` (the ardupilot flavour): each fixed-array typedef inside
+    ``#ifndef <package>_<kind>_<typedef>_defined`` as ArduPilot's AP_DDS IDL writes it, and the
+    file's modules inside ``#ifndef <package>_<kind>_<Name>_defined``, so a file included twice
+    (two components using one dependency) declares its structs once and leaves no empty module.
+    """
     header = header_lines("//", pkg.source_name).rstrip("\n")
     files = []
     for kind in ("msg", "srv", "action"):
         for ri in pkg.of_kind(kind):
             text = templates.render("interface.idl.j2", interface=ri, package=pkg.name, header=header,
-                                    structs=structs(ri), typedefs=typedefs(ri), includes=includes(ri))
+                                    structs=structs(ri), typedefs=typedefs(ri), includes=includes(ri),
+                                    guards=guards)
             files.append(GeneratedFile(f"{pkg.name}/{kind}/{ri.name}.idl", text, (ri.source, ri.span)))
     return sorted_files(files)
 
