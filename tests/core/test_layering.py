@@ -8,6 +8,8 @@ runtime above compat; commands and lsp on top, neither importing the other.
 from __future__ import annotations
 
 import ast
+import importlib
+import importlib.util
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "server" / "iface"
@@ -114,12 +116,46 @@ def test_every_package_says_what_it_holds_and_may_import() -> None:
     missing = []
     for init in sorted(PACKAGE.rglob("__init__.py")):
         doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
-        stage = _stage(init)
-        if not doc or (init.parent.parent == PACKAGE and "May import" not in doc):
-            missing.append(f"{init.relative_to(PACKAGE)} ({stage})")
+        if "May import" not in doc:
+            missing.append(str(init.relative_to(PACKAGE)))
     assert missing == []
 
 
 def test_grammar_file_is_the_packaged_one() -> None:
     root = PACKAGE.parents[1] / "grammar.lark"
     assert (PACKAGE / "grammar.lark").read_text() == root.read_text()
+
+
+#: Imports known not to resolve, each reported to its area's owner; remove an entry once it is fixed.
+KNOWN_UNRESOLVED = frozenset({
+    "lsp/features/configuration.py: iface.lsp.grammar",  # _warm_up: should be ...syntax.grammar
+    "lsp/features/configuration.py: iface.lsp.parse",  # _warm_up: should be ...syntax.parse
+})
+
+
+def _unresolved(path: Path, root: Path = PACKAGE) -> list[str]:
+    """The iface imports of ``path`` naming no module and no name of an existing module (moved code)."""
+    out = []
+    for _, mod in _imports(path, root):
+        parts = mod.split(".")
+        if parts[0] != "iface" or len(parts) < 2:
+            continue
+        if importlib.util.find_spec(mod.rsplit(".", 1)[0]) is None:
+            out.append(f"{path.relative_to(root)}: {mod}")
+        elif importlib.util.find_spec(mod) is None and not hasattr(importlib.import_module(mod.rsplit(".", 1)[0]),
+                                                                    parts[-1]):
+            out.append(f"{path.relative_to(root)}: {mod}")
+    return out
+
+
+def test_every_import_names_something_that_exists() -> None:
+    found = {u for path in _modules() for u in _unresolved(path)}
+    assert sorted(found - KNOWN_UNRESOLVED) == []
+
+
+def test_unresolved_imports_are_found(tmp_path: Path) -> None:
+    (tmp_path / "lsp").mkdir()
+    probe = tmp_path / "lsp" / "probe.py"
+    probe.write_text("from ..grammar import x\nfrom ..model.nosuch import x\nfrom ..model import nodes\n"
+                     "from ..semantics.compile import Compilation\n", encoding="utf-8")
+    assert _unresolved(probe, tmp_path) == ["lsp/probe.py: iface.grammar", "lsp/probe.py: iface.model.nosuch"]

@@ -6,6 +6,9 @@ the ``idl`` target's, lowered exactly as for ``ros2`` so both sides agree on the
 wire; AP_DDS has no actions, so those are left out with a warning. The
 configuration set P becomes an ``AP_Param`` group class whose indices are kept
 stable from field ids; see docs/targets-px4-ardupilot.md.
+
+May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``), the shared
+modules of ``emit`` and the ``idl`` target it reuses.
 """
 
 from __future__ import annotations

@@ -4,6 +4,9 @@ Layout: ``<package>/msg/<Name>.idl``, ``srv/<Name>.idl``, ``action/<Name>.idl``,
 ``module <package> { module <kind> { … } }`` with constants in ``<Struct>_Constants``
 modules, ``sequence<T, N>``, ``string<N>``, typedefs for fixed arrays, ``@default`` and
 ``@verbatim`` comments. The model is lowered exactly as for the ``ros2`` target.
+
+May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``) and the shared
+modules of ``emit``.
 """
 
 from __future__ import annotations

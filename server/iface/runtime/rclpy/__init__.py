@@ -11,6 +11,9 @@
   ``node.py``, the user's module, written once and never overwritten.
 
 How the interface becomes a node: ``iface.runtime.component`` and docs/runtime.md.
+
+May import: what ``runtime`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit``,
+``compat``) and the other modules of ``runtime``.
 """
 
 from __future__ import annotations

@@ -1,0 +1,120 @@
+"""The layout as documented is the layout on disk: README's Layout section and docs/architecture.md.
+
+Every folder of ``server/iface`` that holds a file is in README's tree and in docs/architecture.md,
+nothing listed is missing, the "may import" column is the rule ``test_layering`` enforces, the diagram
+has every stage, and every file named under "Where to add…" exists.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from pathlib import Path
+
+from tests.core.test_layering import ALLOWED, PACKAGE
+
+ROOT = PACKAGE.parents[1]
+README = ROOT / "README.md"
+ARCHITECTURE = ROOT / "docs" / "architecture.md"
+
+
+def tree_folders(package: Path = PACKAGE) -> set[str]:
+    """Folders under ``package`` (relative, with a trailing slash) that hold a committed file.
+
+    The tree is git's (work in progress that is not committed yet is not the layout); outside a
+    checkout, every file on disk.
+    """
+    try:
+        listed = subprocess.run(["git", "ls-files", "-z", "--", "."], cwd=package, capture_output=True,
+                                check=True, timeout=60).stdout.decode().split("\0")
+        files = [package / f for f in listed if f]
+    except (OSError, subprocess.SubprocessError):
+        files = [p for p in package.rglob("*") if p.is_file() and "__pycache__" not in p.parts]
+    return {f.parent.relative_to(package).as_posix() + "/" for f in files if f.parent != package}
+
+
+def readme_folders(text: str) -> set[str]:
+    """The folders the Layout section's tree lists under ``server/iface/`` (two spaces a level)."""
+    section = text.split("## Layout", 1)[1].split("\n## ", 1)[0]
+    block = section.split("```", 2)[1]
+    out: set[str] = set()
+    stack: list[str] = []
+    inside = False
+    for line in block.splitlines():
+        if line.startswith("server/iface/"):
+            inside = True
+            continue
+        indent = len(line) - len(line.lstrip(" "))
+        if not inside or indent == 0:
+            inside = inside and indent > 0
+            continue
+        level = indent // 2 - 1
+        words = line.split()
+        folder = words[0]
+        stack[level:] = [folder]
+        out.add("".join(stack))
+        for sub in words[1:]:
+            if not sub.endswith("/"):
+                break
+            out.add("".join(stack) + sub)
+    return out
+
+
+def test_readme_layout_lists_every_folder_and_only_those() -> None:
+    listed = readme_folders(README.read_text(encoding="utf-8"))
+    on_disk = tree_folders()
+    assert sorted(on_disk - listed) == [], "folders missing from README's Layout section"
+    assert sorted(f for f in listed - on_disk if not (PACKAGE / f).is_dir()) == [], "listed but absent"
+
+
+def test_readme_parser_reads_nesting(tmp_path: Path) -> None:
+    text = ("## Layout\n\n```\ngrammar.lark  x\nserver/iface/  y\n  emit/   a\n    ros2/ templates/  b c/\n"
+            "  lsp/  d\n    features/  e\ntests/  f\n```\n\n## Next\n")
+    assert readme_folders(text) == {"emit/", "emit/ros2/", "emit/ros2/templates/", "lsp/", "lsp/features/"}
+
+
+def test_architecture_names_every_folder() -> None:
+    doc = ARCHITECTURE.read_text(encoding="utf-8")
+    missing = []
+    for folder in sorted(tree_folders()):
+        parts = folder.rstrip("/").split("/")
+        if parts[-1] == "templates" and len(parts) > 2:
+            continue  # a target's own templates: "one package per target, each with its templates/"
+        if f"`{folder}`" not in doc:
+            missing.append(folder)
+    assert missing == []
+
+
+def _may_import(cell: str, stage: str) -> frozenset[str]:
+    if cell.startswith("nothing"):
+        return frozenset()
+    if cell.startswith("every stage but"):
+        return frozenset(ALLOWED) - {stage, *re.findall(r"`(\w+)`", cell)}
+    return frozenset(re.findall(r"`(\w+)`", cell))
+
+
+def test_architecture_table_is_the_enforced_rule() -> None:
+    doc = ARCHITECTURE.read_text(encoding="utf-8")
+    table: dict[str, frozenset[str]] = {}
+    for line in doc.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        m = re.fullmatch(r"`(\w+)/`", cells[0]) if len(cells) == 3 else None
+        if m:
+            table[m.group(1)] = _may_import(cells[2], m.group(1))
+    assert table == ALLOWED
+
+
+def test_architecture_diagram_draws_every_stage() -> None:
+    doc = ARCHITECTURE.read_text(encoding="utf-8")
+    diagram = doc.split("```mermaid", 1)[1].split("```", 1)[0]
+    assert sorted(s for s in ALLOWED if f'"{s}/' not in diagram) == []
+
+
+def test_where_to_add_names_files_that_exist() -> None:
+    doc = ARCHITECTURE.read_text(encoding="utf-8")
+    section = doc.split("## Where to add", 1)[1].split("\n## ", 1)[0]
+    named = [p for p in re.findall(r"`([\w./-]+\.(?:py|iface|toml))`", section) if "<" not in p]
+    assert len(named) >= 8
+    missing = [p for p in named if not any((base / p).exists() for base in (PACKAGE, ROOT, ROOT / "tests" / "lsp",
+                                                                            ROOT / "tests" / "core" / "data" / "invalid"))]
+    assert missing == []
