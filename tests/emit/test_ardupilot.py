@@ -6,6 +6,7 @@ import re
 import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
@@ -25,7 +26,7 @@ SHARED = DATA / "shared"
 IDLC = shutil.which("idlc")
 NO_IDLC = "idlc (Cyclone DDS's IDL compiler, Debian package cyclonedds-tools) is not installed: scripts/test.sh " \
           "installs it where it runs as root"
-CASES = ["listing1", "rover_v1", "injection_docs"]
+CASES = ["listing1", "rover_v1", "injection_docs", "dds"]
 ENTRY = re.compile(r'AP_GROUPINFO\("([A-Z0-9_]+)", (\d+), (\w+), (\w+), ([^)]+)\),')
 
 
@@ -82,7 +83,7 @@ def compile_params(result: Result, tmp: Path) -> None:
         pytest.skip("g++ is not installed")
     out = files(result)
     for path, text in out.items():
-        if path.endswith((".h", ".cpp")):
+        if path.endswith(("_Params.h", ".cpp")):
             (tmp / Path(path).name).write_text(text)
     cpp = next(p for p in out if p.endswith(".cpp"))
     proc = subprocess.run(["g++", "-std=gnu++17", "-fsyntax-only", "-Wall", "-Wextra", "-Werror",
@@ -203,6 +204,120 @@ def test_every_case_compiles_with_idlc(tmp_path: Path, case: str) -> None:
     assert proc.returncode == 0, proc.stderr
 
 
+# ---- AP_DDS topic and service tables, XRCE-DDS profiles ---------------------------------------
+
+#: What dds.iface wires, as AP_DDS must see it: (index, writer, topic, type, durability, reliability, history, depth).
+TOPICS = [
+    ("PROBE_STATUS_PUB", True, "rt/probe/status", "dds::msg::dds_::Status_", "VOLATILE", "BEST_EFFORT", "KEEP_LAST", 5),
+    ("PROBE_GOAL_PUB", True, "rt/probe/goal", "dds::msg::dds_::Goal_", "TRANSIENT_LOCAL", "RELIABLE", "KEEP_LAST",
+     1),
+    ("CMD_GOAL_SUB", False, "rt/cmd_goal", "dds::msg::dds_::Goal_", "VOLATILE", "RELIABLE", "KEEP_ALL", 10),
+]
+#: (index, replier, ROS name, type) of each service entry; request/reply topics and types follow from them.
+SERVICES = [
+    ("PROBE_ARM", True, "probe/arm", "dds::srv::dds_::Arm_", "TRANSIENT_LOCAL", 5),
+    ("DDS_PROBE_CALIBRATION_START", True, "dds_probe/calibration/start", "dds::srv::dds_::CalibrationStart_",
+     "VOLATILE", 10),
+    ("DDS_PROBE_CALIBRATION_STOP", True, "dds_probe/calibration/stop", "dds::srv::dds_::CalibrationStop_",
+     "VOLATILE", 10),
+    ("OTHER_ARM", False, "other/arm", "dds::srv::dds_::Arm_", "VOLATILE", 10),
+    ("PROBE_HEALTH", True, "probe/health", "dds::srv::dds_::Health_", "VOLATILE", 10),
+]
+
+
+def dds_files(result: Result) -> tuple[str, str, str]:
+    out = files(result)
+    folder = "libraries/AP_DdsProbe"
+    return (out[f"{folder}/AP_DDS_Topic_Table.h"], out[f"{folder}/AP_DDS_Service_Table.h"],
+            out[f"{folder}/dds_xrce_profile.xml"])
+
+
+def test_dds_tables_compile_and_hold_the_wiring(tmp_path: Path) -> None:
+    """g++ builds both tables against AP_DDS_Client.h's structs and checks every entry at compile time."""
+    if shutil.which("g++") is None:
+        pytest.skip("g++ is not installed")
+    topics, services, _ = dds_files(ok(DATA / "dds.iface"))
+    (tmp_path / "AP_DDS_Topic_Table.h").write_text(topics)
+    (tmp_path / "AP_DDS_Service_Table.h").write_text(services)
+    for header in re.findall(r'^#include "(\w+/msg/\w+\.h)"$', topics, re.M):
+        (tmp_path / header).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / header).write_text("#pragma once\n")  # the C types microxrceddsgen makes from the IDL
+    checks = ["constexpr bool same(const char* a, const char* b) "
+              "{ return *a == *b && (*a == 0 || same(a + 1, b + 1)); }"]
+    for i, (index, writer, name, type_name, durability, reliability, history, depth) in enumerate(TOPICS):
+        t = f"AP_DDS_Client::topics[{i}]"
+        rw = "DataWriter" if writer else "DataReader"
+        checks += [f"static_assert({t}.topic_id == {i} && {t}.dw_id.id == {i} && "
+                   f"{t}.dr_id.type == UXR_DATAREADER_ID);",
+                   f"static_assert(to_underlying(TopicIndex::{index}) == {i});",
+                   f"static_assert({t}.topic_rw == AP_DDS_Client::Topic_rw::{rw});",
+                   f'static_assert(same({t}.topic_name, "{name}") && same({t}.type_name, "{type_name}"));',
+                   f"static_assert({t}.qos.durability == UXR_DURABILITY_{durability} && "
+                   f"{t}.qos.reliability == UXR_RELIABILITY_{reliability} && "
+                   f"{t}.qos.history == UXR_HISTORY_{history} && {t}.qos.depth == {depth});"]
+    for i, (index, replier, name, type_name, durability, depth) in enumerate(SERVICES):
+        s = f"AP_DDS_Client::services[{i}]"
+        rr = "Replier" if replier else "Requester"
+        checks += [f"static_assert(to_underlying(ServiceIndex::{index}) == {i} && {s}.req_id == {i});",
+                   f"static_assert({s}.service_rr == AP_DDS_Client::Service_rr::{rr});",
+                   f'static_assert(same({s}.service_name, "rs/{name}Service") && '
+                   f'same({s}.request_topic_name, "rq/{name}Request") && '
+                   f'same({s}.reply_topic_name, "rr/{name}Reply"));',
+                   f'static_assert(same({s}.request_type, "{type_name}Request_") && '
+                   f'same({s}.reply_type, "{type_name}Response_"));',
+                   f"static_assert({s}.qos.durability == UXR_DURABILITY_{durability} && {s}.qos.depth == {depth});"]
+    checks += [f"static_assert(sizeof(AP_DDS_Client::topics) / sizeof(AP_DDS_Client::topics[0]) == {len(TOPICS)});",
+               f"static_assert(sizeof(AP_DDS_Client::services) / sizeof(AP_DDS_Client::services[0]) == "
+               f"{len(SERVICES)});"]
+    unit = tmp_path / "tables.cpp"
+    unit.write_text('#include "AP_DDS_Client.h"\n#include "AP_DDS_Topic_Table.h"\n#include "AP_DDS_Service_Table.h"\n'
+                    + "\n".join(checks) + "\n")
+    proc = subprocess.run(["g++", "-std=c++20", "-fsyntax-only", "-Wall", "-Wextra", "-Werror", "-I",
+                           str(DATA / "stubs"), "-I", str(tmp_path), str(unit)], capture_output=True, text=True,
+                           timeout=120)
+    assert proc.returncode == 0, proc.stderr
+
+
+def test_dds_profiles_parse_and_match_the_tables() -> None:
+    _, _, xml = dds_files(ok(DATA / "dds.iface"))
+    root = ET.fromstring(xml)
+    assert root.tag == "profiles"
+    labels = [e.get("profile_name") for e in root]
+    assert len(labels) == len(set(labels))
+    topics = root.findall("topic")
+    endpoints = [e for e in root if e.tag in ("data_writer", "data_reader")]
+    assert len(topics) == len(endpoints) == len(TOPICS)
+    for topic, endpoint, (_, writer, name, type_name, durability, reliability, history, depth) in zip(
+            topics, endpoints, TOPICS):
+        assert endpoint.tag == ("data_writer" if writer else "data_reader")
+        assert endpoint.get("profile_name") == topic.get("profile_name", "").removesuffix("__t") + (
+            "__dw" if writer else "__dr")
+        for where in (topic, endpoint.find("topic")):
+            assert where is not None
+            assert (where.findtext("name"), where.findtext("dataType")) == (name, type_name)
+            assert (where.findtext("historyQos/kind"), where.findtext("historyQos/depth")) == (history, str(depth))
+        assert endpoint.findtext("qos/reliability/kind") == reliability
+        assert endpoint.findtext("qos/durability/kind") == durability
+        assert endpoint.findtext("topic/kind") == "NO_KEY"
+    services = [e for e in root if e.tag in ("replier", "requester")]
+    assert [(e.tag, e.get("service_name"), e.get("request_type"), e.get("reply_type"), e.findtext("request_topic_name"),
+             e.findtext("reply_topic_name")) for e in services] == [
+        ("replier" if replier else "requester", f"rs/{name}Service", f"{type_name}Request_", f"{type_name}Response_",
+         f"rq/{name}Request", f"rr/{name}Reply") for _, replier, name, type_name, _, _ in SERVICES]
+
+
+def test_a_qos_policy_ap_dds_cannot_carry_is_a_warning_at_the_annotation() -> None:
+    result = ok(DATA / "dds.iface")
+    (d,) = [d for d in result.diagnostics if d.code == "ap-dds-qos-unsupported"]
+    line, col = d.location()[:2]
+    text = (DATA / "dds.iface").read_text().splitlines()[line - 1]
+    assert text[col - 1:].startswith('qos.deadline = "100ms"') and "qos.deadline" in d.message
+
+
+def test_no_wiring_no_dds_files() -> None:
+    assert not any("AP_DDS_" in p or p.endswith(".xml") for p in files(ok(SHARED / "common.iface")))
+
+
 # ---- AP_Param ------------------------------------------------------------------------------
 
 
@@ -215,7 +330,7 @@ def test_param_table(tmp_path: Path) -> None:
             '    // @Range: 0 5\n    // @User: Standard\n'
             '    AP_GROUPINFO("MAX_SPEED", 1, AP_Rover_Params, _max_speed, 2.5f),') in cpp
     assert '// @Values: 0:Disabled,1:Enabled' in cpp
-    header = next(t for p, t in files(result).items() if p.endswith(".h"))
+    header = next(t for p, t in files(result).items() if p.endswith("_Params.h"))
     assert "    AP_Int16 _wheels;" in header and "    AP_Int8 _reverse;" in header
 
 
@@ -273,7 +388,7 @@ def test_injection_strings_escaped_or_refused() -> None:
     assert "injection_strings/msg/Texts" in idl_types(result)
     idl = next(t for p, t in files(result).items() if p.endswith("Texts.idl"))
     assert '@default (value="*/ \\" # <x> ../ | `tick` \\n end")' in idl
-    assert not any(p.endswith((".h", ".cpp")) for p in files(result))
+    assert not any(p.endswith(("_Params.h", ".cpp")) for p in files(result))
 
 
 # ---- unsupported parameter types ------------------------------------------------------------

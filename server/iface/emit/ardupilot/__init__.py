@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
+from xml.sax.saxutils import escape
 
 from ...model.diagnostics import Diagnostic
 from ...semantics.compile import Compilation
@@ -37,6 +38,7 @@ from ..ros2.package import RosPackage
 from ..support import component_span
 from ..text import cpp_string, header_name, one_line
 from .codes import CODES, diag
+from .dds import DdsBuilder
 from .params import ParamBuilder
 
 TEMPLATES = Path(__file__).parent / "templates"
@@ -44,7 +46,8 @@ IDL_ROOT = "libraries/AP_DDS/Idl"
 IGNORED = frozenset({"ros2-package-metadata"})
 
 
-FILTERS: dict[str, Callable[..., Any]] = {"cpp_string": cpp_string, "one_line": one_line}
+FILTERS: dict[str, Callable[..., Any]] = {"cpp_string": cpp_string, "one_line": one_line,
+                                          "xml": lambda text: escape(str(text), {'"': "&quot;"})}
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
@@ -55,6 +58,9 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     params = ParamBuilder(comp)
     table = params.build()
     diagnostics.extend(params.diagnostics)
+    dds = DdsBuilder(comp)
+    tables = dds.build()
+    diagnostics.extend(dds.diagnostics)
     result = Result(diagnostics=sort_diagnostics(diagnostics))
     if result.has_errors or table is None or pkg is None:
         return result
@@ -62,13 +68,22 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     common = {"source_name": header_name(comp.path), "open": "//", "close": ""}
     files = [GeneratedFile(f"{IDL_ROOT}/{f.path}", f.text, f.origin)
              for f in render_package(pkg, idl_templates(), guards=True) if "/action/" not in f.path]
+    folder = f"libraries/{table.library}"
+    named = (comp.interface.source, component_span(comp.interface))
     if table.params:
-        folder = f"libraries/{table.library}"
-        named = (comp.interface.source, component_span(comp.interface))
         files.append(GeneratedFile(f"{folder}/{table.class_name}.h", ts.render("params.h.j2", table=table, **common),
                                    named))
         files.append(GeneratedFile(f"{folder}/{table.class_name}.cpp",
                                    ts.render("params.cpp.j2", table=table, **common), named))
+    dds_files = [("AP_DDS_Topic_Table.h", tables.topics, common),
+                 ("AP_DDS_Service_Table.h", tables.services, common),
+                 ("dds_xrce_profile.xml", tables.topics or tables.services,
+                  {**common, "source_name": common["source_name"].replace("--", "- -"), "open": "<!--",
+                   "close": " -->"})]
+    for name, entries, context in dds_files:
+        if entries:
+            text = ts.render(f"{name}.j2", tables=tables, component=comp.interface.name, **context)
+            files.append(GeneratedFile(f"{folder}/{name}", text, named))
     result.files = sorted_files(files)
     return result
 

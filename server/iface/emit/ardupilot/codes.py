@@ -20,6 +20,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "ap-param-index-range": (Severity.ERROR, "An AP_Param group index outside 0..63."),
     "ap-param-index-conflict": (Severity.ERROR, "Two parameters with one AP_Param index."),
     "ap-param-default": (Severity.ERROR, "A parameter default AP_Param cannot state."),
+    "ap-dds-qos-unsupported": (Severity.WARNING, "A QoS policy AP_DDS cannot carry: uxrQoS_t holds durability, "
+                               "reliability, history and depth only."),
+    "ap-dds-qos-depth": (Severity.ERROR, "A qos.depth over 65535: AP_DDS keeps it in a uint16_t."),
+    "ap-dds-too-many": (Severity.ERROR, "More than 256 topics or services: AP_DDS numbers them with uint8_t."),
 }
 
 diag = CodeTable(CODES)
