@@ -20,12 +20,16 @@ from typing import Any
 from ..emit import generate
 from ..importers import ImportResult, InputError, Origin, get_importer
 from ..importers.oracle import (
+    FileView,
     OracleMissing,
     OracleRefused,
     differences,
+    idl_views,
     px4_view,
+    renamed,
     rihs01,
     ros_view,
+    structural,
 )
 from ..importers.output import write_imported
 from ..semantics.compile import Compilation, Workspace
@@ -99,58 +103,112 @@ class RegenerationFailed(Exception):
 
 
 def _ros2(run: Run, result: ImportResult) -> None:
-    origins = {o.source: o for o in result.origins}
+    by_source: dict[str, list[Origin]] = {}
+    for o in result.origins:
+        by_source.setdefault(o.source, []).append(o)
+    judged: dict[str, list[tuple[FileView, FileView]]] = {}
+    failures: dict[str, str] = {}
+    names: dict[str, str] = {}  # an .idl struct's name → the name of its regenerated part
+    for source in result.sources:
+        origins = by_source.get(source, [])
+        try:
+            if Path(source).suffix == ".idl":
+                judged[source] = _ros2_idl(run, source, origins, names)
+            else:
+                judged[source] = [_ros2_file(run, source, origins)]
+        except _Skip as e:
+            failures[source] = str(e)
     originals: dict[str, Any] = {}
     regenerated: dict[str, Any] = {}
-    pending: list[tuple[str, Any, Any]] = []
-    failures: dict[str, str] = {}
-    for source in result.sources:
-        path = Path(source)
-        kind = path.suffix[1:]
-        origin = origins.get(source)
-        if kind == "idl":  # never counted as identical unseen: imported or not, it is reported
-            failures[source] = ("not compared: roundtrip cannot judge .idl files yet" if origin is not None
-                                else "not imported (see the problems above)")
-            continue
-        package = _package_of(origin, run) if origin else None
-        if origin is None or package is None:
-            failures[source] = "not imported (see the problems above)"
-            continue
-        try:
-            files = run.regenerate(origin.iface, "ros2")
-        except RegenerationFailed as e:
-            failures[source] = str(e)
-            continue
-        rel = f"{package}/{kind}/{origin.definition}.{kind}"
-        if rel not in files:
-            failures[source] = f"the ros2 target wrote no {rel}"
-            continue
-        try:
-            a = ros_view(kind, package, path.stem, path.read_text(encoding="utf-8"))
-        except OracleRefused as e:
-            failures[source] = f"the original: {e}"
-            continue
-        try:
-            b = ros_view(kind, package, origin.definition, files[rel])
-        except OracleRefused as e:
-            failures[source] = f"the regenerated {rel}: {e}"
-            continue
-        for part in a.parts:
-            originals[part.name] = part.descs
-        for part in b.parts:
-            regenerated[part.name] = part.descs
-        pending.append((source, a, b))
+    for source, pairs in judged.items():
+        if Path(source).suffix == ".idl":
+            judged[source] = pairs = [(renamed(a, names), b) for a, b in pairs]
+        for a, b in pairs:
+            originals.update((part.name, part.descs) for part in a.parts)
+            regenerated.update((part.name, part.descs) for part in b.parts)
     for source in result.sources:
         if source in failures:
             run.report(source, [failures[source]])
             continue
-        _, a, b = next(x for x in pending if x[0] == source)
-        problems = differences(a, b)
-        for pa, pb in zip(a.parts, b.parts):
-            ha, hb = rihs01(pa.name, originals), rihs01(pb.name, regenerated)
-            if ha != hb:
-                problems.append(f"{pa.name.rpartition('/')[2]}: RIHS01 {ha} became {hb}")
+        problems: list[str] = []
+        for a, b in judged[source]:
+            problems.extend(differences(a, b))
+            for pa, pb in zip(a.parts, b.parts):
+                ha, hb = rihs01(pa.name, originals), rihs01(pb.name, regenerated)
+                if ha != hb:
+                    problems.append(f"{pa.name.rpartition('/')[2]}: RIHS01 {ha} became {hb}")
         run.report(source, problems)
+
+
+class _Skip(Exception):
+    """A file that cannot be compared: the message says why (it counts as a difference)."""
+
+
+def _regenerated(run: Run, origin: Origin) -> tuple[str, str, str]:
+    """(package, path, text) of the file the ros2 target wrote for ``origin``: .msg/.srv/.action, else .idl."""
+    package = _package_of(origin, run)
+    if package is None:
+        raise _Skip("not imported (see the problems above)")
+    try:
+        files = run.regenerate(origin.iface, "ros2")
+    except RegenerationFailed as e:
+        raise _Skip(str(e)) from None
+    for ext in (origin.kind, "idl"):
+        rel = f"{package}/{origin.kind}/{origin.definition}.{ext}"
+        if rel in files:
+            return package, rel, files[rel]
+    raise _Skip(f"the ros2 target wrote no {package}/{origin.kind}/{origin.definition}.{origin.kind}")
+
+
+def _view_of(kind: str, package: str, rel: str, text: str, *, structural_only: bool) -> FileView:
+    """The regenerated file as the platform's parser reads it."""
+    name = Path(rel).stem
+    try:
+        if rel.endswith(".idl"):
+            view = idl_views(text).get(name)
+            if view is None:
+                raise _Skip(f"the regenerated {rel} defines no {name}")
+            return view
+        view = ros_view(kind, package, name, text)
+    except OracleRefused as e:
+        raise _Skip(f"the regenerated {rel}: {e}") from None
+    return structural(view) if structural_only else view
+
+
+def _ros2_file(run: Run, source: str, origins: list[Origin]) -> tuple[FileView, FileView]:
+    """A .msg/.srv/.action file and its regenerated file, as rosidl (or rosbags, for .idl) reads them."""
+    if not origins:
+        raise _Skip("not imported (see the problems above)")
+    origin = origins[0]
+    path = Path(source)
+    package, rel, text = _regenerated(run, origin)
+    try:
+        a = ros_view(origin.kind, package, path.stem, path.read_text(encoding="utf-8"))
+    except OracleRefused as e:
+        raise _Skip(f"the original: {e}") from None
+    b = _view_of(origin.kind, package, rel, text, structural_only=False)
+    # a .msg regenerated as .idl (a wchar) is compared as .idl states it: types, without defaults
+    return (structural(a), b) if rel.endswith(".idl") else (a, b)
+
+
+def _ros2_idl(run: Run, source: str, origins: list[Origin], names: dict[str, str]) -> list[tuple[FileView, FileView]]:
+    """Every interface of an .idl file and its regenerated file, as rosbags' IDL parser reads them."""
+    try:
+        views = idl_views(Path(source).read_text(encoding="utf-8"))
+    except OracleRefused as e:
+        raise _Skip(f"not imported: {e}") from None
+    by_name = {o.definition: o for o in origins}
+    missing = [n for n in views if n not in by_name]
+    if missing or not views:
+        raise _Skip(f"not imported: {', '.join(missing) or 'no struct'} (see the problems above)")
+    pairs = []
+    for name, a in views.items():
+        origin = by_name[name]
+        package, rel, text = _regenerated(run, origin)
+        b = _view_of(origin.kind, package, rel, text, structural_only=True)
+        names.update((pa.name, pb.name) for pa, pb in zip(a.parts, b.parts))
+        pairs.append((a, b))
+    return pairs
 
 
 def _package_of(origin: Origin, run: Run) -> str | None:

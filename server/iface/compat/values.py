@@ -11,7 +11,7 @@ _UNSIGNED = ("u8", "u16", "u32", "u64")
 #: exactly representable integer widths in float64 / float32 mantissas
 _FLOAT_EXACT = {"float32": 24, "float64": 53}
 _BITS = {"i8": 8, "i16": 16, "i32": 32, "i64": 64, "u8": 8, "u16": 16, "u32": 32, "u64": 64,
-         "char": 8, "octet": 8}
+         "char": 8, "wchar": 16, "octet": 8}
 
 
 def value_key(v: m.Value | None) -> Any:

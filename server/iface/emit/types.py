@@ -52,6 +52,9 @@ BASE_TYPES: dict[str, TypeRow] = {row.language: row for row in (
     TypeRow("float64", "float64", "float64", "double", {"type": "number"}, "Thrift `double`."),
     TypeRow("char", "char", "char", "uint8", _int_schema("char"),
             "8-bit unsigned; rosidl writes ROS `char` as IDL `uint8`."),
+    TypeRow("wchar", "wchar", None, "wchar", _int_schema("wchar"),
+            "16-bit character (a UTF-16 code unit); ROS 2 has it in .idl only: the ros2 target writes such an "
+            "interface as an .idl file."),
     TypeRow("octet", "byte", "uint8", "octet", _int_schema("octet"), "ROS `byte`, an opaque 8-bit value."),
     TypeRow("string", "string", None, "string", {"type": "string"},
             "PX4 uORB has no unbounded strings: write `string<=N` (`char[N]`)."),
@@ -89,8 +92,8 @@ COLUMNS: dict[str, str] = {"language": "iface", "ros2": "ROS 2 (.msg)", "px4": "
 SPELLINGS: dict[str, str] = {
     "bool": "bool", "i8": "i8, int8, byte", "i16": "i16, int16", "i32": "i32, int32", "i64": "i64, int64",
     "u8": "u8, uint8", "u16": "u16, uint16", "u32": "u32, uint32", "u64": "u64, uint64",
-    "float32": "float, float32", "float64": "double, float64", "char": "char", "octet": "octet",
-    "string": "string", "wstring": "wstring", "binary": "binary", "uuid": "uuid",
+    "float32": "float, float32", "float64": "double, float64", "char": "char", "wchar": "wchar",
+    "octet": "octet", "string": "string", "wstring": "wstring", "binary": "binary", "uuid": "uuid",
 }
 
 _CONTAINER_SPELLING: dict[str, str] = {

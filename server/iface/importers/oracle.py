@@ -1,5 +1,8 @@
 """What the platforms' own parsers read from an interface file: the judge of a round trip.
 
+- ROS 2 ``.idl``: rosbags' IDL parser (``rosbags.typesys.get_types_from_idl``, through
+  ``importers.idl.read_idl``) gives fields and constants of every struct; fields are compared
+  by type (rosbags reads no defaults), and by the same RIHS01 hash.
 - ROS 2: the rosidl parser vendored in ``mcap-ros2-support``
   (``mcap_ros2._vendor.rosidl_adapter.parser``) gives fields (name, type with
   bounds, default) and constants of every part; the RIHS01 type hash of each
@@ -95,6 +98,69 @@ def ros_view(kind: str, package: str, name: str, text: str) -> FileView:
             part.constants.append((c.type, c.name, c.value))
         parts.append(part)
     return FileView(kind, parts)
+
+
+def idl_views(text: str) -> dict[str, FileView]:
+    """Every interface of an .idl file as rosbags' IDL parser reads it, by name (fields without defaults).
+
+    Raises OracleRefused when rosbags refuses the file.
+    """
+    try:
+        from .idl import read_idl, structs_of
+    except ImportError:
+        raise OracleMissing("the ROS 2 round trip of .idl files needs rosbags (pip install rosbags)") from None
+    try:
+        types = read_idl(text)
+    except ImportError:
+        raise OracleMissing("the ROS 2 round trip of .idl files needs rosbags (pip install rosbags)") from None
+    except Exception as e:  # rosbags raises its own error types
+        raise OracleRefused(f"rosbags refuses it: {str(e).splitlines()[0]}") from None
+    out: dict[str, FileView] = {}
+    for kind, name, fulls in structs_of(types):
+        parts = []
+        for full in fulls:
+            consts, fields = types[full]
+            part = PartView(full)
+            part.descs = [(n, _from_rosbags(d)) for n, d in fields]
+            part.constants = [(t, n, v) for n, t, v in consts]
+            parts.append(part)
+        out[name] = structural(FileView(kind, parts))
+    return out
+
+
+def structural(view: FileView) -> FileView:
+    """``view`` with fields as (name, type) from their descs: what an .idl file and a .msg file both state."""
+    parts = [PartView(p.name, [(n, desc_text(d), None) for n, d in p.descs], p.constants, p.descs)
+             for p in view.parts]
+    return FileView(view.kind, parts, view.topics)
+
+
+def renamed(view: FileView, names: dict[str, str]) -> FileView:
+    """A structural ``view`` with type names replaced (``test_msgs/idl/T`` → ``pkg/msg/T``)."""
+
+    def desc(d: tuple[Any, ...]) -> tuple[Any, ...]:
+        kind, rest = d
+        if kind == "name":
+            return (kind, names.get(rest, rest))
+        if kind in ("array", "sequence"):
+            return (kind, (desc(rest[0]), rest[1]))
+        return d
+
+    parts = [PartView(names.get(p.name, p.name), [], p.constants, [(n, desc(d)) for n, d in p.descs])
+             for p in view.parts]
+    return structural(FileView(view.kind, parts, view.topics))
+
+
+def desc_text(d: tuple[Any, ...]) -> str:
+    """A desc as a .msg type: ``int32``, ``wstring<=5``, ``pkg/msg/T[3]``, ``string[<=2]``, ``uint8[]``."""
+    kind, rest = d
+    if kind == "array":
+        return f"{desc_text(rest[0])}[{rest[1]}]"
+    if kind == "sequence":
+        return f"{desc_text(rest[0])}[<={rest[1]}]" if rest[1] else f"{desc_text(rest[0])}[]"
+    if kind == "name":
+        return str(rest)
+    return f"{rest[0]}<={rest[1]}" if rest[1] else str(rest[0])
 
 
 def _desc(t: Any) -> tuple[Any, ...]:

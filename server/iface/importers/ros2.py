@@ -270,17 +270,17 @@ def _idl_files(pkg: Package, result: ImportResult) -> None:
     """
     result.sources.extend(str(p) for p in pkg.idl)
     try:
-        from rosbags.typesys import get_types_from_idl
+        import rosbags.typesys  # noqa: F401
     except ImportError:
         for p in pkg.idl:
             result.problems.append(Problem(str(p), 0, "reading .idl files needs the rosbags package "
                                            "(pip install rosbags): not imported", "warning"))
         return
-    from .idl import ros_files_from_idl
+    from .idl import read_idl, ros_files_from_idl
 
     for p in pkg.idl:
         try:
-            types = get_types_from_idl(_read(p))
+            types = read_idl(_read(p))
         except InputError:
             raise
         except Exception as e:  # rosbags raises its own error types for bad IDL

@@ -21,7 +21,7 @@ PRIMITIVES: dict[str, tuple[str, str]] = {
     "int8": ("i8", "int8"), "uint8": ("u8", "uint8"), "int16": ("i16", "int16"), "uint16": ("u16", "uint16"),
     "int32": ("i32", "int32"), "uint32": ("u32", "uint32"), "int64": ("i64", "int64"),
     "uint64": ("u64", "uint64"), "float32": ("float32", "float32"), "float64": ("float64", "float64"),
-    "string": ("string", "string"), "wstring": ("wstring", "wstring"),
+    "string": ("string", "string"), "wstring": ("wstring", "wstring"), "wchar": ("wchar", "wchar"),
 }
 
 #: Resolves a message type to the name the .iface file uses for it (raises RosSyntaxError if unknown).
@@ -53,6 +53,9 @@ def model_type(t: RosType, name_of: NameOf, spans: Spans) -> m.TypeRef:
 
 
 def _scalar(t: str, value: Scalar, text: str, spans: Spans) -> m.Value:
+    if t in ("char", "wchar") and isinstance(value, str) and len(value) == 1:  # an IDL character literal
+        value = ord(value)
+        text = str(value)
     if t == "bool":
         word = "true" if value else "false"
         return m.Value("name", word, spans(), word)

@@ -31,16 +31,16 @@ BASE_ALIASES: dict[str, str] = {
     "double": "float64", "float64": "float64",
     "string": "string", "wstring": "wstring",
     "binary": "binary", "uuid": "uuid",
-    "char": "char", "octet": "octet",
+    "char": "char", "wchar": "wchar", "octet": "octet",
 }
 
-#: Inclusive ranges of the integer base types (char and octet are 8-bit unsigned).
+#: Inclusive ranges of the integer base types (char and octet are 8-bit unsigned, wchar 16-bit as in rosidl).
 INT_RANGES: dict[str, tuple[int, int]] = {
     "i8": (-(2**7), 2**7 - 1), "i16": (-(2**15), 2**15 - 1),
     "i32": (-(2**31), 2**31 - 1), "i64": (-(2**63), 2**63 - 1),
     "u8": (0, 2**8 - 1), "u16": (0, 2**16 - 1),
     "u32": (0, 2**32 - 1), "u64": (0, 2**64 - 1),
-    "char": (0, 255), "octet": (0, 255),
+    "char": (0, 255), "wchar": (0, 2**16 - 1), "octet": (0, 255),
 }
 #: What an integer literal may be at all: the union of i64 and u64.
 INT_LITERAL: tuple[int, int] = (-(2**63), 2**64 - 1)

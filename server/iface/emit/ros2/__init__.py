@@ -25,6 +25,7 @@ from ..base import (
 )
 from .codes import CODES
 from .filenames import check_rosidl_names
+from .idlfile import check_idl_interfaces, needs_idl, render_idl
 from .keywords import check_keywords
 from .lower import lower_checked
 from .metadata import missing_metadata
@@ -38,16 +39,20 @@ __all__ = ["CODES", "TARGET", "generate"]
 
 
 def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFile]:
-    """Every file of the package, in a stable order."""
+    """Every file of the package, in a stable order; an interface .msg syntax cannot hold as .idl."""
     root = pkg.name
     files: list[GeneratedFile] = []
     interface_files: list[str] = []
     for kind in KINDS:
         for ri in pkg.of_kind(kind):
-            rel = f"{kind}/{ri.name}.{kind}"
+            if needs_idl(ri):
+                rel = f"{kind}/{ri.name}.idl"
+                text = render_idl(ri, pkg)
+            else:
+                rel = f"{kind}/{ri.name}.{kind}"
+                text = templates.render(f"{kind}.j2", interface=ri, package=pkg.name,
+                                        header=header_lines("#", pkg.source_name).rstrip("\n"))
             interface_files.append(rel)
-            text = templates.render(f"{kind}.j2", interface=ri, package=pkg.name,
-                                    header=header_lines("#", pkg.source_name).rstrip("\n"))
             files.append(GeneratedFile(f"{root}/{rel}", text, (ri.source, ri.span)))
     named = (pkg.name_source, pkg.name_span)
     xml_header = header_lines("<!--", pkg.source_name, end=" -->").rstrip("\n")
@@ -64,7 +69,8 @@ def render_package(pkg: RosPackage, templates: TemplateSet) -> list[GeneratedFil
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Lower the compilation, refuse what .msg syntax cannot hold, render the package."""
-    pkg, diagnostics = lower_checked(comp, check_msg_values, check_keywords, check_rosidl_names)
+    pkg, diagnostics = lower_checked(comp, check_msg_values, check_idl_interfaces, check_keywords,
+                                     check_rosidl_names)
     result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result

@@ -23,7 +23,7 @@ from .package import (
 )
 
 _INT_PRIMITIVES = frozenset({"int8", "int16", "int32", "int64", "uint8", "uint16", "uint32", "uint64",
-                             "byte", "char"})
+                             "byte", "char", "wchar"})
 _FLOAT_PRIMITIVES = frozenset({"float32", "float64"})
 _STRING_PRIMITIVES = frozenset({"string", "wstring"})
 

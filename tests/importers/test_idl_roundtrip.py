@@ -1,0 +1,147 @@
+"""ROS 2 ``.idl`` interfaces (wchar, wstring, includes within and across packages) and keyword names,
+imported and regenerated with the same meaning, judged by rosbags' IDL parser and RIHS01 hashes."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from iface.importers.oracle import differences, idl_views, rihs01
+
+from ..conftest import run_cli
+from .helpers import DATA
+
+pytest.importorskip("rosbags")
+pytest.importorskip("mcap_ros2")
+
+IDL_DATA = DATA / "ros2_idl"
+PACKAGES = sorted(p for p in IDL_DATA.iterdir() if (p / "package.xml").is_file())
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _files(*packages: Path) -> list[Path]:
+    return sorted(p for pkg in packages for p in pkg.rglob("*") if p.suffix in (".msg", ".srv", ".action", ".idl"))
+
+
+def test_idl_only_and_keyword_packages_come_back_identical() -> None:
+    done = run_cli("roundtrip", "-v", "--from", "ros2", *(str(p) for p in PACKAGES))
+    files = _files(*PACKAGES)
+    assert sum(f.suffix == ".idl" for f in files) == 5
+    assert done.stdout.splitlines()[-1] == f"{len(files)} of {len(files)} identical", done.stdout + done.stderr
+    assert done.returncode == 0
+    for f in files:
+        assert f"{f}: identical" in done.stdout
+
+
+def test_includes_become_includes_between_the_imported_files(tmp_path: Path) -> None:
+    done = run_cli("import", "--from", "ros2", *(str(p) for p in PACKAGES), "--out", str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    wide = (tmp_path / "wide_msgs.iface").read_text()
+    user = (tmp_path / "user_msgs.iface").read_text()
+    assert "message Holder {\n    Base base,\n    Base[2] pair,\n    Base[<=5] some,\n    wchar tag\n}" in wide
+    assert "service Ask {" in wide and "wchar question" in wide
+    assert 'include "wide_msgs.iface"' in user and "wide_msgs.Wide wide" in user
+    assert "const wchar INITIAL = 90" in user
+    check = run_cli("check", *(str(p) for p in sorted(tmp_path.glob("*.iface"))))
+    assert check.returncode == 0, check.stdout
+
+
+def test_a_type_from_a_package_not_given_is_named_with_how_to_bring_it_in(tmp_path: Path) -> None:
+    done = run_cli("import", "--from", "ros2", str(IDL_DATA / "user_msgs"), "--out", str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    assert "from the package 'wide_msgs', which was not imported" in done.stderr and "--deps DIR" in done.stderr
+    deps = run_cli("import", "--from", "ros2", str(IDL_DATA / "user_msgs"), "--deps", str(IDL_DATA),
+                   "--out", str(tmp_path / "with_deps"))
+    assert deps.returncode == 0, deps.stderr
+    assert sorted(p.name for p in (tmp_path / "with_deps").glob("*.iface")) == ["user_msgs.iface", "wide_msgs.iface"]
+
+
+def test_the_ros2_target_writes_idl_where_msg_has_no_such_type(tmp_path: Path) -> None:
+    run_cli("import", "-q", "--from", "ros2", str(IDL_DATA / "wide_msgs"), "--out", str(tmp_path / "i"))
+    done = run_cli("generate", str(tmp_path / "i" / "wide_msgs.iface"), "--target", "ros2", "-o", str(tmp_path / "g"))
+    assert done.returncode == 0, done.stderr
+    pkg = tmp_path / "g" / "wide_msgs"
+    written = sorted(str(p.relative_to(pkg)) for p in pkg.rglob("*") if p.is_file())
+    # Base has a wstring but no wchar: .msg states it; a wchar needs .idl
+    assert written == ["CMakeLists.txt", "msg/Base.msg", "msg/Holder.idl", "msg/Plain.msg", "msg/Wide.idl",
+                       "package.xml", "srv/Ask.idl"]
+    cmake = (pkg / "CMakeLists.txt").read_text()
+    assert all(f'"{name}"' in cmake for name in ("msg/Base.msg", "msg/Holder.idl", "msg/Wide.idl", "srv/Ask.idl"))
+    assert '#include "wide_msgs/msg/Base.idl"' in (pkg / "msg" / "Holder.idl").read_text()
+
+
+def test_a_changed_bound_or_type_is_a_difference() -> None:
+    text = (IDL_DATA / "wide_msgs" / "msg" / "Wide.idl").read_text()
+    a = idl_views(text)["Wide"]
+    for old, new in (("wstring<5> short_text", "wstring<6> short_text"), ("wchar letter", "char letter"),
+                     ("sequence<wstring<7>> many", "sequence<wstring<7>, 2> many"),
+                     ("const wchar LETTER = 65", "const wchar LETTER = 66")):
+        assert old in text
+        b = idl_views(text.replace(old, new))["Wide"]
+        assert differences(a, b), new
+    changed = idl_views(text.replace("wstring<5> short_text", "wstring<6> short_text"))["Wide"]
+    name = a.parts[0].name
+    assert rihs01(name, {name: a.parts[0].descs}) != rihs01(name, {name: changed.parts[0].descs})
+
+
+def _corpus() -> Path | None:
+    for p in (os.environ.get("IFACE_CORPUS"), ROOT.parent / "shared" / "corpus"):
+        if p and (Path(p) / "ros2").is_dir():
+            return Path(p)
+    return None
+
+
+def test_every_corpus_package_round_trips_idl_included() -> None:
+    corpus = _corpus()
+    if corpus is None:
+        pytest.skip("the shared corpus (../shared/corpus or IFACE_CORPUS) is not here")
+    packages = sorted(p.parent for p in (corpus / "ros2").rglob("package.xml")
+                      if any((p.parent / k).is_dir() for k in ("msg", "srv", "action", "idl")))
+    files = _files(*packages)
+    done = run_cli("roundtrip", "--from", "ros2", *(str(p) for p in packages))
+    assert any(f.suffix == ".idl" for f in files)
+    assert done.stdout.splitlines()[-1] == f"{len(files)} of {len(files)} identical", done.stdout + done.stderr
+    assert done.returncode == 0
+
+
+_ROSIDL_READ = r"""
+import json, sys
+from rosidl_parser.parser import parse_idl_string
+from rosidl_parser.definition import Message, Service
+out = {}
+for path in sys.argv[1:]:
+    content = parse_idl_string(open(path).read())
+    structs = [m.structure for m in content.get_elements_of_type(Message)]
+    for s in content.get_elements_of_type(Service):
+        structs += [s.request_message.structure, s.response_message.structure]
+    for s in structs:
+        out[s.namespaced_type.name] = [[m.name, type(m.type).__name__] for m in s.members]
+print(json.dumps(out))
+"""
+
+
+def test_the_generated_idl_files_parse_with_rosidl_parser(tmp_path: Path) -> None:
+    """ROS 2's own IDL parser (rosidl_parser, in the ROS 2 runtime venv) reads every .idl the ros2 target wrote."""
+    venv = Path(os.environ.get("IFACE_ROS2_VENV", "/root/.cache/ros2-runtime"))
+    python = venv / "bin" / "python"
+    if not python.is_file() or subprocess.run([str(python), "-c", "import rosidl_parser.parser"],
+                                              capture_output=True).returncode:
+        pytest.skip(f"no ROS 2 runtime with rosidl_parser at {venv} (set IFACE_ROS2_VENV)")
+    run_cli("import", "-q", "--from", "ros2", *(str(p) for p in PACKAGES), "--out", str(tmp_path / "i"))
+    for iface in sorted((tmp_path / "i").glob("*.iface")):
+        done = run_cli("generate", str(iface), "--target", "ros2", "-o", str(tmp_path / "g"))
+        assert done.returncode == 0, done.stderr
+    idl = sorted((tmp_path / "g").rglob("*.idl"))
+    assert len(idl) == 4
+    read = subprocess.run([str(python), "-c", _ROSIDL_READ, *map(str, idl)], capture_output=True, text=True,
+                          timeout=120)
+    assert read.returncode == 0, read.stderr
+    structs = json.loads(read.stdout)
+    assert sorted(structs) == ["Ask_Request", "Ask_Response", "Holder", "User", "Wide"]
+    assert [n for n, _ in structs["Wide"]] == ["letter", "text", "short_text", "three", "some", "many", "few",
+                                               "pair", "letters", "two_short"]
+    assert structs["Holder"][3] == ["tag", "BasicType"] and structs["Wide"][1] == ["text", "UnboundedWString"]
