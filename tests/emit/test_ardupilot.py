@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import shutil
+import json
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -26,8 +27,8 @@ SHARED = DATA / "shared"
 IDLC = shutil.which("idlc")
 NO_IDLC = "idlc (Cyclone DDS's IDL compiler, Debian package cyclonedds-tools) is not installed: scripts/test.sh " \
           "installs it where it runs as root"
-CASES = ["listing1", "rover_v1", "injection_docs", "dds"]
-ENTRY = re.compile(r'AP_GROUPINFO\("([A-Z0-9_]+)", (\d+), (\w+), (\w+), ([^)]+)\),')
+CASES = ["listing1", "rover_v1", "injection_docs", "dds", "metadata"]
+ENTRY = re.compile(r'AP_GROUPINFO(?:_FLAGS)?\("([A-Z0-9_]+)", (\d+), (\w+), (\w+), ([^,)]+)(?:, (\w+))?\),')
 
 
 def run(path: Path) -> Result:
@@ -190,7 +191,7 @@ def test_without_the_guards_the_same_files_do_not_compile_together(tmp_path: Pat
 
 
 @pytest.mark.skipif(IDLC is None, reason=NO_IDLC)
-@pytest.mark.parametrize("case", CASES)
+@pytest.mark.parametrize("case", [c for c in CASES if c != "metadata"])
 def test_every_case_compiles_with_idlc(tmp_path: Path, case: str) -> None:
     root = tmp_path / "out"
     for f in ok(DATA / f"{case}.iface").files:
@@ -318,6 +319,124 @@ def test_no_wiring_no_dds_files() -> None:
     assert not any("AP_DDS_" in p or p.endswith(".xml") for p in files(ok(SHARED / "common.iface")))
 
 
+# ---- AP_Param documentation, as ArduPilot's param_parse.py reads it ---------------------------
+
+#: ArduPilot's known_param_fields and required_param_fields (Tools/autotest/param_metadata/param.py, d84f825a).
+KNOWN_FIELDS = {"Description", "DisplayName", "Values", "Range", "Units", "Increment", "User", "RebootRequired",
+                "Bitmask", "Volatile", "ReadOnly", "Calibration"}
+REQUIRED_FIELDS = {"Description", "DisplayName", "User"}
+UNITS = json.loads((ROOT / "server" / "iface" / "emit" / "ardupilot" / "units.json").read_text())["units"]
+PAIRS = re.compile(r"^-?\d+:[^,]+(,-?\d+:[^,]+)*$")
+
+
+def documented(cpp: str) -> dict[str, dict[str, str]]:
+    """Each ``// @Param: NAME`` block's fields, read the way param_parse.py reads them."""
+    out: dict[str, dict[str, str]] = {}
+    for block in re.split(r"^    // @Param: ", cpp, flags=re.M)[1:]:
+        name, _, rest = block.partition("\n")
+        fields = dict(re.findall(r"^    // @(\w+): (.*)$", rest.split("AP_GROUPINFO")[0], re.M))
+        out[name] = fields
+    return out
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_every_parameter_documented_as_param_parse_wants(case: str) -> None:
+    cpp = next(t for p, t in files(ok(DATA / f"{case}.iface")).items() if p.endswith("_Params.cpp"))
+    docs = documented(cpp)
+    assert docs and set(docs) == set(entries(ok(DATA / f"{case}.iface")))
+    for name, fields in docs.items():
+        assert REQUIRED_FIELDS <= set(fields) <= KNOWN_FIELDS, name
+        assert fields["User"] in ("Standard", "Advanced"), name
+        assert "Units" not in fields or fields["Units"] in UNITS, name
+        for key in ("Values", "Bitmask"):
+            assert key not in fields or PAIRS.match(fields[key]), (name, fields[key])
+        if "Range" in fields:
+            low, high = (float(x) for x in fields["Range"].split())
+            assert low <= high, name
+        if "Increment" in fields:
+            assert float(fields["Increment"]) > 0, name
+        assert fields.get("RebootRequired", "True") == "True", name
+
+
+def test_metadata_from_annotations(tmp_path: Path) -> None:
+    result = ok(DATA / "metadata.iface")
+    compile_params(result, tmp_path)
+    docs = documented(next(t for p, t in files(result).items() if p.endswith("_Params.cpp")))
+    assert docs["RATE"] == {"DisplayName": "Loop rate", "Description": "Loop rate.", "Units": "Hz",
+                            "Range": "10 400", "Increment": "10", "User": "Standard"}
+    assert docs["ACCEL"]["Units"] == "m/s/s" and docs["ACCEL"]["Increment"] == "0.1"
+    assert docs["ACCEL"]["User"] == "Advanced"
+    assert docs["AXES"]["Bitmask"] == "0:Roll,1:Pitch,2:Yaw"
+    assert docs["MODE"]["Values"] == "0:Off,1:On" and docs["FAILSAFE"]["Values"] == "0:Hold,1:Land,2:Return"
+    assert docs["ENABLE"]["RebootRequired"] == "True"
+    assert "Units" not in docs["DRIFT"]
+
+
+def test_a_unit_arducopter_does_not_know_warns_at_the_annotation_with_a_suggestion() -> None:
+    result = ok(DATA / "metadata.iface")
+    (d,) = [d for d in result.diagnostics if d.code == "ap-param-units"]
+    line, col = d.location()[:2]
+    assert (DATA / "metadata.iface").read_text().splitlines()[line - 1][col - 1:].startswith('unit = "m/sec"')
+    assert "'m/sec' is not one of ArduPilot's unit names" in d.message and "did you mean 'm/s'?" in d.message
+
+
+@pytest.mark.parametrize(("unit", "suggestion"), [("m/s^2", "m/s/s"), ("degrees", "deg"), ("hz", "Hz"),
+                                                 ("rad/s^2", "rad/s/s"), ("percent", "%")])
+def test_unit_suggestions(tmp_path: Path, unit: str, suggestion: str) -> None:
+    path = tmp_path / "u.iface"
+    path.write_text(f'component u\nconfiguration c {{ 1: float x (unit = "{unit}") }}\n')
+    (d,) = [d for d in run(path).diagnostics if d.code == "ap-param-units"]
+    assert f"did you mean '{suggestion}'?" in d.message
+
+
+def test_units_list_names_its_source() -> None:
+    data = json.loads((ROOT / "server" / "iface" / "emit" / "ardupilot" / "units.json").read_text())
+    assert data["commit"] == "d84f825a932d14654087c820d535f1882c7bfb1e" and "GPL-3.0" in data["licence"]
+    assert data["path"] == "Tools/autotest/param_metadata/param.py" and len(data["units"]) == 55
+    assert {"m/s/s", "PWM", "degC", "gravities", "%", "cdeg/s"} <= set(data["units"])
+
+
+def test_bad_metadata_annotations_are_errors_at_the_annotation() -> None:
+    result = run(DATA / "bad_metadata.iface")
+    assert result.files == []
+    found = [d for d in result.diagnostics if d.code == "ap-param-annotation"]
+    assert sorted(d.message.split("'")[1] for d in found) == ["bits", "boot", "choice", "mask", "step", "who"]
+    lines = (DATA / "bad_metadata.iface").read_text().splitlines()
+    for d in found:
+        line, col = d.location()[:2]
+        assert lines[line - 1][col - 1:].startswith("ap."), d.message
+
+
+def test_enable_switch_added_unless_declared(tmp_path: Path) -> None:
+    rover = files(ok(DATA / "rover_v1.iface"))
+    cpp = rover["libraries/AP_Rover/AP_Rover_Params.cpp"]
+    assert 'AP_GROUPINFO_FLAGS("ENABLE", 0, AP_Rover_Params, _enable, 0, AP_PARAM_FLAG_ENABLE),' in cpp
+    assert "    AP_Int8 _enable;  // RVR_ENABLE" in rover["libraries/AP_Rover/AP_Rover_Params.h"]
+    meta = files(ok(DATA / "metadata.iface"))["libraries/AP_Meta/AP_Meta_Params.cpp"]
+    assert meta.count('"ENABLE"') == 1
+    assert 'AP_GROUPINFO_FLAGS("ENABLE", 0, AP_Meta_Params, _enable, 1, AP_PARAM_FLAG_ENABLE),' in meta
+    none = tmp_path / "none.iface"
+    none.write_text("component none\nmessage M { 1: i32 x }\npublishes M on \"/m\"\n")
+    assert not any(p.endswith("_Params.cpp") for p in files(ok(none)))
+
+
+def test_index_zero_is_the_enable_switch() -> None:
+    result = run(DATA / "enable_conflict.iface")
+    assert result.files == []
+    (d,) = [d for d in result.diagnostics if d.code == "ap-param-index-conflict"]
+    assert "'gain' has index 0, which is CLS_ENABLE's" in d.message
+
+
+def test_enable_name_too_long_is_reported_at_the_prefix(tmp_path: Path) -> None:
+    path = tmp_path / "long.iface"
+    path.write_text('component long_one (ap.prefix = "LONGPREFIX")\nconfiguration c { 1: float x }\n')
+    result = run(path)
+    (d,) = [d for d in result.diagnostics if d.code == "ap-param-name-too-long"]
+    assert "LONGPREFIX_ENABLE" in d.message
+    line, col = d.location()[:2]
+    assert path.read_text().splitlines()[line - 1][col - 1:].startswith('ap.prefix = "LONGPREFIX"')
+
+
 # ---- AP_Param ------------------------------------------------------------------------------
 
 
@@ -337,7 +456,7 @@ def test_param_table(tmp_path: Path) -> None:
 def test_indices_stable_when_parameters_are_inserted() -> None:
     before = entries(ok(DATA / "rover_v1.iface"))
     after = entries(ok(DATA / "rover_v2.iface"))
-    assert before == {"MAX_SPEED": 1, "STEER_GAIN": 2, "REVERSE": 3, "WHEELS": 4}
+    assert before == {"ENABLE": 0, "MAX_SPEED": 1, "STEER_GAIN": 2, "REVERSE": 3, "WHEELS": 4}
     assert {k: after[k] for k in before} == before
     assert after["MAX_ACCEL"] == 5 and after["TRIM"] == 9
 
@@ -346,7 +465,7 @@ def test_implicit_indices_warn() -> None:
     result = ok(DATA / "listing1.iface")
     warned = sorted(d.message.split("'")[1] for d in result.diagnostics if d.code == "ap-param-index-implicit")
     assert warned == ["param2", "param3", "param4"]
-    assert entries(result) == {"PARAM2": 1, "PARAM3": 2, "PARAM4": 3}
+    assert entries(result) == {"ENABLE": 0, "PARAM2": 1, "PARAM3": 2, "PARAM4": 3}
     assert any(d.code == "ap-param-unsupported-type" and "'param1'" in d.message for d in result.diagnostics)
 
 
@@ -376,7 +495,7 @@ def test_injection_docs_stay_comments(tmp_path: Path) -> None:
             assert not line.rstrip().endswith("\\"), f"{path}: a comment continued onto the next line"
     cpp = next(t for p, t in files(result).items() if p.endswith(".cpp"))
     assert '    // @Description: Gain "quoted" # hash <b> ../x second\n' in cpp
-    assert entries(result) == {"GAIN": 1, "ON": 2}
+    assert entries(result) == {"ENABLE": 0, "GAIN": 1, "ON": 2}
 
 
 def test_injection_strings_escaped_or_refused() -> None:
@@ -409,4 +528,4 @@ def test_a_parameter_left_out_for_its_type_gets_no_name_diagnostic(tmp_path: Pat
     (d,) = about
     assert "AP_Param holds signed integers of up to 32 bits (AP_Int8, AP_Int16, AP_Int32) and 32-bit " \
            "floats (AP_Float)" in d.message and detail in d.message
-    assert not result.has_errors and entries(result) == {"GAIN": 1}
+    assert not result.has_errors and entries(result) == {"ENABLE": 0, "GAIN": 1}

@@ -20,6 +20,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "ap-param-index-range": (Severity.ERROR, "An AP_Param group index outside 0..63."),
     "ap-param-index-conflict": (Severity.ERROR, "Two parameters with one AP_Param index."),
     "ap-param-default": (Severity.ERROR, "A parameter default AP_Param cannot state."),
+    "ap-param-units": (Severity.WARNING, "A unit that is not one of ArduPilot's unit names: @Units is left out "
+                       "(ArduPilot's param_parse.py refuses unknown units)."),
+    "ap-param-annotation": (Severity.ERROR, "An ap.increment, ap.values, ap.bitmask, ap.user or ap.reboot_required "
+                            "annotation ArduPilot's parameter documentation cannot state."),
     "ap-dds-qos-unsupported": (Severity.WARNING, "A QoS policy AP_DDS cannot carry: uxrQoS_t holds durability, "
                                "reliability, history and depth only."),
     "ap-dds-qos-depth": (Severity.ERROR, "A qos.depth over 65535: AP_DDS keeps it in a uint16_t."),

@@ -9,6 +9,11 @@ from the interface itself, never from the order of the generated table:
 3. the position among the parameters without either, after the explicit
    indices (with a warning, because inserting a parameter renumbers the ones
    after it).
+
+The group's enable switch: as ArduPilot's libraries do (AP_ADSB, AP_DDS…), a group has an
+``ENABLE`` parameter flagged ``AP_PARAM_FLAG_ENABLE``, which hides the others while 0. A
+parameter the component names ENABLE is that switch; otherwise one is added at index 0
+(default 0, disabled), and index 0 is not free for other parameters.
 """
 
 from __future__ import annotations
@@ -32,8 +37,10 @@ from ..support import (
 )
 from ..text import compact_number, number, one_line, summary
 from .codes import diag
+from .metadata import read_metadata
 
 MAX_NAME = 16
+ENABLE = "ENABLE"
 MAX_INDEX = 63
 _AP_TYPES = {"bool": "AP_Int8", "i8": "AP_Int8", "u8": "AP_Int16", "i16": "AP_Int16", "char": "AP_Int16",
              "octet": "AP_Int16", "u16": "AP_Int32", "i32": "AP_Int32", "float32": "AP_Float",
@@ -57,7 +64,11 @@ class ApParam:
     user: str = "Standard"
     units: str | None = None
     range: str | None = None
+    increment: str | None = None
     values: str | None = None
+    bitmask: str | None = None
+    reboot_required: bool = False
+    flags: str | None = None
 
 
 @dataclass(slots=True)
@@ -107,14 +118,43 @@ class ParamBuilder:
                     continue
                 names[p.full_name] = f
                 entries.append((f, p, p.index >= 0))
-        table.params = self._indices(entries)
+        declared = next((p for _, p, _ in entries if p.name == ENABLE), None)
+        enable = None
+        if entries and declared is None:
+            enable = self._enable(table)
+        elif declared is not None:
+            declared.flags = "AP_PARAM_FLAG_ENABLE"
+        table.params = self._indices(entries, enable)
         return table
 
-    def _indices(self, entries: list[tuple[m.Field, ApParam, bool]]) -> list[ApParam]:
+    def _enable(self, table: ApParams) -> ApParam | None:
+        """The ``<PREFIX>_ENABLE`` switch ArduPilot's conventions expect, None when its name is too long."""
+        full = f"{table.prefix}_{ENABLE}"
+        if len(full) > MAX_NAME:
+            span = next(span for _, prefix, span in parameter_prefixes(self.iface, "ap.prefix")
+                        if prefix == table.prefix)
+            self.diagnostics.append(diag("ap-param-name-too-long", f"the group's enable switch would be {full}, "
+                                         f"{len(full)} characters: ArduPilot parameter names have at most {MAX_NAME} "
+                                         "(shorten the prefix or declare the switch: `bool enable (ap.name = ...)`)",
+                                         self.src, span))
+            return None
+        name = humanize(self.iface.name)
+        return ApParam(ENABLE, full, 0, "AP_Int8", "_enable", "0", f"{name} enable",
+                       f"Enables {name}; while 0, its other parameters are hidden.", values="0:Disabled,1:Enabled",
+                       flags="AP_PARAM_FLAG_ENABLE")
+
+    def _indices(self, entries: list[tuple[m.Field, ApParam, bool]], enable: ApParam | None) -> list[ApParam]:
         used: dict[int, m.Field] = {}
-        out: list[ApParam] = []
+        out: list[ApParam] = [enable] if enable is not None else []
         for f, p, explicit in entries:
             if not explicit:
+                continue
+            if enable is not None and p.index == enable.index:
+                self.diagnostics.append(diag("ap-param-index-conflict", f"parameter '{f.name}' has index {p.index}, "
+                                             f"which is {enable.full_name}'s, the group's enable switch (added "
+                                             "because no parameter is named ENABLE): give it another index, or "
+                                             "declare the switch yourself (`bool enable (ap.index = 0)`)", self.src,
+                                             f.id_span or f.name_span))
                 continue
             if p.index > MAX_INDEX:
                 self.diagnostics.append(diag("ap-param-index-range", f"parameter '{f.name}' has index {p.index}: "
@@ -127,7 +167,7 @@ class ParamBuilder:
                 continue
             used[p.index] = f
             out.append(p)
-        following = max(used, default=0) + 1
+        following = max(used, default=enable.index if enable is not None else 0) + 1
         for f, p, explicit in entries:
             if explicit:
                 continue
@@ -177,16 +217,14 @@ class ParamBuilder:
             index = int(index_ann.value.value)
         elif f.id is not None:
             index = f.id
-        user = m.annotation(f.annotations, "ap.user")
+        meta, problems = read_metadata(f, ap_type, values, self.src)
+        self.diagnostics.extend(problems)
         p = ApParam(name, full, index, ap_type, f"_{snake(f.name)}", default,
                     summary(f.doc).rstrip(".") or humanize(f.name), one_line(f.doc) or humanize(f.name),
-                    one_line(user.text) if user else "Standard")
-        if f.unit:
-            p.units = one_line(f.unit)
+                    meta.user, meta.units, None, meta.increment, meta.values, meta.bitmask, meta.reboot_required)
         rng = f.range
         if rng is not None and rng[0] is not None and rng[1] is not None:
             p.range = f"{compact_number(rng[0])} {compact_number(rng[1])}"
-        p.values = values
         return p
 
     def _type(self, f: m.Field) -> tuple[str | None, str | None]:

@@ -44,6 +44,9 @@ public:
     }
 };
 
+// As in ArduPilot's AP_Param.h: an enable switch hides its group's other parameters while 0.
+#define AP_PARAM_FLAG_ENABLE (1<<2)
+
 // As in ArduPilot: the index must fit the 6-bit group element field.
 #define AP_GROUPINFO_FLAGS(name, idx, clazz, element, def, flags) \
     { name, (ptrdiff_t)offsetof(clazz, element), {def_value : def}, flags, idx, \

@@ -4,6 +4,13 @@
 // Indices are the parameters' field ids (or ap.index): never reuse or renumber them,
 // they are the keys of the values stored on the vehicle.
 const AP_Param::GroupInfo AP_DdsProbe_Params::var_info[] = {
+    // @Param: ENABLE
+    // @DisplayName: Dds probe enable
+    // @Description: Enables Dds probe; while 0, its other parameters are hidden.
+    // @Values: 0:Disabled,1:Enabled
+    // @User: Standard
+    AP_GROUPINFO_FLAGS("ENABLE", 0, AP_DdsProbe_Params, _enable, 0, AP_PARAM_FLAG_ENABLE),
+
     // @Param: GAIN
     // @DisplayName: Gain of the level filter
     // @Description: Gain of the level filter.

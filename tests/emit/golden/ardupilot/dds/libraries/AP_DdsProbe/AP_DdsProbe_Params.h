@@ -16,5 +16,6 @@ public:
 
     static const struct AP_Param::GroupInfo var_info[];
 
+    AP_Int8 _enable;  // PRB_ENABLE: Dds probe enable
     AP_Float _gain;  // PRB_GAIN: Gain of the level filter
 };

@@ -4,10 +4,16 @@
 // Indices are the parameters' field ids (or ap.index): never reuse or renumber them,
 // they are the keys of the values stored on the vehicle.
 const AP_Param::GroupInfo AP_Inject_Params::var_info[] = {
+    // @Param: ENABLE
+    // @DisplayName: Inject enable
+    // @Description: Enables Inject; while 0, its other parameters are hidden.
+    // @Values: 0:Disabled,1:Enabled
+    // @User: Standard
+    AP_GROUPINFO_FLAGS("ENABLE", 0, AP_Inject_Params, _enable, 0, AP_PARAM_FLAG_ENABLE),
+
     // @Param: GAIN
     // @DisplayName: Gain "quoted" # hash <b> ../x second
     // @Description: Gain "quoted" # hash <b> ../x second
-    // @Units: */ "m"
     // @User: Standard
     AP_GROUPINFO("GAIN", 1, AP_Inject_Params, _gain, 0.5f),
 

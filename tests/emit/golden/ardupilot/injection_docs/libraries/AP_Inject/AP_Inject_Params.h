@@ -16,6 +16,7 @@ public:
 
     static const struct AP_Param::GroupInfo var_info[];
 
+    AP_Int8 _enable;  // INJ_ENABLE: Inject enable
     AP_Float _gain;  // INJ_GAIN: Gain "quoted" # hash <b> ../x second
     AP_Int8 _on;  // INJ_ON: On
 };

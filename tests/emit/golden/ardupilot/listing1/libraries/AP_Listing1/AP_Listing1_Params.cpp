@@ -4,6 +4,13 @@
 // Indices are the parameters' field ids (or ap.index): never reuse or renumber them,
 // they are the keys of the values stored on the vehicle.
 const AP_Param::GroupInfo AP_Listing1_Params::var_info[] = {
+    // @Param: ENABLE
+    // @DisplayName: Listing1 enable
+    // @Description: Enables Listing1; while 0, its other parameters are hidden.
+    // @Values: 0:Disabled,1:Enabled
+    // @User: Standard
+    AP_GROUPINFO_FLAGS("ENABLE", 0, AP_Listing1_Params, _enable, 0, AP_PARAM_FLAG_ENABLE),
+
     // @Param: PARAM2
     // @DisplayName: Param2
     // @Description: Param2

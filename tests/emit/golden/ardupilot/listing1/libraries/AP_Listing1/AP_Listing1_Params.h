@@ -16,6 +16,7 @@ public:
 
     static const struct AP_Param::GroupInfo var_info[];
 
+    AP_Int8 _enable;  // LISTING1_ENABLE: Listing1 enable
     AP_Int32 _param2;  // LISTING1_PARAM2: Param2
     AP_Float _param3;  // LISTING1_PARAM3: Param3
     AP_Float _param4;  // LISTING1_PARAM4: Param4

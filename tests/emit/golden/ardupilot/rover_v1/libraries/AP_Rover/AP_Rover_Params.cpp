@@ -4,6 +4,13 @@
 // Indices are the parameters' field ids (or ap.index): never reuse or renumber them,
 // they are the keys of the values stored on the vehicle.
 const AP_Param::GroupInfo AP_Rover_Params::var_info[] = {
+    // @Param: ENABLE
+    // @DisplayName: Rover enable
+    // @Description: Enables Rover; while 0, its other parameters are hidden.
+    // @Values: 0:Disabled,1:Enabled
+    // @User: Standard
+    AP_GROUPINFO_FLAGS("ENABLE", 0, AP_Rover_Params, _enable, 0, AP_PARAM_FLAG_ENABLE),
+
     // @Param: MAX_SPEED
     // @DisplayName: Top speed
     // @Description: Top speed. The rover never goes faster.

@@ -16,6 +16,7 @@ public:
 
     static const struct AP_Param::GroupInfo var_info[];
 
+    AP_Int8 _enable;  // RVR_ENABLE: Rover enable
     AP_Float _max_speed;  // RVR_MAX_SPEED: Top speed
     AP_Float _steer_gain;  // RVR_STEER_GAIN: Steering gain
     AP_Int8 _reverse;  // RVR_REVERSE: Reverse
