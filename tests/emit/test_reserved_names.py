@@ -82,3 +82,82 @@ def test_ros2_refuses_a_type_name_too_long_for_rosidl_files() -> None:
     assert at(comp, result, "ros2-name-too-long") == [too_long]
     camel = "Ab" * 107  # 214 characters, 320 in snake_case (ab_ab_…)
     assert generate(compile_text(f"component c\nmessage {camel} {{ i32 x }}\n", "names.iface"), "ros2").has_errors
+
+
+# ---- every keyword of .iface, Thrift and IDL as a name, through every target ---------------------------
+
+#: Thrift's keywords (compiler/cpp/src/thrift/thriftl.ll of Apache Thrift 0.20, with uuid of 0.19).
+THRIFT_KEYWORDS = frozenset("""
+false true namespace cpp_namespace cpp_include cpp_type java_package csharp_namespace delphi_namespace
+php_namespace py_module perl_package ruby_namespace smalltalk_category smalltalk_prefix xsd_all xsd_optional
+xsd_nillable xsd_namespace xsd_attrs include void bool byte i8 i16 i32 i64 double string binary uuid slist senum
+map list set oneway typedef struct union exception extends throws service enum const required optional async
+""".split())
+
+
+def _all_keywords() -> list[str]:
+    from iface.emit.idl.reserved import IDL_KEYWORDS
+    from iface.semantics.query import RESERVED
+
+    return sorted(RESERVED | THRIFT_KEYWORDS | IDL_KEYWORDS)
+
+
+ROLES = {
+    "field": "component kw\nmessage M {{ u64 timestamp, i32 {k} }}\npublishes M on \"/m\"\n",
+    "constant": "component kw\nmessage M {{ u64 timestamp, const i32 {k} = 1 }}\npublishes M on \"/m\"\n",
+    "type": "component kw\nmessage {k} {{ u64 timestamp, i32 x }}\npublishes {k} on \"/m\"\n",
+}
+TARGETS = ["ros2", "idl", "json", "markdown", "px4", "ardupilot"]
+
+
+def _read_back(target: str, path: str, text: str) -> None:
+    """The written file as the target platform's parser reads it (raises when it refuses)."""
+    if path.endswith(".msg") and target == "ros2":
+        from mcap_ros2._vendor.rosidl_adapter.parser import parse_message_string
+
+        parse_message_string("kw", Path(path).stem, text)
+    elif path.endswith(".msg") and target == "px4":
+        import genmsg
+        import genmsg.msg_loader
+
+        genmsg.msg_loader.load_msg_from_string(genmsg.MsgContext.create_default(), text, f"px4_msgs/{Path(path).stem}")
+    elif path.endswith(".idl"):
+        from iface.importers.idl import read_idl
+
+        read_idl(text)
+    elif path.endswith(".json"):
+        import json
+
+        json.loads(text)
+
+
+@pytest.mark.parametrize("role", sorted(ROLES))
+def test_every_keyword_as_a_name_is_written_and_read_back_or_refused_at_the_name(role: str, tmp_path: Path) -> None:
+    pytest.importorskip("rosbags")
+    pytest.importorskip("mcap_ros2")
+    pytest.importorskip("genmsg")
+    keywords = _all_keywords()
+    assert len(keywords) >= 120 and {"message", "oneway", "senum", "module", "wstring", "valuetype"} <= set(keywords)
+    written: dict[str, int] = dict.fromkeys(TARGETS, 0)
+    for k in keywords:
+        comp = compile_text(ROLES[role].format(k=k), f"{role}_{k}.iface", tmp_path)
+        assert not [d for d in comp.all_diagnostics() if d.severity == 1], k
+        text = comp.interface.source.text
+        for target in TARGETS:
+            result = generate(comp, target)
+            errors = [d for d in result.diagnostics if d.severity == 1]
+            if errors:  # refused: each error has a code and points at the keyword-named thing
+                assert result.files == []
+                for d in errors:
+                    assert d.code and k in text[d.span.start:d.span.end], (target, k, d.format())
+                continue
+            written[target] += 1
+            assert any(k.lower() in f.text.lower() for f in result.files), (target, k)
+            for f in result.files:
+                try:
+                    _read_back(target, f.path, f.text)
+                except Exception as e:  # the platform's parser refused what the target wrote
+                    pytest.fail(f"{target} wrote {f.path} for {role} {k!r}, which its parser refuses: {e}")
+    # targets without keyword limits write every one; the others refuse only what their language reserves
+    assert written["json"] == written["markdown"] == written["ros2"] == len(keywords), written
+    assert all(n > 0 for n in written.values()), written
