@@ -13,6 +13,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "runtime-name-clash": (Severity.ERROR, "A definition named like a service of the component protocol "
                            "(SaveState, RestoreState, ComponentControl), or two members whose handlers would "
                            "get one name."),
+    "runtime-unsupported": (Severity.ERROR, "What one node target cannot generate yet (the rclcpp target: a "
+                            "state that uses a message of another package)."),
     "runtime-user-code": (Severity.WARNING, "The user module of a generated component no longer matches the "
                           "interface: a handler is missing, takes other arguments, or handles nothing "
                           "(an error with `generate --check`)."),

@@ -27,16 +27,12 @@ from typing import Any
 from ...emit.base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
 from ...emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ...emit.ros2 import render_package
-from ...emit.ros2.filenames import check_rosidl_names
-from ...emit.ros2.keywords import check_keywords
-from ...emit.ros2.lower import lower_run
-from ...emit.ros2.package import RosConst, RosField, RosInterface, RosPackage, RosSection, RosType
 from ...emit.ros2.render import FILTERS as ROS2_FILTERS
-from ...emit.ros2.render import check_msg_values, xml
-from ...emit.support import component_span
+from ...emit.ros2.render import xml
 from ...semantics.compile import Compilation
 from .. import protocol
-from ..component import ComponentSpec, describe
+from ..component import HANDLER_PREFIXES, ComponentSpec
+from ..nodepkg import add_protocol, prepare, protocol_refs, read_user_file
 from ..usercode import check_user_module
 from .render import PyPackage, build, doc_text, docstring, py
 
@@ -48,28 +44,6 @@ RUNTIME_DEPENDS = ("ament_index_python", "diagnostic_msgs", "lifecycle_msgs", "r
 USER_MODULE = "node.py"
 
 
-def _ros_type(text: str) -> RosType:
-    if text.endswith("[]"):
-        return RosType(primitive=text[:-2], array="unbounded")
-    return RosType(primitive=text)
-
-
-def add_protocol(pkg: RosPackage, comp: Compilation) -> None:
-    """Put the protocol services into the interface package."""
-    src = comp.interface.source
-    span = component_span(comp.interface)
-    for s in protocol.SERVICES:
-        def section(name: str, fields: tuple[protocol.SrvField, ...],
-                    consts: tuple[protocol.SrvConst, ...] = ()) -> RosSection:
-            return RosSection(name, [RosField(f.name, _ros_type(f.type), None, [f.comment] if f.comment else [],
-                                              src, span) for f in fields],
-                              [RosConst(c.name, c.type, c.value, [c.comment] if c.comment else [], src, span)
-                               for c in consts])
-        pkg.interfaces.append(RosInterface("srv", s.type_name, [section("request", s.request, s.consts),
-                                                                section("response", s.response)],
-                                           list(s.doc), src, span))
-
-
 def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateSet) -> list[GeneratedFile]:
     """The component package."""
     v = build(spec)
@@ -79,8 +53,8 @@ def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateS
     origin = (spec.ros.name_source, spec.ros.node_span)
     exec_depends = sorted(set(RUNTIME_DEPENDS) | set(spec.depends))
     ctx: dict[str, Any] = {"v": v, "header": header, "exec_depends": exec_depends,
-                           "protocol": [v.name(r) for r in _protocol_refs(spec)],
-                           "state_format": protocol.STATE_FORMAT, "handler_prefixes": _prefixes(),
+                           "protocol": [v.name(r) for r in protocol_refs(spec)],
+                           "state_format": protocol.STATE_FORMAT, "handler_prefixes": list(HANDLER_PREFIXES),
                            "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
                            "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC),
                            "commands": ", ".join(str(c) for c in (protocol.STATUS, protocol.PAUSE, protocol.RESUME,
@@ -108,18 +82,6 @@ def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateS
     return files
 
 
-def _protocol_refs(spec: ComponentSpec) -> list[Any]:
-    from ..component import RosRef
-
-    return [RosRef(spec.interface_package, "srv", s.type_name) for s in protocol.SERVICES]
-
-
-def _prefixes() -> list[str]:
-    from ..component import HANDLER_PREFIXES
-
-    return list(HANDLER_PREFIXES)
-
-
 def user_module_path(out: str, spec: ComponentSpec) -> str:
     """Where the user's module of ``spec`` is under the output folder ``out``."""
     return os.path.join(out, spec.package, spec.package, USER_MODULE)
@@ -127,28 +89,17 @@ def user_module_path(out: str, spec: ComponentSpec) -> str:
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's module there is checked against the interface."""
-    pkg, diagnostics, run = lower_run(comp, check_msg_values, check_keywords, check_rosidl_names)
-    result = Result(diagnostics=diagnostics)
-    if pkg is None or result.has_errors:
+    result, pkg, spec = prepare(comp)
+    if pkg is None or spec is None:
         return result
-    spec, found = describe(comp, pkg, run)
-    result.diagnostics.extend(found)
-    if result.has_errors:
-        return result
-    add_protocol(pkg, comp)
     ros2 = TemplateSet(ROS2_TEMPLATES, "ros2", filters=ROS2_FILTERS)
     templates = TemplateSet(TEMPLATES, "rclpy", filters=FILTERS, override=options.get("templates"))
     out = options.get("out")
     if isinstance(out, str):
         path = user_module_path(out, spec)
-        if os.path.isfile(path):
-            try:
-                with open(path, encoding="utf-8") as f:
-                    text = f.read()
-            except (OSError, UnicodeDecodeError):
-                text = None
-            if text is not None:
-                result.diagnostics.extend(check_user_module(spec, path, text, strict=bool(options.get("check"))))
+        text = read_user_file(path)
+        if text is not None:
+            result.diagnostics.extend(check_user_module(spec, path, text, strict=bool(options.get("check"))))
     result.files = sorted_files([*render_package(pkg, ros2), *component_files(spec, templates, ros2)])
     return result
 
@@ -161,4 +112,4 @@ TARGET = Target(
     templates=str(TEMPLATES),
 )
 
-__all__ = ["TARGET", "PyPackage", "doc_text", "generate"]
+__all__ = ["TARGET", "PyPackage", "add_protocol", "doc_text", "generate"]

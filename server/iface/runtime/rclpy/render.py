@@ -9,6 +9,7 @@ from typing import Any
 
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef
+from ..nodepkg import remappings
 
 #: Names the generated modules define or import themselves.
 _TAKEN = frozenset({"Any", "ComponentNode", "HandlerSpec", "ParamSpec", "DEFAULT_TIMEOUT_SEC", "annotations",
@@ -182,18 +183,7 @@ class PyPackage:
 
     def remappings(self) -> list[tuple[str, str]]:
         """(name, launch argument) for each wired name that can be remapped."""
-        out: list[tuple[str, str]] = []
-        seen: set[str] = set()
-        for v in self.members:
-            name = v.m.name
-            if name.startswith("~") or name in (n for n, _ in out):
-                continue
-            arg = v.m.slug if v.m.slug not in seen else v.m.full_slug
-            while arg in seen or arg in ("params_file", "namespace", "node_name"):
-                arg += "_"
-            seen.add(arg)
-            out.append((name, arg))
-        return out
+        return remappings(self.spec)
 
 
 def build(spec: ComponentSpec) -> PyPackage:

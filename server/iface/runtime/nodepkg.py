@@ -1,0 +1,91 @@
+"""What every node target shares: the interface package with the protocol services, and the description.
+
+The rclpy and rclcpp targets both write the ``ros2`` target's interface package plus the
+protocol services (``iface.runtime.protocol``), and a component package read from one
+``ComponentSpec``; this module does the first step for both.
+"""
+
+from __future__ import annotations
+
+import os
+from ..emit.base import Result
+from ..emit.ros2.filenames import check_rosidl_names
+from ..emit.ros2.keywords import check_keywords
+from ..emit.ros2.lower import lower_run
+from ..emit.ros2.package import RosConst, RosField, RosInterface, RosPackage, RosSection, RosType
+from ..emit.ros2.render import check_msg_values
+from ..emit.support import component_span
+from ..semantics.compile import Compilation
+from . import protocol
+from .component import ComponentSpec, RosRef, describe
+
+
+def _ros_type(text: str) -> RosType:
+    if text.endswith("[]"):
+        return RosType(primitive=text[:-2], array="unbounded")
+    return RosType(primitive=text)
+
+
+def add_protocol(pkg: RosPackage, comp: Compilation) -> None:
+    """Put the protocol services into the interface package."""
+    src = comp.interface.source
+    span = component_span(comp.interface)
+    for s in protocol.SERVICES:
+        def section(name: str, fields: tuple[protocol.SrvField, ...],
+                    consts: tuple[protocol.SrvConst, ...] = ()) -> RosSection:
+            return RosSection(name, [RosField(f.name, _ros_type(f.type), None, [f.comment] if f.comment else [],
+                                              src, span) for f in fields],
+                              [RosConst(c.name, c.type, c.value, [c.comment] if c.comment else [], src, span)
+                               for c in consts])
+        pkg.interfaces.append(RosInterface("srv", s.type_name, [section("request", s.request, s.consts),
+                                                                section("response", s.response)],
+                                           list(s.doc), src, span))
+
+
+def protocol_refs(spec: ComponentSpec) -> list[RosRef]:
+    """SaveState, RestoreState and ComponentControl in the component's interface package."""
+    return [RosRef(spec.interface_package, "srv", s.type_name) for s in protocol.SERVICES]
+
+
+def prepare(comp: Compilation) -> tuple[Result, RosPackage | None, ComponentSpec | None]:
+    """The interface package (with the protocol) and the node description; None and the findings on errors."""
+    pkg, diagnostics, run = lower_run(comp, check_msg_values, check_keywords, check_rosidl_names)
+    result = Result(diagnostics=diagnostics)
+    if pkg is None or result.has_errors:
+        return result, None, None
+    spec, found = describe(comp, pkg, run)
+    result.diagnostics.extend(found)
+    if result.has_errors:
+        return result, None, None
+    add_protocol(pkg, comp)
+    return result, pkg, spec
+
+
+def read_user_file(path: str) -> str | None:
+    """The text of the user's file at ``path``; None when it is missing or unreadable."""
+    if not os.path.isfile(path):
+        return None
+    try:
+        with open(path, encoding="utf-8") as f:
+            return f.read()
+    except (OSError, UnicodeDecodeError):
+        return None
+
+
+def remappings(spec: ComponentSpec) -> list[tuple[str, str]]:
+    """(name, launch argument) for each wired name that can be remapped."""
+    out: list[tuple[str, str]] = []
+    seen: set[str] = set()
+    for m in spec.all_members():
+        name = m.name
+        if name.startswith("~") or name in (n for n, _ in out):
+            continue
+        arg = m.slug if m.slug not in seen else m.full_slug
+        while arg in seen or arg in ("params_file", "namespace", "node_name"):
+            arg += "_"
+        seen.add(arg)
+        out.append((name, arg))
+    return out
+
+
+__all__ = ["add_protocol", "prepare", "protocol_refs", "read_user_file", "remappings"]
