@@ -464,3 +464,65 @@ def test_a_long_description_is_cut_for_short_and_kept_whole_in_long(tmp_path: Pa
     assert len(short) <= 70 and short.endswith("...") and doc.startswith(short[:-3])
     assert long == f"{doc}. Tune it with care."
     jsonschema.validate(doc_yaml, json.loads((DATA / "module_schema.json").read_text()))
+
+
+# ---- PX4's rules for message definitions (Tools/msg, uORB) ----------------------------------------
+
+
+def _located(result: Result, code: str) -> list[int]:
+    return sorted(d.location()[0] for d in result.diagnostics if d.code == code)
+
+
+def test_orb_queue_length_is_a_uint8_power_of_two(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, "component q\n"
+                            "message A { u64 timestamp, const u8 ORB_QUEUE_LENGTH = 4 }\n"
+                            "message B { u64 timestamp, const u8 ORB_QUEUE_LENGTH = 5 }\n"
+                            "message C { u64 timestamp, const u8 ORB_QUEUE_LENGTH = 200 }\n"
+                            'publishes A on "/a"\npublishes B on "/b"\npublishes C on "/c"\n')
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    assert _located(result, "px4-queue-length-rounded") == [3, 4]
+    rounded = {d.location()[0]: d.message for d in result.diagnostics if d.code == "px4-queue-length-rounded"}
+    assert "holds 8" in rounded[3] and "holds 128" in rounded[4]
+    specs = messages(result)
+    assert [(c.type, c.name, c.val) for c in specs["A"].constants] == [("uint8", "ORB_QUEUE_LENGTH", 4)]
+    wrong, _ = compile_px4(tmp_path, "component q\nmessage A { u64 timestamp, const i32 ORB_QUEUE_LENGTH = 4 }\n"
+                           'publishes A on "/a"\n')
+    assert _located(wrong, "px4-queue-length") == [2] and wrong.has_errors
+
+
+def test_a_float_constant_with_a_fraction_is_refused(tmp_path: Path) -> None:
+    result, _ = compile_px4(tmp_path, "component f\nmessage A {\n    u64 timestamp,\n    const float32 HALF = 0.5,\n"
+                            "    const float32 TWO = 2.0\n}\npublishes A on \"/a\"\n")
+    assert _located(result, "px4-constant-fraction") == [4]
+    assert "int(value)" in next(d.message for d in result.diagnostics if d.code == "px4-constant-fraction")
+
+
+def test_topic_names_fit_uorbs_node_path(tmp_path: Path) -> None:
+    fits, too_long = "t" * 57, "t" * 58
+    ok_result, _ = compile_px4(tmp_path, f'component t\nmessage A {{ u64 timestamp }}\npublishes A on "/{fits}"\n')
+    assert not ok_result.has_errors, [d.format() for d in ok_result.diagnostics]
+    assert topics_of(files(ok_result)["msg/A.msg"], "A") == [fits]
+    result, _ = compile_px4(tmp_path, f'component t\nmessage A {{ u64 timestamp }}\npublishes A on "/{too_long}"\n')
+    assert _located(result, "px4-topic-too-long") == [3] and result.has_errors
+    named, _ = compile_px4(tmp_path, "component t\n/** used by nothing: its topic is its own name */\n"
+                           f"message {'Abcdefgh' * 8} {{ u64 timestamp }}\nmessage B {{ u64 timestamp }}\n"
+                           'publishes B on "/b"\n')
+    assert _located(named, "px4-topic-too-long") == [3]
+
+
+def test_generated_messages_follow_pxs_generator_rules() -> None:
+    """timestamp first and uint64, lower-case field names, # TOPICS as PX4's get_topics reads it, int constants."""
+    for case in CASES:
+        out = files(ok(DATA / f"{case}.iface"))
+        for path, text in out.items():
+            if not path.startswith("msg/"):
+                continue
+            spec = genmsg.msg_loader.load_msg_from_string(genmsg.MsgContext.create_default(), text,
+                                                          f"px4/{Path(path).stem}")
+            assert (spec.types[0], spec.names[0]) == ("uint64", "timestamp"), path
+            assert all(n == n.lower() and not n.startswith("_padding") for n in spec.names), path
+            assert all(float(c.val) == int(float(c.val)) for c in spec.constants if c.type != "bool"), path
+            for line in text.splitlines():
+                if line.startswith("# TOPICS"):
+                    assert line.startswith("# TOPICS ") and "  " not in line and line == line.rstrip(), path
+                    assert all(re.fullmatch(r"[a-z][a-z0-9_]*", t) and len(t) <= 57 for t in line.split()[2:])

@@ -29,6 +29,11 @@ _REASONS = {"string": "uORB has no unbounded strings: write string<=N, which bec
             "wstring": "uORB has no wide strings: uORB text is 8-bit, write string<=N (char[N])",
             "binary": "uORB has no binary type: use a fixed uint8[N] array"}
 TIMESTAMP_DOC = "time since system start (microseconds)"
+#: uORB's node path is ``/obj/<topic><instance>`` within ``orb_maxpath`` (64 bytes with the NUL, uORBCommon.hpp),
+#: the instance one digit (ORB_MULTI_MAX_INSTANCES): 57 characters are left for the topic.
+MAX_TOPIC = 64 - len("/obj/") - 1 - 1
+#: uORB rounds a queue length up to a power of two, at most 128 (round_pow_of_two_8 in uORBDeviceNode.cpp).
+QUEUE_LENGTHS = (1, 2, 4, 8, 16, 32, 64, 128)
 _INT_TYPES = (("uint8", 0, 2**8 - 1), ("int8", -(2**7), 2**7 - 1), ("uint16", 0, 2**16 - 1),
               ("int16", -(2**15), 2**15 - 1), ("uint32", 0, 2**32 - 1), ("int32", -(2**31), 2**31 - 1))
 
@@ -118,6 +123,7 @@ class MessageBuilder:
             self._convert(self._queue.pop(0))
         self._wired_topics()
         self._annotated_topics()
+        self._default_topics()
         return [self.messages[k] for k in sorted(self.messages)]
 
     def require(self, struct: m.Struct) -> str | None:
@@ -224,8 +230,15 @@ class MessageBuilder:
                                          "compile; rename it", src, c.name_span))
             return None
         value = literal(owner, c.value)
+        if name == "ORB_QUEUE_LENGTH" and not self._queue_length(struct, c, ptype, value, src):
+            return None
         if isinstance(value, bool) or ptype == "bool":
             text = "1" if value else "0"
+        elif isinstance(value, float) and not value.is_integer():
+            self.diagnostics.append(diag("px4-constant-fraction", f"constant '{c.name}' of message '{struct.name}' "
+                                         f"is {value!r}: PX4's generator writes every constant as int(value), so "
+                                         f"the header would say {int(value)}", src, c.value.span))
+            return None
         elif isinstance(value, (int, float)):
             text = number(value) if ptype in ("float32", "float64") else str(int(value))
         else:
@@ -233,6 +246,21 @@ class MessageBuilder:
                                          f"'{struct.name}' has no numeric value", src, c.value.span))
             return None
         return Line(ptype, name, text, one_line(c.doc))
+
+    def _queue_length(self, struct: m.Struct, c: m.Const, ptype: str | None, value: object, src: m.Source) -> bool:
+        """``ORB_QUEUE_LENGTH``: a uint8 (as PX4 declares it) that uORB keeps as given, else a diagnostic."""
+        if ptype != "uint8" or isinstance(value, bool) or not isinstance(value, int):
+            self.diagnostics.append(diag("px4-queue-length", f"ORB_QUEUE_LENGTH of message '{struct.name}' is "
+                                         f"{type_text(c.type)}: PX4 declares it 'uint8 ORB_QUEUE_LENGTH = N' "
+                                         "(write const u8 ORB_QUEUE_LENGTH = 4)", src, c.type.span))
+            return False
+        if value not in QUEUE_LENGTHS:
+            kept = next((q for q in QUEUE_LENGTHS if q >= value), 128)
+            self.diagnostics.append(diag("px4-queue-length-rounded", f"ORB_QUEUE_LENGTH of message "
+                                         f"'{struct.name}' is {value}: uORB rounds a queue length to a power of two "
+                                         f"from 1 to 128, so the queue holds {kept}; write {kept}", src,
+                                         c.value.span))
+        return True
 
     def field_type(self, t: m.TypeRef) -> str:
         """The uORB spelling of a field type; Unsupported says why there is none."""
@@ -346,7 +374,25 @@ class MessageBuilder:
                     continue
                 self._claim(raw, msg, msg.name, src, a.span)
 
+    def _default_topics(self) -> None:
+        """A message without a ``# TOPICS`` line gets the topic of its snake_case name: it must fit too."""
+        for name in sorted(self.messages):
+            msg = self.messages[name]
+            if not msg.topics:
+                self._too_long(msg.snake, self.owners.source(msg.struct), msg.struct.name_span,
+                               f"the topic of message '{msg.struct.name}' (its snake_case name)")
+
+    def _too_long(self, topic: str, src: m.Source, span: m.Span, what: str) -> bool:
+        if len(topic) <= MAX_TOPIC:
+            return False
+        self.diagnostics.append(diag("px4-topic-too-long", f"{what}, '{topic}', has {len(topic)} characters: uORB "
+                                     f"topic names have at most {MAX_TOPIC} (its node path /obj/<topic><instance> "
+                                     "must fit in 64 bytes)", src, span))
+        return True
+
     def _claim(self, topic: str, msg: UorbMessage | None, type_name: str, src: m.Source, span: m.Span) -> None:
+        if self._too_long(topic, src, span, "uORB topic"):
+            return
         first = self.topics.get(topic)
         if first is not None and first[1] != type_name:
             self.diagnostics.append(diag("px4-topic-conflict", f"uORB topic '{topic}' would carry both {type_name} "
