@@ -5,12 +5,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Oracles and editors from Debian: thrift --audit, headless Neovim, graphviz, idlc (Cyclone DDS).
+# Oracles and editors from Debian: thrift --audit, headless Neovim, graphviz, idlc (Cyclone DDS),
+# fastddsgen (eProsima).
 need=()
 command -v thrift >/dev/null || need+=(thrift-compiler)
 command -v nvim >/dev/null || need+=(neovim)
 command -v dot >/dev/null || need+=(graphviz)
 command -v idlc >/dev/null || need+=(cyclonedds-tools)
+command -v fastddsgen >/dev/null || need+=(fastddsgen)
 if [ "${IFACE_E2E:-0}" = 1 ] && ! command -v chromium >/dev/null; then need+=(chromium); fi
 if [ ${#need[@]} -gt 0 ]; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
