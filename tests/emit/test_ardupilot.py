@@ -352,6 +352,34 @@ def test_dds_profiles_parse_and_match_the_tables() -> None:
          f"rq/{name}Request", f"rr/{name}Reply") for _, replier, name, type_name, _, _ in SERVICES]
 
 
+@pytest.mark.parametrize("case", CASES)
+def test_every_case_tables_compile_and_profiles_parse(tmp_path: Path, case: str) -> None:
+    """Whatever a case wires: its tables build against AP_DDS_Client.h's structs, its XML is well-formed."""
+    if shutil.which("g++") is None:
+        pytest.skip("g++ is not installed")
+    out = files(ok(DATA / f"{case}.iface"))
+    tables = {Path(p).name: t for p, t in out.items() if Path(p).name.startswith("AP_DDS_")}
+    profiles = [t for p, t in out.items() if p.endswith("/dds_xrce_profile.xml")]
+    assert bool(tables) == bool(profiles)
+    if not tables:
+        return
+    root = ET.fromstring(profiles[0])
+    assert len(root.findall("topic")) == tables.get("AP_DDS_Topic_Table.h", "").count("        .topic_id = ")
+    assert len([e for e in root if e.tag in ("replier", "requester")]) == tables.get(
+        "AP_DDS_Service_Table.h", "").count("        .req_id = ")
+    for name, text in tables.items():
+        (tmp_path / name).write_text(text)
+        for header in re.findall(r'^#include "(\w+/msg/\w+\.h)"$', text, re.M):
+            (tmp_path / header).parent.mkdir(parents=True, exist_ok=True)
+            (tmp_path / header).write_text("#pragma once\n")
+    unit = tmp_path / "tables.cpp"
+    unit.write_text('#include "AP_DDS_Client.h"\n' + "".join(f'#include "{n}"\n' for n in sorted(tables)))
+    proc = subprocess.run(["g++", "-std=c++20", "-fsyntax-only", "-Wall", "-Wextra", "-Werror", "-I",
+                           str(DATA / "stubs"), "-I", str(tmp_path), str(unit)], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+
+
 def test_a_qos_policy_ap_dds_cannot_carry_is_a_warning_at_the_annotation() -> None:
     result = ok(DATA / "dds.iface")
     (d,) = [d for d in result.diagnostics if d.code == "ap-dds-qos-unsupported"]
