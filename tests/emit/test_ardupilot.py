@@ -258,6 +258,8 @@ TOPICS = [
     ("PROBE_GOAL_PUB", True, "rt/probe/goal", "dds::msg::dds_::Goal_", "TRANSIENT_LOCAL", "RELIABLE", "KEEP_LAST",
      1),
     ("CMD_GOAL_SUB", False, "rt/cmd_goal", "dds::msg::dds_::Goal_", "VOLATILE", "RELIABLE", "KEEP_ALL", 10),
+    ("PROBE_CMD_VEL_SUB", False, "rt/probe/cmd_vel", "geometry_msgs::msg::dds_::Twist_", "VOLATILE", "RELIABLE",
+     "KEEP_LAST", 10),
 ]
 #: (index, replier, ROS name, type) of each service entry; request/reply topics and types follow from them.
 SERVICES = [

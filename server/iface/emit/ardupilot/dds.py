@@ -118,9 +118,10 @@ class DdsBuilder:
 
     def _topic(self, ep: m.Endpoint, writer: bool) -> DdsTopic | None:
         d = ep.definition
-        if d is None or not isinstance(d, m.Struct):
-            return None
-        type_name = self._type(d, "msg")
+        if isinstance(d, m.Struct):
+            type_name = self._type(d, "msg")
+        else:
+            type_name = _external(ep, "msg")
         if type_name is None:
             return None
         ros = self._ros_name(ep.name)
@@ -128,20 +129,23 @@ class DdsBuilder:
         index = self._unique(f"{slug.upper()}_{'PUB' if writer else 'SUB'}", self._indices)
         label = self._unique(slug, self._labels)
         return DdsTopic(index, label, writer, f"rt/{ros}", type_name, self._qos(ep.wiring),
-                        f"{ep.role} {d.name} on {ep.name}")
+                        f"{ep.role} {_wired(ep)} on {ep.name}")
 
     def _services(self, ep: m.Endpoint) -> list[DdsService]:
         d = ep.definition
-        if not isinstance(d, m.Service):
+        if d is not None and not isinstance(d, m.Service):
             return []
         replier = ep.role == "provides"
         parts: list[tuple[str, str | None]] = [(ep.name, "")]
-        if d.form == "functions":
+        if d is not None and d.form == "functions":
             parts = [(ep.name.rstrip("/") + "/" + (ros_field_name(fn.name) or fn.name), ros_type_name(fn.name))
                      for fn in d.functions]
         out = []
         for name, suffix in parts:
-            type_name = self._type(d, "srv", suffix or "") if suffix is not None else None
+            if d is None:
+                type_name = _external(ep, "srv")
+            else:
+                type_name = self._type(d, "srv", suffix or "") if suffix is not None else None
             if type_name is None:
                 continue
             ros = self._ros_name(name)
@@ -150,7 +154,7 @@ class DdsBuilder:
             label = self._unique(slug, self._labels)
             out.append(DdsService(index, label, replier, f"rs/{ros}Service", f"{type_name}Request_",
                                   f"{type_name}Response_", f"rq/{ros}Request", f"rr/{ros}Reply",
-                                  self._qos(ep.wiring), f"{ep.role} {d.name} on {name}"))
+                                  self._qos(ep.wiring), f"{ep.role} {_wired(ep)} on {name}"))
         return out
 
     def _type(self, d: m.Definition, kind: str, suffix: str = "") -> str | None:
@@ -199,6 +203,21 @@ class DdsBuilder:
             out, n = f"{name}_{n}", n + 1
         seen.add(out)
         return out
+
+
+def _external(ep: m.Endpoint, kind: str) -> str | None:
+    """The DDS type of a wired type of an ``external`` package (``geometry_msgs.Twist``)."""
+    if ep.wiring is None or "." not in ep.wiring.type.name:
+        return None
+    package, _, name = ep.wiring.type.name.rpartition(".")
+    return f"{package.replace('.', '::')}::{kind}::dds_::{name}_"
+
+
+def _wired(ep: m.Endpoint) -> str:
+    """The wired type as written."""
+    if ep.definition is not None:
+        return ep.definition.name
+    return ep.wiring.type.name if ep.wiring is not None else "?"
 
 
 def _slug(ros: str) -> str:

@@ -4,6 +4,7 @@
 // fields are those of libraries/AP_DDS/AP_DDS_Client.h.
 #include "dds/msg/Goal.h"
 #include "dds/msg/Status.h"
+#include "geometry_msgs/msg/Twist.h"
 
 #include "uxr/client/client.h"
 
@@ -11,6 +12,7 @@ enum class TopicIndex: uint8_t {
     PROBE_STATUS_PUB,
     PROBE_GOAL_PUB,
     CMD_GOAL_SUB,
+    PROBE_CMD_VEL_SUB,
 };
 
 static inline constexpr uint8_t to_underlying(const TopicIndex index)
@@ -69,6 +71,23 @@ constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
             .durability = UXR_DURABILITY_VOLATILE,
             .reliability = UXR_RELIABILITY_RELIABLE,
             .history = UXR_HISTORY_KEEP_ALL,
+            .depth = 10,
+        },
+    },
+    // subscribes geometry_msgs.Twist on /probe/cmd_vel
+    {
+        .topic_id = to_underlying(TopicIndex::PROBE_CMD_VEL_SUB),
+        .pub_id = to_underlying(TopicIndex::PROBE_CMD_VEL_SUB),
+        .sub_id = to_underlying(TopicIndex::PROBE_CMD_VEL_SUB),
+        .dw_id = uxrObjectId{.id=to_underlying(TopicIndex::PROBE_CMD_VEL_SUB), .type=UXR_DATAWRITER_ID},
+        .dr_id = uxrObjectId{.id=to_underlying(TopicIndex::PROBE_CMD_VEL_SUB), .type=UXR_DATAREADER_ID},
+        .topic_rw = Topic_rw::DataReader,
+        .topic_name = "rt/probe/cmd_vel",
+        .type_name = "geometry_msgs::msg::dds_::Twist_",
+        .qos = {
+            .durability = UXR_DURABILITY_VOLATILE,
+            .reliability = UXR_RELIABILITY_RELIABLE,
+            .history = UXR_HISTORY_KEEP_LAST,
             .depth = 10,
         },
     },
