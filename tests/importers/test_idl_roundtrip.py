@@ -30,7 +30,7 @@ def _files(*packages: Path) -> list[Path]:
 def test_idl_only_and_keyword_packages_come_back_identical() -> None:
     done = run_cli("roundtrip", "-v", "--from", "ros2", *(str(p) for p in PACKAGES))
     files = _files(*PACKAGES)
-    assert sum(f.suffix == ".idl" for f in files) == 5
+    assert sum(f.suffix == ".idl" for f in files) == 6
     assert done.stdout.splitlines()[-1] == f"{len(files)} of {len(files)} identical", done.stdout + done.stderr
     assert done.returncode == 0
     for f in files:
@@ -67,8 +67,8 @@ def test_the_ros2_target_writes_idl_where_msg_has_no_such_type(tmp_path: Path) -
     pkg = tmp_path / "g" / "wide_msgs"
     written = sorted(str(p.relative_to(pkg)) for p in pkg.rglob("*") if p.is_file())
     # Base has a wstring but no wchar: .msg states it; a wchar needs .idl
-    assert written == ["CMakeLists.txt", "msg/Base.msg", "msg/Holder.idl", "msg/Plain.msg", "msg/Wide.idl",
-                       "package.xml", "srv/Ask.idl"]
+    assert written == ["CMakeLists.txt", "msg/Base.msg", "msg/Defaults.idl", "msg/Holder.idl", "msg/Plain.msg",
+                       "msg/Wide.idl", "package.xml", "srv/Ask.idl"]
     cmake = (pkg / "CMakeLists.txt").read_text()
     assert all(f'"{name}"' in cmake for name in ("msg/Base.msg", "msg/Holder.idl", "msg/Wide.idl", "srv/Ask.idl"))
     assert '#include "wide_msgs/msg/Base.idl"' in (pkg / "msg" / "Holder.idl").read_text()
@@ -83,6 +83,12 @@ def test_a_changed_bound_or_type_is_a_difference() -> None:
         assert old in text
         b = idl_views(text.replace(old, new))["Wide"]
         assert differences(a, b), new
+    with_defaults = (IDL_DATA / "wide_msgs" / "msg" / "Defaults.idl").read_text()
+    d = idl_views(with_defaults)["Defaults"]
+    for old, new in (("value=5)", "value=6)"), ('"(1, 2, 3)"', '"(1, 2, 4)"'), ("then go", "then stop"),
+                     ("value=TRUE", "value=FALSE")):
+        assert old in with_defaults
+        assert differences(d, idl_views(with_defaults.replace(old, new))["Defaults"]), new
     changed = idl_views(text.replace("wstring<5> short_text", "wstring<6> short_text"))["Wide"]
     name = a.parts[0].name
     assert rihs01(name, {name: a.parts[0].descs}) != rihs01(name, {name: changed.parts[0].descs})
@@ -119,7 +125,9 @@ for path in sys.argv[1:]:
     for s in content.get_elements_of_type(Service):
         structs += [s.request_message.structure, s.response_message.structure]
     for s in structs:
-        out[s.namespaced_type.name] = [[m.name, type(m.type).__name__] for m in s.members]
+        out[s.namespaced_type.name] = [[m.name, type(m.type).__name__,
+                                        m.get_annotation_value("default")["value"]
+                                        if m.has_annotation("default") else None] for m in s.members]
 print(json.dumps(out))
 """
 
@@ -136,12 +144,20 @@ def test_the_generated_idl_files_parse_with_rosidl_parser(tmp_path: Path) -> Non
         done = run_cli("generate", str(iface), "--target", "ros2", "-o", str(tmp_path / "g"))
         assert done.returncode == 0, done.stderr
     idl = sorted((tmp_path / "g").rglob("*.idl"))
-    assert len(idl) == 4
-    read = subprocess.run([str(python), "-c", _ROSIDL_READ, *map(str, idl)], capture_output=True, text=True,
+    assert len(idl) == 5
+    structs = _rosidl_read(python, idl)
+    assert sorted(structs) == ["Ask_Request", "Ask_Response", "Defaults", "Holder", "User", "Wide"]
+    assert [m[0] for m in structs["Wide"]] == ["letter", "text", "short_text", "three", "some", "many", "few",
+                                               "pair", "letters", "two_short"]
+    assert structs["Holder"][3][:2] == ["tag", "BasicType"] and structs["Wide"][1][:2] == ["text", "UnboundedWString"]
+    # the defaults, read by rosidl_parser from the original and from what iface wrote back
+    original = _rosidl_read(python, [IDL_DATA / "wide_msgs" / "msg" / "Defaults.idl"])["Defaults"]
+    assert original[3] == ["text", "UnboundedString", 'say "hi"; then go']
+    assert structs["Defaults"] == original
+
+
+def _rosidl_read(python: Path, paths: list[Path]) -> dict[str, list[list[object]]]:
+    read = subprocess.run([str(python), "-c", _ROSIDL_READ, *map(str, paths)], capture_output=True, text=True,
                           timeout=120)
     assert read.returncode == 0, read.stderr
-    structs = json.loads(read.stdout)
-    assert sorted(structs) == ["Ask_Request", "Ask_Response", "Holder", "User", "Wide"]
-    assert [n for n, _ in structs["Wide"]] == ["letter", "text", "short_text", "three", "some", "many", "few",
-                                               "pair", "letters", "two_short"]
-    assert structs["Holder"][3] == ["tag", "BasicType"] and structs["Wide"][1] == ["text", "UnboundedWString"]
+    return json.loads(read.stdout)

@@ -1,6 +1,8 @@
 """ROS 2 ``.idl`` files, as rosbags' IDL parser reads them, → parsed interface files.
 
-rosbags gives each struct's fields and constants (not defaults or comments). Before it reads
+rosbags gives each struct's fields and constants, not their ``@default`` values: those are
+read here from each member's annotations (``@default (value=…)``, as rosidl writes them, an
+array as the string of a tuple). Before rosbags reads
 a file, preprocessor lines (``#include``, ``#ifndef`` guards …) are blanked — the types an
 include brings are named by their scoped name (``pkg::msg::T``) and resolved against the
 packages being imported, as rosidl resolves them — and a ``>>`` that closes two templates
@@ -11,6 +13,7 @@ module's ``X_Goal``/``X_Result``/``X_Feedback`` an action; every other struct a 
 
 from __future__ import annotations
 
+import ast
 import re
 from typing import Any
 
@@ -28,6 +31,48 @@ def rosbags_text(text: str) -> str:
     text = _DIRECTIVE.sub("", text)
     return "\n".join(line if line.lstrip().startswith("const ") else _CLOSE.sub("> >", line)
                      for line in text.split("\n"))
+
+
+_COMMENT = re.compile(r'"(?:\\.|[^"\\])*"|//[^\n]*|/\*.*?\*/', re.DOTALL)
+_STRUCT = re.compile(r"\bstruct\s+([A-Za-z_]\w*)\s*\{")
+_TOKEN = re.compile(r'L?"(?:\\.|[^"\\])*"|[{};]|[^{};"]+')
+_DEFAULT = re.compile(r'@default\s*\(\s*value\s*=\s*(L?"(?:\\.|[^"\\])*"|[^)\s]+)\s*\)')
+_NAME = re.compile(r"([A-Za-z_]\w*)\s*(?:\[[^\]]*\]\s*)*$")
+
+
+def defaults(text: str) -> dict[tuple[str, str], Any]:
+    """``@default`` values by (struct name, member name), decoded as rosidl_parser decodes them."""
+    text = _COMMENT.sub(lambda mt: mt.group() if mt.group().startswith('"') else " ", _DIRECTIVE.sub("", text))
+    out: dict[tuple[str, str], Any] = {}
+    for found in _STRUCT.finditer(text):
+        members, depth = [""], 1
+        for token in _TOKEN.finditer(text, found.end()):
+            t = token.group()
+            depth += (t == "{") - (t == "}")
+            if depth == 0:
+                break
+            if t == ";":  # a ';' inside a string literal is part of its token
+                members.append("")
+            else:
+                members[-1] += t
+        for member in members:
+            value = _DEFAULT.search(member)
+            name = _NAME.search(member.strip())
+            if value and name:
+                out[(found.group(1), name.group(1))] = _literal(value.group(1))
+    return out
+
+
+def _literal(text: str) -> Any:
+    """An IDL literal: TRUE/FALSE, a number, a string."""
+    if text in ("TRUE", "FALSE"):
+        return text == "TRUE"
+    if text.startswith(("L\"", '"')):
+        return ast.literal_eval(text.lstrip("L"))
+    try:
+        return ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        return text
 
 
 def read_idl(text: str) -> dict[str, Any]:
@@ -58,7 +103,19 @@ def _type(desc: Any, module: str) -> RosType:
     return RosType(_BASE[base], string_bound=bound or None)
 
 
-def _part(full: str, consts: list[Any], fields: list[Any], problems: list[str]) -> Part | None:
+def array_value(value: Any) -> Any:
+    """An array field's default: rosidl writes it as the string of a tuple, ``"(1, 2)"``."""
+    if isinstance(value, str):
+        try:
+            parsed = ast.literal_eval(value)
+        except (ValueError, SyntaxError):
+            return value
+        return list(parsed) if isinstance(parsed, (tuple, list)) else value
+    return value
+
+
+def _part(full: str, consts: list[Any], fields: list[Any], problems: list[str],
+          values: dict[tuple[str, str], Any]) -> Part | None:
     module = full.partition("/")[0]
     name = full.rpartition("/")[2]
     part = Part(name, 0)
@@ -72,10 +129,17 @@ def _part(full: str, consts: list[Any], fields: list[Any], problems: list[str]) 
         part.elements.append(Element("constant", RosType(_BASE[ctype]), cname, 0, value, [text]))
     for fname, desc in fields:
         try:
-            part.elements.append(Element("field", _type(desc, module), fname, 0))
+            element = Element("field", _type(desc, module), fname, 0)
         except ValueError as e:
             problems.append(f"{name}.{fname}: {e}")
             ok = False
+            continue
+        if (name, fname) in values:
+            value = values[name, fname]
+            element.value = array_value(value) if element.type.array else value
+            items = element.value if isinstance(element.value, list) else [element.value]
+            element.texts = [("true" if v else "false") if isinstance(v, bool) else str(v) for v in items]
+        part.elements.append(element)
     return part if ok else None
 
 
@@ -97,12 +161,14 @@ def structs_of(types: dict[str, Any]) -> list[tuple[Kind, str, list[str]]]:
     return sorted(out, key=lambda x: x[2][0])
 
 
-def ros_files_from_idl(types: dict[str, Any], package: str) -> tuple[list[RosFile], list[str]]:
-    """One interface per message struct, service or action; problems name the struct and the field."""
+def ros_files_from_idl(types: dict[str, Any], package: str, text: str = "") -> tuple[list[RosFile], list[str]]:
+    """One interface per message struct, service or action, with the defaults ``text`` states; problems name
+    the struct and the field."""
     files: list[RosFile] = []
     problems: list[str] = []
+    values = defaults(text) if text else {}
     for kind, name, fulls in structs_of(types):
-        parts = [_part(full, *types[full], problems) for full in fulls]
+        parts = [_part(full, *types[full], problems, values) for full in fulls]
         if all(p is not None for p in parts):
             rf = RosFile(kind, package, name)
             rf.parts.extend(p for p in parts if p is not None)

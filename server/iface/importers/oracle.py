@@ -1,8 +1,8 @@
 """What the platforms' own parsers read from an interface file: the judge of a round trip.
 
 - ROS 2 ``.idl``: rosbags' IDL parser (``rosbags.typesys.get_types_from_idl``, through
-  ``importers.idl.read_idl``) gives fields and constants of every struct; fields are compared
-  by type (rosbags reads no defaults), and by the same RIHS01 hash.
+  ``importers.idl.read_idl``) gives fields and constants of every struct, ``importers.idl.defaults``
+  their ``@default`` values (which rosbags does not read); compared like .msg, with the same RIHS01 hash.
 - ROS 2: the rosidl parser vendored in ``mcap-ros2-support``
   (``mcap_ros2._vendor.rosidl_adapter.parser``) gives fields (name, type with
   bounds, default) and constants of every part; the RIHS01 type hash of each
@@ -106,7 +106,7 @@ def idl_views(text: str) -> dict[str, FileView]:
     Raises OracleRefused when rosbags refuses the file.
     """
     try:
-        from .idl import read_idl, structs_of
+        from .idl import defaults, read_idl, structs_of
     except ImportError:
         raise OracleMissing("the ROS 2 round trip of .idl files needs rosbags (pip install rosbags)") from None
     try:
@@ -115,23 +115,34 @@ def idl_views(text: str) -> dict[str, FileView]:
         raise OracleMissing("the ROS 2 round trip of .idl files needs rosbags (pip install rosbags)") from None
     except Exception as e:  # rosbags raises its own error types
         raise OracleRefused(f"rosbags refuses it: {str(e).splitlines()[0]}") from None
+    values = defaults(text)
     out: dict[str, FileView] = {}
     for kind, name, fulls in structs_of(types):
         parts = []
         for full in fulls:
             consts, fields = types[full]
+            short = full.rpartition("/")[2]
             part = PartView(full)
             part.descs = [(n, _from_rosbags(d)) for n, d in fields]
+            part.fields = [(n, "", _default(values.get((short, n)), d)) for n, d in part.descs]
             part.constants = [(t, n, v) for n, t, v in consts]
             parts.append(part)
         out[name] = structural(FileView(kind, parts))
     return out
 
 
+def _default(value: Any, desc: tuple[Any, ...]) -> Any:
+    from .idl import array_value
+
+    return array_value(value) if desc[0] in ("array", "sequence") else value
+
+
 def structural(view: FileView) -> FileView:
-    """``view`` with fields as (name, type) from their descs: what an .idl file and a .msg file both state."""
-    parts = [PartView(p.name, [(n, desc_text(d), None) for n, d in p.descs], p.constants, p.descs)
-             for p in view.parts]
+    """``view`` with field types written from their descs, as an .idl file and a .msg file both state them."""
+    parts = []
+    for p in view.parts:
+        given = {f[0]: f[2] for f in p.fields}
+        parts.append(PartView(p.name, [(n, desc_text(d), given.get(n)) for n, d in p.descs], p.constants, p.descs))
     return FileView(view.kind, parts, view.topics)
 
 
@@ -146,7 +157,7 @@ def renamed(view: FileView, names: dict[str, str]) -> FileView:
             return (kind, (desc(rest[0]), rest[1]))
         return d
 
-    parts = [PartView(names.get(p.name, p.name), [], p.constants, [(n, desc(d)) for n, d in p.descs])
+    parts = [PartView(names.get(p.name, p.name), p.fields, p.constants, [(n, desc(d)) for n, d in p.descs])
              for p in view.parts]
     return structural(FileView(view.kind, parts, view.topics))
 

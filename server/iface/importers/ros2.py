@@ -264,7 +264,8 @@ def _kind(d: m.Definition) -> Kind:
 
 
 def _idl_files(pkg: Package, result: ImportResult) -> None:
-    """Read .idl files through rosbags' IDL parser (fields and constants; defaults and comments are not read).
+    """Read .idl files through rosbags' IDL parser (fields and constants) and their ``@default`` values (comments
+    are not read).
 
     Each .idl file is a source of the import, so that a round trip counts it whether it imports or not.
     """
@@ -279,14 +280,15 @@ def _idl_files(pkg: Package, result: ImportResult) -> None:
     from .idl import read_idl, ros_files_from_idl
 
     for p in pkg.idl:
+        text = _read(p)
         try:
-            types = read_idl(_read(p))
+            types = read_idl(text)
         except InputError:
             raise
         except Exception as e:  # rosbags raises its own error types for bad IDL
             result.problems.append(Problem(str(p), 0, f"cannot read the IDL file: {e}"))
             continue
-        files, problems = ros_files_from_idl(types, pkg.name)
+        files, problems = ros_files_from_idl(types, pkg.name, text)
         result.problems.extend(Problem(str(p), 0, msg) for msg in problems)
         pkg.parsed.extend((p, rf) for rf in files)
 
