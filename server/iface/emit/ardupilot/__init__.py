@@ -1,11 +1,14 @@
-"""The ardupilot target: OMG IDL for AP_DDS and an AP_Param table.
+"""The ardupilot target: OMG IDL and table entries for AP_DDS, and an AP_Param table.
 
 ArduPilot talks to ROS 2 through AP_DDS, which reads ROS 2 types as OMG IDL in
 the rosidl shape (``libraries/AP_DDS/Idl/<pkg>/msg|srv/<Name>.idl``). The IDL is
 the ``idl`` target's, lowered exactly as for ``ros2`` so both sides agree on the
-wire; AP_DDS has no actions, so those are left out with a warning. The
-configuration set P becomes an ``AP_Param`` group class whose indices are kept
-stable from field ids; see docs/targets-px4-ardupilot.md.
+wire; AP_DDS has no actions, so those are left out with a warning. Its typedefs
+and files carry ArduPilot's ``#ifndef …_defined`` guards. The wiring statements
+become AP_DDS topic and service table entries and XRCE-DDS profiles (``dds``);
+the configuration set P becomes an ``AP_Param`` group class whose indices are kept
+stable from field ids (``params``, documentation fields from ``metadata``); see
+docs/targets-px4-ardupilot.md.
 
 May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``), the shared
 modules of ``emit`` and the ``idl`` target it reuses.
@@ -51,7 +54,7 @@ FILTERS: dict[str, Callable[..., Any]] = {"cpp_string": cpp_string, "one_line": 
 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
-    """IDL files for messages and services, and the AP_Param class; errors mean no files."""
+    """IDL for messages and services, AP_DDS tables and profiles, the AP_Param class; errors mean no files."""
     pkg, lowered = lower_checked(comp, check_idl_values, check_idl_names, _no_keywords, _no_actions)
     # package.xml is the ros2 target's business, not ArduPilot's
     diagnostics = [d for d in lowered if d.code not in IGNORED]
@@ -106,7 +109,8 @@ def _no_actions(pkg: RosPackage) -> Iterator[Diagnostic]:
                    "ardupilot", action.source, action.span)
 
 
-TARGET = Target("ardupilot", "ArduPilot: OMG IDL for AP_DDS (rosidl shape) and an AP_Param table with stable "
-                "indices", generate, str(TEMPLATES))
+TARGET = Target("ardupilot", "ArduPilot: OMG IDL for AP_DDS (rosidl shape, ArduPilot's guards), AP_DDS topic and "
+                "service table entries with XRCE-DDS profiles, and an AP_Param table with stable indices", generate,
+                str(TEMPLATES))
 
 __all__ = ["CODES", "TARGET", "generate"]
