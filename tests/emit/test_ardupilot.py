@@ -326,6 +326,34 @@ def test_dds_tables_compile_and_hold_the_wiring(tmp_path: Path) -> None:
     assert proc.returncode == 0, proc.stderr
 
 
+def test_each_dds_entry_can_be_left_out_of_the_build(tmp_path: Path) -> None:
+    """As AP_DDS_config.h lets ArduPilot's own entries be: the rest keep dense indices."""
+    if shutil.which("g++") is None:
+        pytest.skip("g++ is not installed")
+    topics, services, _ = dds_files(ok(DATA / "dds.iface"))
+    (tmp_path / "AP_DDS_Topic_Table.h").write_text(topics)
+    (tmp_path / "AP_DDS_Service_Table.h").write_text(services)
+    for header in re.findall(r'^#include "(\w+/msg/\w+\.h)"$', topics, re.M):
+        (tmp_path / header).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / header).write_text("#pragma once\n")
+    unit = tmp_path / "tables.cpp"
+    unit.write_text('#include "AP_DDS_Client.h"\n#include "AP_DDS_Topic_Table.h"\n#include "AP_DDS_Service_Table.h"\n'
+                    "constexpr bool same(const char* a, const char* b) "
+                    "{ return *a == *b && (*a == 0 || same(a + 1, b + 1)); }\n"
+                    f"static_assert(sizeof(AP_DDS_Client::topics) / sizeof(AP_DDS_Client::topics[0]) == "
+                    f"{len(TOPICS) - 1});\n"
+                    'static_assert(same(AP_DDS_Client::topics[0].topic_name, "rt/probe/goal"));\n'
+                    "static_assert(AP_DDS_Client::topics[0].topic_id == 0);\n"
+                    f"static_assert(sizeof(AP_DDS_Client::services) / sizeof(AP_DDS_Client::services[0]) == "
+                    f"{len(SERVICES) - 1});\n"
+                    'static_assert(same(AP_DDS_Client::services[3].service_name, "rs/probe/healthService"));\n')
+    proc = subprocess.run(["g++", "-std=c++20", "-fsyntax-only", "-Wall", "-Wextra", "-Werror",
+                           "-DAP_DDS_PROBE_STATUS_PUB_ENABLED=0", "-DAP_DDS_OTHER_ARM_CLIENT_ENABLED=0", "-I",
+                           str(DATA / "stubs"), "-I", str(tmp_path), str(unit)], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+
+
 def test_dds_profiles_parse_and_match_the_tables() -> None:
     _, _, xml = dds_files(ok(DATA / "dds.iface"))
     root = ET.fromstring(xml)

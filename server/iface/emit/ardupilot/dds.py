@@ -53,6 +53,11 @@ class DdsTopic:
     qos: DdsQos
     what: str
 
+    @property
+    def feature(self) -> str:
+        """The build switch of the entry, as AP_DDS_config.h names ArduPilot's (``AP_DDS_TIME_PUB_ENABLED``)."""
+        return f"AP_DDS_{self.index}_ENABLED"
+
 
 @dataclass(frozen=True, slots=True)
 class DdsService:
@@ -68,6 +73,11 @@ class DdsService:
     reply_topic_name: str
     qos: DdsQos
     what: str
+
+    @property
+    def feature(self) -> str:
+        """The build switch of the entry, as AP_DDS_config.h names ArduPilot's (``AP_DDS_ARM_SERVER_ENABLED``)."""
+        return f"AP_DDS_{self.index}_{'SERVER' if self.replier else 'CLIENT'}_ENABLED"
 
 
 @dataclass(slots=True)

@@ -4,12 +4,39 @@
 // fields are those of libraries/AP_DDS/AP_DDS_Client.h.
 #include "uxr/client/client.h"
 
+// Each entry can be left out of the build, as AP_DDS_config.h lets ArduPilot's own be.
+#ifndef AP_DDS_PROBE_ARM_SERVER_ENABLED
+#define AP_DDS_PROBE_ARM_SERVER_ENABLED 1
+#endif
+#ifndef AP_DDS_DDS_PROBE_CALIBRATION_START_SERVER_ENABLED
+#define AP_DDS_DDS_PROBE_CALIBRATION_START_SERVER_ENABLED 1
+#endif
+#ifndef AP_DDS_DDS_PROBE_CALIBRATION_STOP_SERVER_ENABLED
+#define AP_DDS_DDS_PROBE_CALIBRATION_STOP_SERVER_ENABLED 1
+#endif
+#ifndef AP_DDS_OTHER_ARM_CLIENT_ENABLED
+#define AP_DDS_OTHER_ARM_CLIENT_ENABLED 1
+#endif
+#ifndef AP_DDS_PROBE_HEALTH_SERVER_ENABLED
+#define AP_DDS_PROBE_HEALTH_SERVER_ENABLED 1
+#endif
+
 enum class ServiceIndex: uint8_t {
+#if AP_DDS_PROBE_ARM_SERVER_ENABLED
     PROBE_ARM,
+#endif // AP_DDS_PROBE_ARM_SERVER_ENABLED
+#if AP_DDS_DDS_PROBE_CALIBRATION_START_SERVER_ENABLED
     DDS_PROBE_CALIBRATION_START,
+#endif // AP_DDS_DDS_PROBE_CALIBRATION_START_SERVER_ENABLED
+#if AP_DDS_DDS_PROBE_CALIBRATION_STOP_SERVER_ENABLED
     DDS_PROBE_CALIBRATION_STOP,
+#endif // AP_DDS_DDS_PROBE_CALIBRATION_STOP_SERVER_ENABLED
+#if AP_DDS_OTHER_ARM_CLIENT_ENABLED
     OTHER_ARM,
+#endif // AP_DDS_OTHER_ARM_CLIENT_ENABLED
+#if AP_DDS_PROBE_HEALTH_SERVER_ENABLED
     PROBE_HEALTH,
+#endif // AP_DDS_PROBE_HEALTH_SERVER_ENABLED
 };
 
 static inline constexpr uint8_t to_underlying(const ServiceIndex index)
@@ -19,6 +46,7 @@ static inline constexpr uint8_t to_underlying(const ServiceIndex index)
 }
 
 constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
+#if AP_DDS_PROBE_ARM_SERVER_ENABLED
     // provides Arm on /probe/arm
     {
         .req_id = to_underlying(ServiceIndex::PROBE_ARM),
@@ -36,6 +64,8 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 5,
         },
     },
+#endif // AP_DDS_PROBE_ARM_SERVER_ENABLED
+#if AP_DDS_DDS_PROBE_CALIBRATION_START_SERVER_ENABLED
     // provides Calibration on ~/calibration/start
     {
         .req_id = to_underlying(ServiceIndex::DDS_PROBE_CALIBRATION_START),
@@ -53,6 +83,8 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_DDS_PROBE_CALIBRATION_START_SERVER_ENABLED
+#if AP_DDS_DDS_PROBE_CALIBRATION_STOP_SERVER_ENABLED
     // provides Calibration on ~/calibration/stop
     {
         .req_id = to_underlying(ServiceIndex::DDS_PROBE_CALIBRATION_STOP),
@@ -70,6 +102,8 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_DDS_PROBE_CALIBRATION_STOP_SERVER_ENABLED
+#if AP_DDS_OTHER_ARM_CLIENT_ENABLED
     // calls Arm on /other/arm
     {
         .req_id = to_underlying(ServiceIndex::OTHER_ARM),
@@ -87,6 +121,8 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_OTHER_ARM_CLIENT_ENABLED
+#if AP_DDS_PROBE_HEALTH_SERVER_ENABLED
     // provides Health on /probe/health
     {
         .req_id = to_underlying(ServiceIndex::PROBE_HEALTH),
@@ -104,4 +140,5 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_PROBE_HEALTH_SERVER_ENABLED
 };

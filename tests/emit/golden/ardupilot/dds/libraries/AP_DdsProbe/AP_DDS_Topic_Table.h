@@ -8,11 +8,33 @@
 
 #include "uxr/client/client.h"
 
+// Each entry can be left out of the build, as AP_DDS_config.h lets ArduPilot's own be.
+#ifndef AP_DDS_PROBE_STATUS_PUB_ENABLED
+#define AP_DDS_PROBE_STATUS_PUB_ENABLED 1
+#endif
+#ifndef AP_DDS_PROBE_GOAL_PUB_ENABLED
+#define AP_DDS_PROBE_GOAL_PUB_ENABLED 1
+#endif
+#ifndef AP_DDS_CMD_GOAL_SUB_ENABLED
+#define AP_DDS_CMD_GOAL_SUB_ENABLED 1
+#endif
+#ifndef AP_DDS_PROBE_CMD_VEL_SUB_ENABLED
+#define AP_DDS_PROBE_CMD_VEL_SUB_ENABLED 1
+#endif
+
 enum class TopicIndex: uint8_t {
+#if AP_DDS_PROBE_STATUS_PUB_ENABLED
     PROBE_STATUS_PUB,
+#endif // AP_DDS_PROBE_STATUS_PUB_ENABLED
+#if AP_DDS_PROBE_GOAL_PUB_ENABLED
     PROBE_GOAL_PUB,
+#endif // AP_DDS_PROBE_GOAL_PUB_ENABLED
+#if AP_DDS_CMD_GOAL_SUB_ENABLED
     CMD_GOAL_SUB,
+#endif // AP_DDS_CMD_GOAL_SUB_ENABLED
+#if AP_DDS_PROBE_CMD_VEL_SUB_ENABLED
     PROBE_CMD_VEL_SUB,
+#endif // AP_DDS_PROBE_CMD_VEL_SUB_ENABLED
 };
 
 static inline constexpr uint8_t to_underlying(const TopicIndex index)
@@ -23,6 +45,7 @@ static inline constexpr uint8_t to_underlying(const TopicIndex index)
 
 
 constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
+#if AP_DDS_PROBE_STATUS_PUB_ENABLED
     // publishes Status on /probe/status
     {
         .topic_id = to_underlying(TopicIndex::PROBE_STATUS_PUB),
@@ -40,6 +63,8 @@ constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
             .depth = 5,
         },
     },
+#endif // AP_DDS_PROBE_STATUS_PUB_ENABLED
+#if AP_DDS_PROBE_GOAL_PUB_ENABLED
     // publishes Goal on /probe/goal
     {
         .topic_id = to_underlying(TopicIndex::PROBE_GOAL_PUB),
@@ -57,6 +82,8 @@ constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
             .depth = 1,
         },
     },
+#endif // AP_DDS_PROBE_GOAL_PUB_ENABLED
+#if AP_DDS_CMD_GOAL_SUB_ENABLED
     // subscribes Goal on cmd_goal
     {
         .topic_id = to_underlying(TopicIndex::CMD_GOAL_SUB),
@@ -74,6 +101,8 @@ constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_CMD_GOAL_SUB_ENABLED
+#if AP_DDS_PROBE_CMD_VEL_SUB_ENABLED
     // subscribes geometry_msgs.Twist on /probe/cmd_vel
     {
         .topic_id = to_underlying(TopicIndex::PROBE_CMD_VEL_SUB),
@@ -91,4 +120,5 @@ constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_PROBE_CMD_VEL_SUB_ENABLED
 };

@@ -6,8 +6,15 @@
 
 #include "uxr/client/client.h"
 
+// Each entry can be left out of the build, as AP_DDS_config.h lets ArduPilot's own be.
+#ifndef AP_DDS_PROBE_PUB_ENABLED
+#define AP_DDS_PROBE_PUB_ENABLED 1
+#endif
+
 enum class TopicIndex: uint8_t {
+#if AP_DDS_PROBE_PUB_ENABLED
     PROBE_PUB,
+#endif // AP_DDS_PROBE_PUB_ENABLED
 };
 
 static inline constexpr uint8_t to_underlying(const TopicIndex index)
@@ -18,6 +25,7 @@ static inline constexpr uint8_t to_underlying(const TopicIndex index)
 
 
 constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
+#if AP_DDS_PROBE_PUB_ENABLED
     // publishes Probe on /probe
     {
         .topic_id = to_underlying(TopicIndex::PROBE_PUB),
@@ -35,4 +43,5 @@ constexpr struct AP_DDS_Client::Topic_table AP_DDS_Client::topics[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_PROBE_PUB_ENABLED
 };

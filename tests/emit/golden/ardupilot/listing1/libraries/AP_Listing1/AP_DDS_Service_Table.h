@@ -4,10 +4,27 @@
 // fields are those of libraries/AP_DDS/AP_DDS_Client.h.
 #include "uxr/client/client.h"
 
+// Each entry can be left out of the build, as AP_DDS_config.h lets ArduPilot's own be.
+#ifndef AP_DDS_SERVICE1_SERVER_ENABLED
+#define AP_DDS_SERVICE1_SERVER_ENABLED 1
+#endif
+#ifndef AP_DDS_SERVICE2_SERVER_ENABLED
+#define AP_DDS_SERVICE2_SERVER_ENABLED 1
+#endif
+#ifndef AP_DDS_LISTING1_DIAGNOSTICS_SERVER_ENABLED
+#define AP_DDS_LISTING1_DIAGNOSTICS_SERVER_ENABLED 1
+#endif
+
 enum class ServiceIndex: uint8_t {
+#if AP_DDS_SERVICE1_SERVER_ENABLED
     SERVICE1,
+#endif // AP_DDS_SERVICE1_SERVER_ENABLED
+#if AP_DDS_SERVICE2_SERVER_ENABLED
     SERVICE2,
+#endif // AP_DDS_SERVICE2_SERVER_ENABLED
+#if AP_DDS_LISTING1_DIAGNOSTICS_SERVER_ENABLED
     LISTING1_DIAGNOSTICS,
+#endif // AP_DDS_LISTING1_DIAGNOSTICS_SERVER_ENABLED
 };
 
 static inline constexpr uint8_t to_underlying(const ServiceIndex index)
@@ -17,6 +34,7 @@ static inline constexpr uint8_t to_underlying(const ServiceIndex index)
 }
 
 constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
+#if AP_DDS_SERVICE1_SERVER_ENABLED
     // provides service1 on service1
     {
         .req_id = to_underlying(ServiceIndex::SERVICE1),
@@ -34,6 +52,8 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_SERVICE1_SERVER_ENABLED
+#if AP_DDS_SERVICE2_SERVER_ENABLED
     // provides service2 on service2
     {
         .req_id = to_underlying(ServiceIndex::SERVICE2),
@@ -51,6 +71,8 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_SERVICE2_SERVER_ENABLED
+#if AP_DDS_LISTING1_DIAGNOSTICS_SERVER_ENABLED
     // provides diagnostics on ~/diagnostics
     {
         .req_id = to_underlying(ServiceIndex::LISTING1_DIAGNOSTICS),
@@ -68,4 +90,5 @@ constexpr struct AP_DDS_Client::Service_table AP_DDS_Client::services[] = {
             .depth = 10,
         },
     },
+#endif // AP_DDS_LISTING1_DIAGNOSTICS_SERVER_ENABLED
 };
