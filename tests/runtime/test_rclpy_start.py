@@ -1,0 +1,142 @@
+"""Starting a generated node as a user does: the README's commands, and user code the interface no longer matches.
+
+The README's "From the interface to a running node" block is run as written (in a temporary folder that
+holds the examples; the runtime's ros2-env.sh where the block names the default one), then the node it
+starts is looked at with rclpy's graph calls: up, active, its parameters described, its services there.
+Loopback only, a random ROS_DOMAIN_ID, every wait bounded, every process stopped by its own handle.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from .conftest import Workspace
+from .ros import DEFAULT_VENV, ROOT, environment, run_bounded
+
+SECTION = "## From the interface to a running node"
+DEFAULT_ENV = "~/.cache/ros2-runtime/ros2-env.sh"
+
+#: Looks at the running /robot_arm from another process, as `ros2 node info`, `ros2 lifecycle get` and
+#: `ros2 param describe` would (the PyPI runtime has no ros2 command); prints one line per finding.
+LOOK = textwrap.dedent("""
+    import time
+    import rclpy
+    from rclpy.node import Node
+    from lifecycle_msgs.srv import GetState
+    from rcl_interfaces.srv import DescribeParameters
+
+    def call(node, srv, name, request):
+        client = node.create_client(srv, name)
+        assert client.wait_for_service(timeout_sec=20), name
+        future = client.call_async(request)
+        rclpy.spin_until_future_complete(node, future, timeout_sec=20)
+        assert future.result() is not None, name
+        return future.result()
+
+    rclpy.init()
+    node = Node("readme_look")
+    end = time.monotonic() + 30
+    while time.monotonic() < end:
+        rclpy.spin_once(node, timeout_sec=0.2)
+        state = call(node, GetState, "/robot_arm/get_state", GetState.Request()).current_state.label
+        if state == "active":
+            break
+    print("state", state)
+    print("services", " ".join(sorted(n for n, _ in node.get_service_names_and_types_by_node("robot_arm", "/"))))
+    d = call(node, DescribeParameters, "/robot_arm/describe_parameters",
+             DescribeParameters.Request(names=["max_speed"])).descriptors[0]
+    ranges = [(r.from_value, r.to_value) for r in d.floating_point_range]
+    print("max_speed", repr(d.description), ranges)
+    print("publishers", " ".join(i.node_name for i in node.get_publishers_info_by_topic("/arm/joint_state")))
+""")
+
+
+def readme_commands() -> list[str]:
+    """The shell lines of the README block, comments dropped."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert SECTION in text, f"README.md has no '{SECTION}'"
+    block = re.search(r"```sh\n(.*?)```", text[text.index(SECTION):], re.S)
+    assert block is not None, "no ```sh block in the section"
+    return [line.split("  #", 1)[0].strip() for line in block.group(1).splitlines() if line.strip()]
+
+
+def test_the_readme_commands_give_a_node_standard_calls_can_look_at(ros_venv: Path, tmp_path: Path) -> None:
+    lines = readme_commands()
+    assert lines[0].startswith("source "), lines
+    if ros_venv != DEFAULT_VENV:
+        lines = [line.replace(DEFAULT_ENV, str(ros_venv / "ros2-env.sh")) for line in lines]
+    *setup, start = lines
+    assert start.startswith("python3 -m robot_arm"), start
+    work = tmp_path / "clone"
+    work.mkdir()
+    shutil.copytree(ROOT / "examples", work / "examples")
+    bin_dir = tmp_path / "bin"  # iface-lsp of this checkout, whatever is installed
+    bin_dir.mkdir()
+    (bin_dir / "iface-lsp").write_text(f'#!/bin/sh\nPYTHONPATH="{ROOT / "server"}" exec "{sys.executable}" -m iface "$@"\n')
+    (bin_dir / "iface-lsp").chmod(0o755)
+    env = environment(ros_venv, log_dir=tmp_path / "ros-log")
+    env["PATH"] = f"{bin_dir}{os.pathsep}{env['PATH']}"
+    script = "set -e\n" + "\n".join(setup) + "\n"
+    built = subprocess.run(["bash", "-c", script], cwd=work, env=env, capture_output=True, text=True, timeout=1200,
+                           check=False)
+    assert built.returncode == 0, f"{script}\n{built.stdout[-3000:]}\n{built.stderr[-3000:]}"
+    assert (work / "src" / "robot_arm" / "robot_arm" / "node.py").is_file()
+    with open(tmp_path / "node.log", "w") as log:
+        sources = [line for line in setup if line.startswith("source ")]
+        node = subprocess.Popen(["bash", "-c", "\n".join([*sources, f"exec {start}"])], cwd=work, env=env,
+                                stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        look = tmp_path / "look.py"
+        look.write_text(LOOK)
+        code = run_bounded(["bash", "-c", " && ".join([f'cd "{work}"', *sources, f'exec python3 "{look}"'])], env,
+                           120, tmp_path / "look.log")
+        seen = (tmp_path / "look.log").read_text(errors="replace")
+    finally:
+        os.killpg(node.pid, signal.SIGINT)
+        try:
+            node.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(node.pid, signal.SIGKILL)
+            node.wait(timeout=20)
+    node_log = (tmp_path / "node.log").read_text(errors="replace")
+    assert code == 0, f"{seen[-3000:]}\nnode:\n{node_log[-2000:]}"
+    assert "state active" in seen, seen
+    services = next(line for line in seen.splitlines() if line.startswith("services ")).split()[1:]
+    for name in ("/robot_arm/save_state", "/robot_arm/restore_state", "/robot_arm/control", "/arm/move_to_pose"):
+        assert name in services, services
+    assert re.search(r"max_speed '.+' \[\(0\.1, 3\.0\)\]", seen), seen
+    assert "publishers robot_arm" in seen, seen
+    assert node.returncode == 0, node_log[-2000:]
+
+
+def test_user_code_the_regenerated_interface_no_longer_matches_refuses_to_start(ros_workspace: Workspace,
+                                                                                 tmp_path: Path) -> None:
+    """A handler renamed away from its member: the node says which, at start, and exits 2 without a traceback."""
+    installed = next((ros_workspace.path / "install" / "robot_arm" / "lib").glob("python3*/site-packages/robot_arm"))
+    shutil.copytree(installed, tmp_path / "robot_arm")
+    node_py = tmp_path / "robot_arm" / "node.py"
+    text = node_py.read_text()
+    assert "def on_joint_command(self" in text
+    node_py.write_text(text.replace("def on_joint_command(self", "def on_joint_cmd(self"))
+    env = environment(ros_workspace.venv, ros_workspace.path, tmp_path / "ros-log")
+    env["PYTHONPATH"] = f"{tmp_path}{os.pathsep}{env.get('PYTHONPATH', '')}"
+    code = run_bounded([str(ros_workspace.venv / "bin" / "python"), "-m", "robot_arm", "--activate"], env, 60,
+                       tmp_path / "start.log")
+    said = (tmp_path / "start.log").read_text(errors="replace")
+    assert code == 2, said
+    assert "Traceback" not in said
+    lines = said.strip().splitlines()
+    assert re.match(r"robot_arm: the code does not match the interface \(robot_arm\.iface, sha256:[0-9a-f]{64}\):$",
+                    lines[0]), said
+    assert ("  RobotArm has no on_joint_command(self, msg), which handles 'subscribes JointCommand on "
+            "/arm/joint_command' of robot_arm.iface") in lines
+    assert any(line.startswith("  RobotArm.on_joint_cmd handles nothing in robot_arm.iface") for line in lines), said
