@@ -523,6 +523,17 @@ def test_enable_switch_added_unless_declared(tmp_path: Path) -> None:
     assert not any(p.endswith("_Params.cpp") for p in files(ok(none)))
 
 
+def test_a_declared_enable_switch_must_be_an_int8(tmp_path: Path) -> None:
+    path = tmp_path / "en.iface"
+    path.write_text('component en (ap.prefix = "EN")\nconfiguration c { 1: float enable = 1.0, 2: float x }\n')
+    result = run(path)
+    assert result.files == []
+    (d,) = [d for d in result.diagnostics if d.code == "ap-param-enable-type"]
+    assert "'enable' is the group's enable switch (EN_ENABLE) but an AP_Float" in d.message
+    line, col = d.location()[:2]
+    assert path.read_text().splitlines()[line - 1][col - 1:].startswith("float enable")
+
+
 def test_index_zero_is_the_enable_switch() -> None:
     result = run(DATA / "enable_conflict.iface")
     assert result.files == []

@@ -20,6 +20,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "ap-param-index-range": (Severity.ERROR, "An AP_Param group index outside 0..63."),
     "ap-param-index-conflict": (Severity.ERROR, "Two parameters with one AP_Param index."),
     "ap-param-default": (Severity.ERROR, "A parameter default AP_Param cannot state."),
+    "ap-param-enable-type": (Severity.ERROR, "A parameter named ENABLE (the group's enable switch) that is not an "
+                             "AP_Int8 (bool or i8): AP_Param honours AP_PARAM_FLAG_ENABLE on AP_Int8 only."),
     "ap-param-units": (Severity.WARNING, "A unit that is not one of ArduPilot's unit names: @Units is left out "
                        "(ArduPilot's param_parse.py refuses unknown units)."),
     "ap-param-annotation": (Severity.ERROR, "An ap.increment, ap.values, ap.bitmask, ap.user or ap.reboot_required "

@@ -118,12 +118,18 @@ class ParamBuilder:
                     continue
                 names[p.full_name] = f
                 entries.append((f, p, p.index >= 0))
-        declared = next((p for _, p, _ in entries if p.name == ENABLE), None)
+        declared = next(((f, p) for f, p, _ in entries if p.name == ENABLE), None)
         enable = None
         if entries and declared is None:
             enable = self._enable(table)
         elif declared is not None:
-            declared.flags = "AP_PARAM_FLAG_ENABLE"
+            f, p = declared
+            p.flags = "AP_PARAM_FLAG_ENABLE"
+            if p.ap_type != "AP_Int8":
+                self.diagnostics.append(diag("ap-param-enable-type", f"parameter '{f.name}' is the group's enable "
+                                             f"switch ({p.full_name}) but an {p.ap_type}: AP_Param honours "
+                                             "AP_PARAM_FLAG_ENABLE on an AP_Int8 only (make it bool or i8)",
+                                             self.src, f.type.span))
         table.params = self._indices(entries, enable)
         return table
 
