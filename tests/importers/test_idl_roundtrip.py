@@ -184,3 +184,24 @@ def test_the_regenerated_idl_packages_build_with_rosidl(tmp_path: Path) -> None:
         pytest.skip(f"Debian's rosidl is not installed ({last}): apt-get install ../shared/ros2-build/apt-packages.txt")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-2000:]
     assert "ros2-build: OK:" in last and "(2 generated)" in last, last
+
+
+def test_what_iface_cannot_hold_is_reported_at_its_line(tmp_path: Path) -> None:
+    folder = tmp_path / "b_msgs" / "msg"
+    folder.mkdir(parents=True)
+    (folder / "S.idl").write_text('module b_msgs {\n  module msg {\n    module S_Constants {\n'
+                                  "      const long double K = 1.0;\n    };\n    struct S {\n"
+                                  "      @default (value=FOO)\n      int32 i;\n      @default (value=\"x\")\n"
+                                  "      int32 j;\n      long double q;\n    };\n  };\n};\n")
+    (folder / "Good.idl").write_text("module b_msgs { module msg { struct Good { int32 x; }; }; };\n")
+    done = run_cli("import", "--from", "ros2", str(tmp_path / "b_msgs"), "--out", str(tmp_path / "out"))
+    assert done.returncode == 1
+    path = folder / "S.idl"
+    assert done.stderr.splitlines() == [
+        f"{path}:4: S.K: the IDL type 'float128' has no iface equivalent",
+        f"{path}:8: S.i: the @default value 'FOO' is not a value of type int32",
+        f"{path}:10: S.j: the @default value 'x' is not a value of type int32",
+        f"{path}:11: S.q: the IDL type 'float128' has no iface equivalent"]
+    assert "message Good" in (tmp_path / "out" / "b_msgs.iface").read_text()
+    rt = run_cli("roundtrip", "--from", "ros2", str(tmp_path / "b_msgs"))
+    assert rt.returncode == 1 and rt.stdout.splitlines()[-1] == "1 of 2 identical"

@@ -67,11 +67,9 @@ def _literal(text: str) -> Any:
     """An IDL literal: TRUE/FALSE, a number, a string."""
     if text in ("TRUE", "FALSE"):
         return text == "TRUE"
-    if text.startswith(("L\"", '"')):
-        return ast.literal_eval(text.lstrip("L"))
     try:
-        return ast.literal_eval(text)
-    except (ValueError, SyntaxError):
+        return ast.literal_eval(text[1:] if text.startswith('L"') else text)
+    except (ValueError, SyntaxError):  # not a Python literal either: kept as written
         return text
 
 
@@ -138,9 +136,26 @@ def _part(full: str, consts: list[Any], fields: list[Any], problems: list[str],
             value = values[name, fname]
             element.value = array_value(value) if element.type.array else value
             items = element.value if isinstance(element.value, list) else [element.value]
+            if not element.type.primitive or not all(_fits(element.type.name, v) for v in items) or \
+                    (element.type.array is not None) != isinstance(element.value, list):
+                problems.append(f"{name}.{fname}: the @default value {value!r} is not a value of type "
+                                f"{element.type.text()}")
+                ok = False
+                continue
             element.texts = [("true" if v else "false") if isinstance(v, bool) else str(v) for v in items]
         part.elements.append(element)
     return part if ok else None
+
+
+def _fits(primitive: str, value: Any) -> bool:
+    """True when a decoded default is a value of the ROS primitive (ranges are checked by the compiler)."""
+    if primitive == "bool":
+        return isinstance(value, bool)
+    if primitive in ("string", "wstring"):
+        return isinstance(value, str)
+    if primitive in ("float32", "float64"):
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    return isinstance(value, int) and not isinstance(value, bool)
 
 
 def structs_of(types: dict[str, Any]) -> list[tuple[Kind, str, list[str]]]:
@@ -161,14 +176,25 @@ def structs_of(types: dict[str, Any]) -> list[tuple[Kind, str, list[str]]]:
     return sorted(out, key=lambda x: x[2][0])
 
 
+def line_of(text: str, problem: str) -> int:
+    """The line of the member a problem names (``Struct.member: …``), 0 when it cannot be found."""
+    where = problem.partition(":")[0]
+    struct, _, member = where.partition(".")
+    start = re.search(rf"\b(?:struct|module)\s+{re.escape(struct)}(?:_Constants)?\b", text)
+    if start is None:
+        return 0
+    found = re.compile(rf"\b{re.escape(member)}\s*(?:\[[^\]]*\]\s*)*[;=]").search(text, start.end())
+    return text.count("\n", 0, (found or start).start()) + 1
+
+
 def ros_files_from_idl(types: dict[str, Any], package: str, text: str = "") -> tuple[list[RosFile], list[str]]:
     """One interface per message struct, service or action, with the defaults ``text`` states; problems name
-    the struct and the field."""
+    the struct and the member (``Struct.member: …``, see ``line_of``)."""
     files: list[RosFile] = []
     problems: list[str] = []
     values = defaults(text) if text else {}
     for kind, name, fulls in structs_of(types):
-        parts = [_part(full, *types[full], problems, values) for full in fulls]
+        parts = [_part(full, types[full][0], types[full][1], problems, values) for full in fulls]
         if all(p is not None for p in parts):
             rf = RosFile(kind, package, name)
             rf.parts.extend(p for p in parts if p is not None)

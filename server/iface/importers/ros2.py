@@ -277,7 +277,7 @@ def _idl_files(pkg: Package, result: ImportResult) -> None:
             result.problems.append(Problem(str(p), 0, "reading .idl files needs the rosbags package "
                                            "(pip install rosbags): not imported", "warning"))
         return
-    from .idl import read_idl, ros_files_from_idl
+    from .idl import line_of, read_idl, ros_files_from_idl
 
     for p in pkg.idl:
         text = _read(p)
@@ -289,7 +289,7 @@ def _idl_files(pkg: Package, result: ImportResult) -> None:
             result.problems.append(Problem(str(p), 0, f"cannot read the IDL file: {e}"))
             continue
         files, problems = ros_files_from_idl(types, pkg.name, text)
-        result.problems.extend(Problem(str(p), 0, msg) for msg in problems)
+        result.problems.extend(Problem(str(p), line_of(text, msg), msg) for msg in problems)
         pkg.parsed.extend((p, rf) for rf in files)
 
 
