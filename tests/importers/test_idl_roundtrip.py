@@ -30,7 +30,7 @@ def _files(*packages: Path) -> list[Path]:
 def test_idl_only_and_keyword_packages_come_back_identical() -> None:
     done = run_cli("roundtrip", "-v", "--from", "ros2", *(str(p) for p in PACKAGES))
     files = _files(*PACKAGES)
-    assert sum(f.suffix == ".idl" for f in files) == 6
+    assert sum(f.suffix == ".idl" for f in files) == 7
     assert done.stdout.splitlines()[-1] == f"{len(files)} of {len(files)} identical", done.stdout + done.stderr
     assert done.returncode == 0
     for f in files:
@@ -43,7 +43,7 @@ def test_includes_become_includes_between_the_imported_files(tmp_path: Path) -> 
     wide = (tmp_path / "wide_msgs.iface").read_text()
     user = (tmp_path / "user_msgs.iface").read_text()
     assert "message Holder {\n    Base base,\n    Base[2] pair,\n    Base[<=5] some,\n    wchar tag\n}" in wide
-    assert "service Ask {" in wide and "wchar question" in wide
+    assert "service Ask {" in wide and "wchar question" in wide and "action Spell {" in wide
     assert 'include "wide_msgs.iface"' in user and "wide_msgs.Wide wide" in user
     assert "const wchar INITIAL = 90" in user
     check = run_cli("check", *(str(p) for p in sorted(tmp_path.glob("*.iface"))))
@@ -67,8 +67,8 @@ def test_the_ros2_target_writes_idl_where_msg_has_no_such_type(tmp_path: Path) -
     pkg = tmp_path / "g" / "wide_msgs"
     written = sorted(str(p.relative_to(pkg)) for p in pkg.rglob("*") if p.is_file())
     # Base has a wstring but no wchar: .msg states it; a wchar needs .idl
-    assert written == ["CMakeLists.txt", "msg/Base.msg", "msg/Defaults.idl", "msg/Holder.idl", "msg/Plain.msg",
-                       "msg/Wide.idl", "package.xml", "srv/Ask.idl"]
+    assert written == ["CMakeLists.txt", "action/Spell.idl", "msg/Base.msg", "msg/Defaults.idl", "msg/Holder.idl",
+                       "msg/Plain.msg", "msg/Wide.idl", "package.xml", "srv/Ask.idl"]
     cmake = (pkg / "CMakeLists.txt").read_text()
     assert all(f'"{name}"' in cmake for name in ("msg/Base.msg", "msg/Holder.idl", "msg/Wide.idl", "srv/Ask.idl"))
     assert '#include "wide_msgs/msg/Base.idl"' in (pkg / "msg" / "Holder.idl").read_text()
@@ -117,13 +117,15 @@ def test_every_corpus_package_round_trips_idl_included() -> None:
 _ROSIDL_READ = r"""
 import json, sys
 from rosidl_parser.parser import parse_idl_string
-from rosidl_parser.definition import Message, Service
+from rosidl_parser.definition import Action, Message, Service
 out = {}
 for path in sys.argv[1:]:
     content = parse_idl_string(open(path).read())
     structs = [m.structure for m in content.get_elements_of_type(Message)]
     for s in content.get_elements_of_type(Service):
         structs += [s.request_message.structure, s.response_message.structure]
+    for a in content.get_elements_of_type(Action):
+        structs += [a.goal.structure, a.result.structure, a.feedback.structure]
     for s in structs:
         out[s.namespaced_type.name] = [[m.name, type(m.type).__name__,
                                         m.get_annotation_value("default")["value"]
@@ -144,9 +146,11 @@ def test_the_generated_idl_files_parse_with_rosidl_parser(tmp_path: Path) -> Non
         done = run_cli("generate", str(iface), "--target", "ros2", "-o", str(tmp_path / "g"))
         assert done.returncode == 0, done.stderr
     idl = sorted((tmp_path / "g").rglob("*.idl"))
-    assert len(idl) == 5
+    assert len(idl) == 6
     structs = _rosidl_read(python, idl)
-    assert sorted(structs) == ["Ask_Request", "Ask_Response", "Defaults", "Holder", "User", "Wide"]
+    assert sorted(structs) == ["Ask_Request", "Ask_Response", "Defaults", "Holder", "Spell_Feedback", "Spell_Goal",
+                               "Spell_Result", "User", "Wide"]
+    assert structs["Spell_Feedback"][0] == ["progress", "BasicType", 0.5]
     assert [m[0] for m in structs["Wide"]] == ["letter", "text", "short_text", "three", "some", "many", "few",
                                                "pair", "letters", "two_short"]
     assert structs["Holder"][3][:2] == ["tag", "BasicType"] and structs["Wide"][1][:2] == ["text", "UnboundedWString"]
@@ -165,7 +169,8 @@ def _rosidl_read(python: Path, paths: list[Path]) -> dict[str, list[list[object]
 
 def test_the_regenerated_idl_packages_build_with_rosidl(tmp_path: Path) -> None:
     """ROS 2's own generators build what the ros2 target wrote (.idl with wchar, includes across packages,
-    a service in IDL) in C and C++ and run a program per type: ../shared/ros2-build with Debian's rosidl."""
+    a service and an action in IDL) in C and C++ and run a program per type: ../shared/ros2-build with Debian's
+    rosidl."""
     from ..runtime.ros import shared_dir
 
     shared = shared_dir()
@@ -176,7 +181,7 @@ def test_the_regenerated_idl_packages_build_with_rosidl(tmp_path: Path) -> None:
     for iface in sorted((tmp_path / "i").glob("*.iface")):
         done = run_cli("generate", str(iface), "--target", "ros2", "-o", str(tmp_path / "gen"))
         assert done.returncode == 0, done.stderr
-    assert len(list((tmp_path / "gen").rglob("*.idl"))) == 5
+    assert len(list((tmp_path / "gen").rglob("*.idl"))) == 6
     done = subprocess.run(["bash", str(shared / "ros2-build" / "build.sh"), str(tmp_path / "gen"),
                            str(tmp_path / "ws")], capture_output=True, text=True, timeout=1200, check=False)
     last = done.stdout.strip().splitlines()[-1] if done.stdout.strip() else done.stderr
