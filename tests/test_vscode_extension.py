@@ -81,3 +81,27 @@ def test_vscode_e2e() -> None:
     output = result.stdout + result.stderr
     assert result.returncode == 0, f"npm run e2e failed:\n{output[-8000:]}"
     assert (EXTENSION / "e2e" / "artifacts" / "iface-e2e.png").is_file()
+
+
+@pytest.mark.skipif(os.environ.get("IFACE_E2E") != "1", reason="set IFACE_E2E=1 to run the VS Code end-to-end test")
+def test_vscode_a_failed_step_is_tried_once_more_and_its_evidence_kept_and_named() -> None:
+    """--fail-once=STEP fails the step's first attempt: it passes when tried again from a reset workbench,
+    and the screenshot, code-server's log and the language server's log of the failure are kept and named."""
+    npm = _npm()
+    _ensure_node_modules(npm)
+    step = "compatibility-command-shows-the-report"
+    artifacts = EXTENSION / "e2e" / "artifacts"
+    for old in artifacts.glob(f"failed-{step}*"):
+        old.unlink()
+    result = _run([npm, "run", "e2e", "--", f"--fail-once={step}"], timeout=2400)
+    output = result.stdout + result.stderr
+    assert result.returncode == 0, f"npm run e2e failed:\n{output[-8000:]}"
+    assert "PASS  compatibility command shows the report" in output and "(passed when tried again)" in output
+    kept = [artifacts / f"failed-{step}{suffix}" for suffix in (".png", "-code-server.log", "-iface-lsp.log")]
+    tried_again = next(line for line in output.splitlines() if "trying once more. Kept:" in line)
+    for path in kept:
+        assert path.is_file() and path.stat().st_size > 0, path
+        assert str(path) in tried_again, tried_again
+    assert kept[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    server_log = kept[2].read_text(encoding="utf-8", errors="replace")
+    assert "no iface output channel log was written" not in server_log and "iface-lsp" in server_log, server_log
