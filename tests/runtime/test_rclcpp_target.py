@@ -96,7 +96,9 @@ def test_the_state_document_is_the_python_nodes() -> None:
     files = {f.path: f.text for f in files_of("every_member")}
     py = {f.path: f.text for f in files_of("every_member", "rclpy")}
     base_py = py["every_member/every_member/base.py"]
-    schema = ast.literal_eval(re.search(r"STATE_SCHEMA = (\{.*?\n    \})", base_py, re.DOTALL).group(1))
+    found = re.search(r"STATE_SCHEMA = (\{.*?\n    \})", base_py, re.DOTALL)
+    assert found is not None
+    schema = ast.literal_eval(found.group(1))
     base_cpp = files["every_member/src/base.cpp"]
     block = base_cpp[base_cpp.index("i.state_schema = {"):]
     block = block[:block.index("};")]

@@ -8,7 +8,9 @@ protocol services (``iface.runtime.protocol``), and a component package read fro
 from __future__ import annotations
 
 import os
-from ..emit.base import Result
+from pathlib import Path
+from typing import Any, Protocol
+from ..emit.base import Result, TemplateSet
 from ..emit.ros2.filenames import check_rosidl_names
 from ..emit.ros2.keywords import check_keywords
 from ..emit.ros2.lower import lower_run
@@ -72,6 +74,35 @@ def read_user_file(path: str) -> str | None:
         return None
 
 
+#: Templates every node target renders the same way (the launch file).
+TEMPLATES = Path(__file__).parent / "templates"
+
+
+class NodeView(Protocol):
+    """What the shared templates read of a target's view of the component."""
+
+    spec: ComponentSpec
+    source_name: str
+
+    @property
+    def pkg(self) -> str: ...
+
+    @property
+    def params_file(self) -> str: ...
+
+    @property
+    def launch_file(self) -> str: ...
+
+    def remappings(self) -> list[tuple[str, str]]: ...
+
+
+def launch_text(view: NodeView, header: str, start_command: str, override: str | None = None) -> str:
+    """``launch/<node>.launch.py``: the node, its parameter file, a launch argument per wired name."""
+    templates = TemplateSet(TEMPLATES, "runtime", filters={"pystr": repr}, override=override)
+    context: dict[str, Any] = {"v": view, "header": header, "start_command": start_command}
+    return templates.render("launch.py.j2", **context)
+
+
 def remappings(spec: ComponentSpec) -> list[tuple[str, str]]:
     """(name, launch argument) for each wired name that can be remapped."""
     out: list[tuple[str, str]] = []
@@ -88,4 +119,4 @@ def remappings(spec: ComponentSpec) -> list[tuple[str, str]]:
     return out
 
 
-__all__ = ["add_protocol", "prepare", "protocol_refs", "read_user_file", "remappings"]
+__all__ = ["NodeView", "add_protocol", "launch_text", "prepare", "protocol_refs", "read_user_file", "remappings"]

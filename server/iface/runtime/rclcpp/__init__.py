@@ -34,13 +34,13 @@ from ...semantics.compile import Compilation
 from .. import protocol
 from ..codes import diag
 from ..component import ComponentSpec
-from ..nodepkg import prepare, protocol_refs, read_user_file
+from ..nodepkg import launch_text, prepare, protocol_refs, read_user_file
 from .render import CppPackage, build, cpp_comment, cpp_double, cpp_str
 from .usercode import check_user_source
 
 TEMPLATES = Path(__file__).parent / "templates"
 FILTERS: dict[str, Callable[..., Any]] = {"cpp": cpp_str, "cstr": lambda s: cpp_str(s)[1:-1], "comment": cpp_comment,
-                                          "cppdouble": cpp_double, "xml": xml, "pystr": repr}
+                                          "cppdouble": cpp_double, "xml": xml}
 #: What every component package needs to build and run, beside the message packages it uses.
 RUNTIME_DEPENDS = ("ament_index_cpp", "diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces", "rclcpp",
                    "rclcpp_action", "rclcpp_lifecycle")
@@ -74,7 +74,8 @@ def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet,
         GeneratedFile(f"{root}/CMakeLists.txt", render("CMakeLists.txt.j2", header=hash_header), origin),
         GeneratedFile(f"{root}/config/{v.params_file}", ros2.render("params.yaml.j2", package=params_pkg,
                                                                      header=hash_header), origin),
-        GeneratedFile(f"{root}/launch/{v.launch_file}", render("launch.py.j2", header=hash_header), origin),
+        GeneratedFile(f"{root}/launch/{v.launch_file}", launch_text(v, hash_header, f"ros2 run {root} {root}"),
+                      origin),
         GeneratedFile(f"{root}/include/{root}/iface_runtime.hpp", render("iface_runtime.hpp.j2"), origin),
         GeneratedFile(f"{root}/include/{root}/base.hpp", render("base.hpp.j2"), origin),
         GeneratedFile(f"{root}/src/iface_runtime.cpp", render("iface_runtime.cpp.j2"), origin),

@@ -7,12 +7,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ...emit.ros2.filenames import rosidl_snake
-from ...emit.ros2.package import RosPackage, RosType
+from ...emit.ros2.package import RosPackage
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef, schema_type
 from ..nodepkg import remappings
 
-#: C++ keywords a generated identifier must not be (rosidl refuses them as field names already).
+#: Names the runtime defines in the base class's scope: a type alias must not take them.
 _TAKEN = frozenset({"ComponentNode", "Json", "Type", "ParamSpec", "Gate", "StateError", "Info"})
 
 
@@ -280,4 +280,4 @@ def build(spec: ComponentSpec) -> CppPackage:
     return view
 
 
-__all__ = ["CppPackage", "RosType", "build", "cpp_comment", "cpp_str"]
+__all__ = ["CppPackage", "build", "cpp_comment", "cpp_double", "cpp_str"]

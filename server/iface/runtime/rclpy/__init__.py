@@ -32,7 +32,7 @@ from ...emit.ros2.render import xml
 from ...semantics.compile import Compilation
 from .. import protocol
 from ..component import HANDLER_PREFIXES, ComponentSpec
-from ..nodepkg import add_protocol, prepare, protocol_refs, read_user_file
+from ..nodepkg import add_protocol, launch_text, prepare, protocol_refs, read_user_file
 from ..usercode import check_user_module
 from .render import PyPackage, build, doc_text, docstring, py
 
@@ -71,7 +71,7 @@ def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateS
         GeneratedFile(f"{root}/resource/{root}", render("resource.j2"), origin),
         GeneratedFile(f"{root}/config/{v.params_file}", ros2.render("params.yaml.j2", package=params_pkg,
                                                                      header=header), origin),
-        GeneratedFile(f"{root}/launch/{v.launch_file}", render("launch.py.j2"), origin),
+        GeneratedFile(f"{root}/launch/{v.launch_file}", launch_text(v, header, f"python -m {root}"), origin),
         GeneratedFile(f"{root}/{root}/__init__.py", render("init.py.j2"), origin),
         GeneratedFile(f"{root}/{root}/__main__.py", render("main.py.j2"), origin),
         GeneratedFile(f"{root}/{root}/_contract.py", render("contract.py.j2"), origin),

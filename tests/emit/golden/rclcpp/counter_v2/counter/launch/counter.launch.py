@@ -4,8 +4,8 @@
     ros2 launch counter counter.launch.py [params_file:=FILE] [namespace:=NS] [node_name:=NAME] [count:=/count] [parity:=/parity] …
 
 Each name the interface wires can be remapped with the launch argument of the same name.
-Needs launch_ros (part of every ROS 2 desktop install); start the node without it with the
-executable, ``ros2 run counter counter`` (C++, rclcpp).
+Needs launch_ros (part of every ROS 2 desktop install); start the node without it with
+``ros2 run counter counter``.
 """
 
 import os

@@ -4,8 +4,8 @@
     ros2 launch robot_arm robot_arm.launch.py [params_file:=FILE] [namespace:=NS] [node_name:=NAME] [joint_command:=/arm/joint_command] [joint_state:=/arm/joint_state] …
 
 Each name the interface wires can be remapped with the launch argument of the same name.
-Needs launch_ros (part of every ROS 2 desktop install); start the node without it with the
-executable, ``ros2 run robot_arm robot_arm`` (C++, rclcpp).
+Needs launch_ros (part of every ROS 2 desktop install); start the node without it with
+``ros2 run robot_arm robot_arm``.
 """
 
 import os

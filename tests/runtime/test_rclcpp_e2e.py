@@ -1,0 +1,248 @@
+"""End to end: the generated C++ (rclcpp) component built with colcon against rclcpp and run on loopback.
+
+rclcpp has no wheel: ../shared/ros2-runtime/build-cpp.sh builds it from its sources into
+VENV/cpp (scripts/install-ros.sh does, in CI). Without it these tests skip, saying so.
+
+Workspaces are built once per module: counter_msgs and the C++ counter 2.0 (examples/counter_v2.iface
+with tests/runtime/data/counter_v2_node.cpp); the Python counter 1.0 for the hand-over across
+languages; and every_member's C++ package with the user file iface writes (every kind of member:
+its templates compile), on top of the session's workspace that holds every_member_msgs. rclcpp_drive.py runs the scenario; each test below is one
+of its steps. Every wait is bounded, every process is stopped by its own handle, traffic stays on
+loopback in a random ROS_DOMAIN_ID.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from .ros import DATA, ROOT, build, environment, generate, run_bounded
+
+DRIVER = Path(__file__).parent / "rclcpp_drive.py"
+COUNTER_V2 = ROOT / "examples" / "counter_v2.iface"
+STEPS = [
+    "start: the executable with the installed parameter file",
+    "lifecycle: configure and activate through the standard services",
+    "parameters: descriptors with description, unit and range",
+    "parameters: out-of-range values refused with a reason",
+    "parameters: in-range values applied",
+    "qos: /count carries the declared QoS, counts published while active",
+    "diagnostics: published and control answered while a long callback runs",
+    "control: pause after the current transaction, resume",
+    "state: saved from one instance, restored into a second, the counter continues",
+    "state: a restore from an incompatible interface is refused with a reason",
+    "lifecycle: shutdown ends the process",
+    "state: the C++ node reads and writes the Python node's state document",
+    "handover: iface-lsp handover from the Python counter 1.0 to the C++ counter 2.0",
+    "handover: the count continues in C++, none lost, the Python node deactivated",
+    "state: saved from the C++ node, restored into the Python node",
+]
+
+
+def rclcpp_env(venv: Path) -> dict[str, str] | None:
+    """The environment of ros2-env.sh and cpp-env.sh (rclcpp built by build-cpp.sh); None without rclcpp."""
+    cpp_env = venv / "cpp" / "cpp-env.sh"
+    if not cpp_env.is_file():
+        return None
+    script = f'set +u; . "{venv}/ros2-env.sh" >/dev/null && . "{cpp_env}" >/dev/null && env -0'
+    base = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=base).stdout
+    return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+
+
+def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path) -> tuple[bool, str, float]:
+    """colcon build of every package under ``generated`` against rclcpp, as docs/targets.md says."""
+    start = time.monotonic()
+    shutil.copytree(generated, ws / "src")
+    cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
+           "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
+           f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
+           f"-DCMAKE_EXE_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_LDFLAGS', '')}"]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=1500, env=env, cwd=ws, check=False)
+    (ws / "colcon.log").write_text(done.stdout + done.stderr)
+    tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-30:])
+    return done.returncode == 0, tail, time.monotonic() - start
+
+
+@pytest.fixture(scope="module")
+def workspaces(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    env = rclcpp_env(ros_venv)
+    if env is None:
+        pytest.skip(f"rclcpp is not built in {ros_venv}/cpp: run `bash ../shared/ros2-runtime/build-cpp.sh "
+                    f"{ros_venv}` (scripts/install-ros.sh does)")
+    missing = [tool for tool in ("cmake", "c++", "make") if shutil.which(tool, path=env.get("PATH")) is None]
+    if missing:
+        pytest.skip(f"no {', '.join(missing)} on PATH to build C++")
+    root = tmp_path_factory.mktemp("rclcpp")
+    gen = root / "gen_cpp"
+    done = generate(COUNTER_V2, gen, "--target", "rclcpp")
+    assert done.returncode == 0, done.stderr
+    user = gen / "counter" / "src" / "node.cpp"
+    shutil.copyfile(DATA / "counter_v2_node.cpp", user)
+    again = generate(COUNTER_V2, gen, "--target", "rclcpp")
+    assert again.returncode == 0, again.stderr
+    assert user.read_text() == (DATA / "counter_v2_node.cpp").read_text(), "node.cpp was overwritten"
+    ws_cpp = root / "ws_cpp"
+    ws_cpp.mkdir()
+    ok, tail, seconds = build_cpp(ros_venv, env, gen, ws_cpp)
+    assert ok, f"the generated C++ packages did not build (log: {ws_cpp}/colcon.log):\n{tail}"
+    print(f"\nrclcpp build of counter_msgs and counter (C++): {seconds:.0f} s")
+    gen_py = root / "gen_py"
+    done = generate(ROOT / "examples" / "counter.iface", gen_py)
+    assert done.returncode == 0, done.stderr
+    shutil.copyfile(DATA / "counter_node.py", gen_py / "counter" / "counter" / "node.py")
+    ws_py = root / "ws_py"
+    ws_py.mkdir()
+    ok, tail, seconds = build(ros_venv, gen_py, ws_py)
+    assert ok, f"the Python counter did not build:\n{tail}"
+    return {"venv": ros_venv, "root": root, "ws_cpp": ws_cpp, "ws_py": ws_py, "env": env}
+
+
+@pytest.fixture(scope="module")
+def run(workspaces: dict[str, Any]) -> dict[str, Any]:
+    venv, root = workspaces["venv"], workspaces["root"]
+    env_cpp = environment(venv, workspaces["ws_cpp"], root / "ros-log")
+    env_py = environment(venv, workspaces["ws_py"], root / "ros-log")
+    env_py["ROS_DOMAIN_ID"] = env_cpp["ROS_DOMAIN_ID"]
+    config = {"python": sys.executable, "ros_python": str(venv / "bin" / "python"),
+              "cpp_executable": str(workspaces["ws_cpp"] / "install" / "counter" / "lib" / "counter" / "counter"),
+              "old_iface": str(ROOT / "examples" / "counter.iface"), "new_iface": str(COUNTER_V2),
+              "env_cpp": env_cpp, "env_py": env_py}
+    (root / "config.json").write_text(json.dumps(config))
+    out, log = root / "result.json", root / "driver.log"
+    code = run_bounded([str(venv / "bin" / "python"), str(DRIVER), str(root / "config.json"), "--out", str(out),
+                        "--logs", str(root / "logs")], env_cpp, 400, log)
+    steps = json.loads(out.read_text()) if out.is_file() else {}
+    steps["_run"] = {"code": code, "log": str(log), "logs": str(root / "logs")}
+    return steps
+
+
+@pytest.mark.parametrize("step", STEPS)
+def test_cpp_counter(run: dict[str, Any], step: str) -> None:
+    info = run["_run"]
+    if step not in run:
+        tail = Path(info["log"]).read_text(errors="replace")[-3000:] if Path(info["log"]).is_file() else ""
+        pytest.fail(f"step not reached (driver exit {info['code']}; logs in {info['logs']}):\n{tail}")
+    assert run[step]["ok"], f"{step}: {run[step]['detail']} (logs in {info['logs']})"
+
+
+@pytest.fixture(scope="module")
+def every_member_cpp(workspaces: dict[str, Any], ros_workspace: Any) -> tuple[Path, dict[str, str]]:
+    """every_member's C++ package with the user file iface writes, on top of the session's workspace
+    (conftest.py), which already holds every_member_msgs: the interface package both targets share."""
+    venv, root = workspaces["venv"], workspaces["root"]
+    gen = root / "gen_every_member"
+    done = generate(DATA / "every_member.iface", gen, "--target", "rclcpp")
+    assert done.returncode == 0, done.stderr
+    shutil.rmtree(gen / "every_member_msgs")
+    env = dict(workspaces["env"])
+    script = f'set +u; . "{ros_workspace.path}/install/setup.bash" >/dev/null && env -0'
+    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=env).stdout
+    env = dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+    ws = root / "ws_every_member"
+    ws.mkdir()
+    ok, tail, seconds = build_cpp(venv, env, gen, ws)
+    assert ok, f"every_member (C++) did not build (log: {ws}/colcon.log):\n{tail}"
+    print(f"\nrclcpp build of every_member (C++): {seconds:.0f} s")
+    run_env = environment(venv, ros_workspace.path, root / "ros-log")
+    script = f'set +u; . "{ws}/install/setup.bash" >/dev/null && env -0'
+    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=run_env).stdout
+    run_env = dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+    return ws, run_env
+
+
+def test_every_member_builds_and_checks_its_parameters(workspaces: dict[str, Any],
+                                                       every_member_cpp: tuple[Path, dict[str, str]]) -> None:
+    """Every kind of member compiles; the C++ node refuses parameters with the Python node's reasons, and writes
+    the Python node's state document byte for byte (floats, strings, a message, arrays, extreme integers)."""
+    venv = workspaces["venv"]
+    ws, env = every_member_cpp
+    exe = ws / "install" / "every_member" / "lib" / "every_member" / "every_member"
+    assert exe.is_file()
+    script = r"""
+import json, subprocess, sys, time
+sys.path.insert(0, sys.argv[2])
+from rosdrive import Probe
+from rosdrive import Protocol
+procs = [subprocess.Popen(argv + ["--ros-args", "-r", f"__node:={name}"], stdout=subprocess.DEVNULL,
+                          stderr=subprocess.STDOUT)
+         for argv, name in (([sys.argv[1]], "em_cpp"), ([sys.executable, "-m", "every_member"], "em_py"))]
+probe = Probe()
+proto = Protocol(probe, "every_member_msgs")
+out = {}
+try:
+    for name in ("em_cpp", "em_py"):
+        probe.wait_until(lambda: f"/{name}/get_state" in probe.services_of(name), 30, name)
+    for name, value in (("start_mode", 7), ("label", "much too long"), ("offsets", [1.0]), ("ids", [1, 2, 3, 4, 5]),
+                        ("gain", 11.0), ("retries", 4), ("serial", "SN-2")):
+        out[name] = [probe.set_param(node, name, value) for node in ("em_cpp", "em_py")]
+    doc = proto.save("em_py")
+    doc["values"] = {"counter": 2 ** 64 - 1, "last_label": "\u00fc\"\\x\u2603", "position": [0.1, 1e-07, 1e16],
+                     "target": {"x": 1.5, "y": -0.0, "name": "w\u00e9"}, "mode": -2147483648, "busy": True,
+                     "history": [-32768, 0, 32767], "flags": 255}
+    texts = []
+    for node in ("em_py", "em_cpp"):
+        answer = proto.restore(node, json.dumps(doc) if not texts else texts[-1])
+        assert answer.success, answer.message
+        texts.append(probe.call(proto.save_t, f"/{node}/save_state", proto.save_t.Request(timeout_sec=5.0)).state)
+    out["documents"] = texts
+finally:
+    for proc in procs:
+        proc.terminate()
+        proc.wait(timeout=15)
+    probe.close()
+print(json.dumps(out))
+"""
+    done = subprocess.run([str(venv / "bin" / "python"), "-c", script, str(exe), str(Path(__file__).parent)],
+                          env=env, capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr[-2000:]
+    got = json.loads(done.stdout.strip().splitlines()[-1])
+    python, cpp = got.pop("documents")
+    assert cpp == python, f"C++ {cpp}\nPython {python}"
+    assert '"position":[0.1,1e-07,1e+16]' in cpp and '"last_label":"ü\\"\\\\x☃"' in cpp, cpp
+    for name, (mine, theirs) in got.items():
+        if name == "gain":
+            assert mine[0] is False and theirs[0] is False and mine[1], got[name]
+        elif name == "serial":
+            assert mine[0] is False and theirs[0] is False and "read-only" in mine[1], got[name]
+        else:
+            assert mine == theirs, f"{name}: C++ {mine}, Python {theirs}"
+    assert got["start_mode"][0] == [False, "start_mode=7 is not one of IDLE (0), RUNNING (1), FAULT (2)"]
+    assert got["label"][0] == [False, "label is 13 characters long; at most 8 are allowed"]
+    assert got["offsets"][0] == [False, "offsets must have exactly 3 elements, not 1"]
+    assert got["ids"][0] == [False, "ids may have at most 4 elements, not 5"]
+    assert got["retries"][0] == [True, ""]
+
+
+def test_a_user_file_that_no_longer_matches_stops_the_build_with_the_reason(workspaces: dict[str, Any],
+                                                                           tmp_path: Path) -> None:
+    """The interface lost a member and gained one: the compiler names both, and the interface file."""
+    ws = workspaces["ws_cpp"]
+    commands = json.loads((ws / "build" / "counter" / "compile_commands.json").read_text())
+    entry = next(c for c in commands if c["file"].endswith("/src/node.cpp"))
+    text = (DATA / "counter_v2_node.cpp").read_text()
+    start = text.index("  void handle_reset(")
+    end = text.index("\n  }\n", start) + len("\n  }\n")
+    broken = tmp_path / "node.cpp"
+    broken.write_text(text[:start] + "  void on_nudge(const Count & msg) override {(void)msg;}\n" + text[end:])
+    argv = shlex.split(entry["command"])
+    out = argv.index("-o")
+    del argv[out:out + 2]
+    argv[argv.index("-c"):argv.index("-c") + 2] = ["-fsyntax-only", str(broken)]
+    done = subprocess.run(argv, cwd=entry["directory"], env=workspaces["env"], capture_output=True, text=True,
+                          timeout=300, check=False)
+    assert done.returncode != 0
+    assert "does not implement every handler of counter_v2.iface" in done.stderr, done.stderr[-3000:]
+    assert "handle_reset" in done.stderr
+    assert re.search(r"node\.cpp:\d+:\d+: error: .void counter::Counter::on_nudge\([^\n]*marked .override., but does "
+                     "not override", done.stderr), done.stderr[-3000:]
