@@ -59,6 +59,60 @@ LOOK = textwrap.dedent("""
     print("publishers", " ".join(i.node_name for i in node.get_publishers_info_by_topic("/arm/joint_state")))
 """)
 
+#: Drives /robot_arm (started without --activate) through configure and activate, printing what exists when.
+LIFECYCLE = textwrap.dedent("""
+    import time
+    import rclpy
+    from rclpy.node import Node
+    from lifecycle_msgs.msg import Transition
+    from lifecycle_msgs.srv import ChangeState, GetState
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from robot_arm_msgs.msg import JointState
+
+    def call(node, srv, name, request):
+        client = node.create_client(srv, name)
+        assert client.wait_for_service(timeout_sec=20), name
+        future = client.call_async(request)
+        rclpy.spin_until_future_complete(node, future, timeout_sec=20)
+        assert future.result() is not None, name
+        return future.result()
+
+    def spin(node, seconds, until=lambda: False):
+        end = time.monotonic() + seconds
+        while time.monotonic() < end and not until():
+            rclpy.spin_once(node, timeout_sec=0.1)
+        return until()
+
+    def members(node):
+        if "robot_arm" not in node.get_node_names():  # not discovered yet
+            return False, False, False
+        services = {s for s, _ in node.get_service_names_and_types_by_node("robot_arm", "/")}
+        publishers = [i for i in node.get_publishers_info_by_topic("/arm/joint_state") if i.node_name == "robot_arm"]
+        return "/robot_arm/save_state" in services, "/arm/move_to_pose" in services, bool(publishers)
+
+    def move(node, transition):
+        request = ChangeState.Request()
+        request.transition.id = transition
+        assert call(node, ChangeState, "/robot_arm/change_state", request).success
+        return call(node, GetState, "/robot_arm/get_state", GetState.Request()).current_state.label
+
+    rclpy.init()
+    node = Node("lifecycle_look")
+    got = []
+    node.create_subscription(JointState, "/arm/joint_state", got.append,  # best_effort, as the file says
+                             QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    print("state", call(node, GetState, "/robot_arm/get_state", GetState.Request()).current_state.label)
+    spin(node, 20, lambda: members(node)[0])
+    spin(node, 2)  # what the node made in its constructor is discovered with its protocol services
+    print("unconfigured", *members(node))
+    print("configure", move(node, Transition.TRANSITION_CONFIGURE))
+    spin(node, 20, lambda: members(node) == (True, True, True))
+    spin(node, 1.5)
+    print("inactive", *members(node), len(got))
+    print("activate", move(node, Transition.TRANSITION_ACTIVATE))
+    print("active", spin(node, 10, lambda: len(got) > 0))
+""")
+
 
 def readme_commands() -> list[str]:
     """The shell lines of the README block, comments dropped."""
@@ -140,3 +194,30 @@ def test_user_code_the_regenerated_interface_no_longer_matches_refuses_to_start(
     assert ("  RobotArm has no on_joint_command(self, msg), which handles 'subscribes JointCommand on "
             "/arm/joint_command' of robot_arm.iface") in lines
     assert any(line.startswith("  RobotArm.on_joint_cmd handles nothing in robot_arm.iface") for line in lines), said
+
+
+def test_members_exist_from_configure_and_work_only_when_active(ros_workspace: Workspace, tmp_path: Path) -> None:
+    """Started without --activate: only the protocol services; configure creates the members (a publisher that
+    sends nothing while inactive); activate lets them work."""
+    env = environment(ros_workspace.venv, ros_workspace.path, tmp_path / "ros-log")
+    python = str(ros_workspace.venv / "bin" / "python")
+    with open(tmp_path / "node.log", "w") as log:
+        node = subprocess.Popen([python, "-m", "robot_arm"], env=env, stdout=log, stderr=subprocess.STDOUT,
+                                start_new_session=True)
+    try:
+        look = tmp_path / "lifecycle.py"
+        look.write_text(LIFECYCLE)
+        code = run_bounded([python, str(look)], env, 120, tmp_path / "look.log")
+        seen = (tmp_path / "look.log").read_text(errors="replace")
+    finally:
+        os.killpg(node.pid, signal.SIGINT)
+        try:
+            node.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(node.pid, signal.SIGKILL)
+            node.wait(timeout=20)
+    assert code == 0, seen[-3000:]
+    lines = seen.strip().splitlines()
+    for expected in ("state unconfigured", "unconfigured True False False", "configure inactive",
+                     "inactive True True True 0", "activate active", "active True"):
+        assert expected in lines, f"{expected!r} not in:\n{seen}"
