@@ -12,6 +12,8 @@ from __future__ import annotations
 import asyncio
 import logging
 import os
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -20,6 +22,7 @@ from .documents import path_to_uri
 if TYPE_CHECKING:
     from ..model.nodes import Interface
     from ..semantics.compile import Compilation
+    from .progress import Progress
     from .project import Project
 
 log = logging.getLogger("iface.lsp")
@@ -68,16 +71,19 @@ def facts_of(iface: Interface) -> FileFacts:
 class WorkspaceIndex:
     """Facts and interfaces of the workspace's files, by path."""
 
-    def __init__(self, project: Project) -> None:
+    def __init__(self, project: Project, progress: Callable[[], Progress] | None = None) -> None:
         self.project = project
         self.facts: dict[str, FileFacts] = {}
         self.compilations: dict[str, Compilation] = {}
         self.ready = asyncio.Event()
+        #: Seconds the last scan took (None while it runs).
+        self.seconds: float | None = None
+        self._progress = progress
         self._queue: list[str] = []
         self._task: asyncio.Task[None] | None = None
 
     def start(self) -> None:
-        """Scan the workspace folders in the background."""
+        """Scan the workspace folders in the background (``$/progress`` tells the client how far it is)."""
         self._task = asyncio.get_running_loop().create_task(self._scan())
 
     def refresh(self, path: str) -> None:
@@ -88,15 +94,29 @@ class WorkspaceIndex:
                 self._task = asyncio.get_running_loop().create_task(self._drain())
 
     async def _scan(self) -> None:
+        t0 = time.perf_counter()
+        self.seconds = None
+        progress = self._progress() if self._progress is not None else None
         try:
             paths = await self.project.run(self._list)
             keep = set(paths)
             for gone in [p for p in self.facts if p not in keep]:
                 self.facts.pop(gone, None)
                 self.compilations.pop(gone, None)
-            self._queue.extend(paths)
+            if progress is not None:
+                await progress.begin(len(paths))
+            for done, path in enumerate(paths, 1):
+                try:
+                    await self.project.run(self._index_one, path)
+                except Exception:
+                    log.exception("indexing %s failed", path)
+                if progress is not None:
+                    progress.report(done, len(paths))
             await self._drain()
         finally:
+            self.seconds = time.perf_counter() - t0
+            if progress is not None:
+                progress.end(f"{len(self.facts)} interface files indexed in {self.seconds:.1f} s")
             self.ready.set()
 
     def _list(self) -> list[str]:
@@ -148,6 +168,15 @@ class WorkspaceIndex:
                         out[c.path] = c
         return [out[k] for k in sorted(out)]
 
+    def referring(self, home: str, name: str) -> list[Interface]:
+        """The interfaces that may use ``name`` defined in ``home``: ``home`` itself and the files that
+        include it (at any depth) and whose text holds the name; the others cannot name it."""
+        out: list[Interface] = []
+        for comp in self.all_compilations():
+            if comp.path == home or (name in comp.source.text and _includes(comp, home)):
+                out.append(comp.interface)
+        return out
+
     def all_interfaces(self) -> list[Interface]:
         """Interfaces of every file (see ``all_compilations``)."""
         return [c.interface for c in self.all_compilations()]
@@ -163,3 +192,8 @@ class WorkspaceIndex:
     def uri(self, path: str) -> str:
         """The URI of an indexed path."""
         return path_to_uri(path)
+
+
+def _includes(comp: Compilation, path: str) -> bool:
+    """True when ``comp`` includes ``path``, directly or through other files."""
+    return any(c.path == path for c in comp.closure()[1:])

@@ -33,6 +33,8 @@ log = logging.getLogger("iface.lsp")
 T = TypeVar("T")
 #: Findings published per file; past it one ``too-many-findings`` says how many more there are.
 MAX_DIAGNOSTICS = 500
+#: Line indexes of other files kept (find references answers from every file of a workspace).
+MAX_LINE_INDEXES = 4096
 
 
 def capped(found: list[Diagnostic]) -> list[Diagnostic]:
@@ -61,6 +63,7 @@ class Project:
         self.model = ThreadPoolExecutor(max_workers=1, thread_name_prefix="iface-model")
         self._ws: Workspace | None = None
         self._dirty: set[str] = set()
+        self._edited: set[str] = set()  # the dirty documents that are not only dependents of another
         self._task: asyncio.Task[None] | None = None
         self._kick: asyncio.Event | None = None
         self._waiters: dict[str, list[tuple[int, asyncio.Future[Snapshot | None]]]] = {}
@@ -99,7 +102,7 @@ class Project:
         cached = self._indexes.get(key)
         if cached is not None and cached[0] is source:
             return cached[1]
-        if len(self._indexes) > 256:
+        if len(self._indexes) > MAX_LINE_INDEXES:
             self._indexes.clear()
         index = LineIndex(source.text, self.encoding)
         self._indexes[key] = (source, index)
@@ -270,7 +273,11 @@ class Project:
 
     # ---- scheduling (event loop) ---------------------------------------------------
     def changed(self, uri: str) -> None:
-        """Schedule a compile of ``uri``."""
+        """Schedule a compile of ``uri`` (edited, opened, or asked for): before any re-check of dependents."""
+        self._edited.add(uri)
+        self._schedule(uri)
+
+    def _schedule(self, uri: str) -> None:
         self._dirty.add(uri)
         if self._task is None or self._task.done():
             self._kick = asyncio.Event()
@@ -280,23 +287,39 @@ class Project:
         if self._kick is not None:
             self._kick.set()
 
+    def _next(self) -> str:
+        """The document to compile next: one a request waits for, then an edited one, then a dependent."""
+        for group in (self._dirty & self._waiters.keys(), self._dirty & self._edited, self._dirty):
+            if group:
+                return min(group)
+        raise LookupError("nothing to compile")
+
     async def _drain(self) -> None:
+        """Compile dirty documents one at a time.
+
+        An edit waits ``diagnostics_delay`` for the rest of its burst; dependents
+        of an edited file are re-checked after it, one by one, and a new edit
+        goes before those still waiting (they are then checked against it).
+        """
         assert self._kick is not None
         while self._dirty:
             delay = self.settings.diagnostics_delay
-            if delay > 0 and not self._kick.is_set():
+            if delay > 0 and self._dirty & self._edited and not self._kick.is_set():
                 try:
                     await asyncio.wait_for(self._kick.wait(), delay)
                 except asyncio.TimeoutError:
                     pass
             self._kick.clear()
-            batch = sorted(self._dirty, key=lambda u: u not in self._waiters)
-            self._dirty.clear()
-            for uri in batch:
+            while self._dirty:
+                uri = self._next()
+                self._dirty.discard(uri)
+                self._edited.discard(uri)
                 try:
                     await self._check(uri)
                 except Exception:  # keep checking the other documents, and the next edits
                     log.exception("checking %s failed", uri)
+                if self._dirty & self._edited and not self._kick.is_set() and delay > 0:
+                    break  # an edit came meanwhile: let its burst end first
 
     async def _check(self, uri: str) -> None:
         doc = self.docs.get(uri)
@@ -310,7 +333,7 @@ class Project:
         self._wake_waiters(uri, snap)
         for other, osnap in list(self.snapshots.items()):
             if other != uri and doc.path in osnap.deps and other in self.docs:
-                self._dirty.add(other)
+                self._schedule(other)
 
     def _publish_all(self, owner: str, pubs: list[tuple[str, int | None, list[Any]]]) -> None:
         now = {u for u, _, _ in pubs[1:]}

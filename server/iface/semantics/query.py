@@ -192,10 +192,14 @@ def _annotations(annotations: list[m.Annotation], offset: int, node: object,
 
 def defining_interface(interfaces: Iterable[m.Interface], defn: object) -> m.Interface | None:
     """The interface whose top-level definitions (or their members) hold ``defn``."""
+    interfaces = list(interfaces)
+    for iface in interfaces:
+        if any(d is defn for d in iface.definitions):
+            return iface
+    if not isinstance(defn, (m.Const, m.EnumValue)):
+        return None  # only constants and enum values are members
     for iface in interfaces:
         for d in iface.definitions:
-            if d is defn:
-                return iface
             if isinstance(d, m.Enum) and any(v is defn for v in d.values):
                 return iface
             if any(c is defn for _, _, consts in bodies(d) for c in consts):
@@ -264,6 +268,11 @@ def _same(a: object, b: object, a_iface: m.Interface | None, b_iface: m.Interfac
         and getattr(a, "name_span", None) == getattr(b, "name_span", None)
 
 
+def _alike(a: object, b: object) -> bool:
+    """What ``_same`` needs before it asks where each is defined (a linear search): same kind, same name."""
+    return a is b or (type(a) is type(b) and getattr(a, "name", None) == getattr(b, "name", None))
+
+
 def references(target: object, home: m.Interface, interfaces: Iterable[m.Interface],
                include_declaration: bool = True) -> list[Reference]:
     """Every use of ``target`` (defined in ``home``) in ``interfaces``, in order, each once."""
@@ -283,13 +292,13 @@ def references(target: object, home: m.Interface, interfaces: Iterable[m.Interfa
         if isinstance(target, (m.Const, m.EnumValue)):
             for v in value_references(iface):
                 found = constant_value(iface, str(v.value))
-                if found is not None and any(_same(found, target, defining_interface([s, iface], found), home)
-                                             for s in scopes):
+                if found is not None and _alike(found, target) and any(
+                        _same(found, target, defining_interface([s, iface], found), home) for s in scopes):
                     n = len(getattr(target, "name"))
                     add(iface, Span(v.span.end - n, v.span.end))
         if isinstance(target, (m.Struct, m.Service, m.Action, m.Enum, m.Senum, m.Typedef, m.Const)):
             for t in named_references(iface):
-                if t.target is None:
+                if t.target is None or not _alike(t.target, target):
                     continue
                 where = defining_interface([iface, *iface.included.values()], t.target)
                 if _same(t.target, target, where, home):

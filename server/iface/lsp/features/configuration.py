@@ -30,7 +30,8 @@ def register(server: IfaceServer) -> None:
     def initialized(ls: IfaceServer, params: lsp.InitializedParams) -> None:
         project.model.submit(_warm_up)
         from ..index import WorkspaceIndex
-        project.workspace_index = WorkspaceIndex(project)
+        from ..progress import Progress
+        project.workspace_index = WorkspaceIndex(project, lambda: Progress(ls, "Indexing interface files"))
         project.workspace_index.start()
 
     @server.feature(lsp.WORKSPACE_DID_CHANGE_WORKSPACE_FOLDERS)

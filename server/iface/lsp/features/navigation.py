@@ -50,6 +50,15 @@ def workspace_interfaces(view: View) -> list[Interface]:
     return view.project.open_interfaces()
 
 
+def referring_interfaces(view: View, home: Interface, name: str) -> list[Interface]:
+    """The interfaces the server knows (the workspace index and the open documents) that may use ``name``
+    defined in ``home``."""
+    index = view.project.workspace_index
+    if index is not None:
+        return index.referring(home.path, name)
+    return view.project.open_interfaces()
+
+
 def register(server: IfaceServer) -> None:
     """Register navigation handlers."""
     project = server.project
@@ -125,7 +134,8 @@ def register(server: IfaceServer) -> None:
             home = home_of(view, hit.target)
             if home is None:
                 return None
-            found = refs(hit.target, home, workspace_interfaces(view), params.context.include_declaration)
+            name = getattr(hit.target, "name", "")
+            found = refs(hit.target, home, referring_interfaces(view, home, name), params.context.include_declaration)
             out = [location(view, r.interface, r.span) for r in found]
             return [loc for loc in out if loc is not None] or None
 

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from lsprotocol import types as lsp
 from pygls.exceptions import JsonRpcInvalidRequest
 
-from .navigation import home_of, locate, workspace_interfaces
+from .navigation import home_of, locate, referring_interfaces
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
@@ -72,7 +72,8 @@ def register(server: IfaceServer) -> None:
             if hit.kind == "field":
                 found = [(view.iface, hit.span)]
             else:
-                found = [(r.interface, r.span) for r in references(hit.target, home, workspace_interfaces(view))]
+                users = referring_interfaces(view, home, getattr(hit.target, "name", ""))
+                found = [(r.interface, r.span) for r in references(hit.target, home, users)]
             for iface, span in found:
                 loc = view.location(iface.source, span)
                 if loc is None:
