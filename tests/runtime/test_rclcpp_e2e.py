@@ -246,3 +246,30 @@ def test_a_user_file_that_no_longer_matches_stops_the_build_with_the_reason(work
     assert "handle_reset" in done.stderr
     assert re.search(r"node\.cpp:\d+:\d+: error: .void counter::Counter::on_nudge\([^\n]*marked .override., but does "
                      "not override", done.stderr), done.stderr[-3000:]
+
+
+def test_the_command_line_is_the_python_nodes(workspaces: dict[str, Any]) -> None:
+    """--help, an unknown option refused with exit 2 as argparse does, and SIGTERM ends the node cleanly."""
+    venv, ws = workspaces["venv"], workspaces["ws_cpp"]
+    env = environment(venv, ws, workspaces["root"] / "ros-log")
+    exe = str(ws / "install" / "counter" / "lib" / "counter" / "counter")
+    shown = subprocess.run([exe, "--help"], env=env, capture_output=True, text=True, timeout=30, check=False)
+    assert shown.returncode == 0 and "--activate" in shown.stdout and "--no-default-params" in shown.stdout
+    bad = subprocess.run([exe, "--bogus"], env=env, capture_output=True, text=True, timeout=30, check=False)
+    assert bad.returncode == 2 and "counter: error: unrecognized arguments: --bogus" in bad.stderr, bad.stderr
+    log = workspaces["root"] / "sigterm.log"
+    with open(log, "w") as out:
+        proc = subprocess.Popen([exe, "--activate"], env=env, stdout=out, stderr=subprocess.STDOUT)
+        try:
+            end = time.monotonic() + 30
+            while "parameter file:" not in log.read_text() and time.monotonic() < end:
+                time.sleep(0.1)
+            proc.terminate()
+            code = proc.wait(timeout=15)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait(timeout=10)
+    text = log.read_text()
+    assert code == 0, text
+    assert "ERROR" not in text and "not shut down" not in text, text

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -1714,6 +1715,18 @@ void ComponentNode::publish_diagnostics()
 
 // ---- starting a component -------------------------------------------------------------------------------
 
+namespace
+{
+
+std::atomic<bool> g_stop{false};
+
+void on_signal(int)
+{
+  g_stop = true;
+}
+
+}  // namespace
+
 int run(
   int argc, char ** argv, const std::string & package, const std::string & params_file,
   const std::function<std::shared_ptr<ComponentNode>(const rclcpp::NodeOptions &)> & make)
@@ -1759,7 +1772,12 @@ int run(
   for (const auto & a : ros_argv) {
     c_argv.push_back(a.c_str());
   }
-  rclcpp::init(static_cast<int>(c_argv.size()), c_argv.data());
+  // SIGINT and SIGTERM end the node through its lifecycle (shutdown, teardown) while the context is
+  // still valid, then rclcpp; rclcpp's own handlers would invalidate the context first.
+  rclcpp::init(static_cast<int>(c_argv.size()), c_argv.data(), rclcpp::InitOptions(),
+    rclcpp::SignalHandlerOptions::None);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
   int code = 0;
   {
     std::shared_ptr<ComponentNode> node;
@@ -1779,22 +1797,17 @@ int run(
       node->activate();
     }
     std::thread spinner([&executor] {executor.spin();});
-    while (rclcpp::ok() && !node->finalized()) {
+    while (rclcpp::ok() && !node->finalized() && !g_stop) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     if (node->finalized()) {
       std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let the answer to the shutdown go out
+    } else if (rclcpp::ok()) {
+      node->shutdown();  // stopped by a signal: leave through the lifecycle (teardown runs)
     }
     executor.cancel();
     spinner.join();
     executor.remove_node(node->get_node_base_interface());
-    if (!node->finalized()) {
-      try {
-        node->shutdown();  // stopped by a signal: leave through the lifecycle (teardown runs)
-      } catch (const std::exception &) {
-        // the context is gone; the node is destroyed anyway
-      }
-    }
   }
   rclcpp::shutdown();
   return code;
