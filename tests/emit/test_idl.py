@@ -6,8 +6,11 @@ import re
 
 import pytest
 
+from iface.emit.keywords import c_family_keyword
+
 from .golden_util import check_golden
 from .helpers import CASES, codes, compile_file, compile_text, run
+from .idl_oracle import unescaped
 from .oracles import rosbags_idl, rosbags_parse
 
 _IDL = re.compile(r"^([a-z0-9_]+)/(msg|srv|action)/([A-Za-z0-9]+)\.idl$")
@@ -116,36 +119,83 @@ KEYWORD_FIELDS = ["module", "struct", "sequence", "string", "boolean", "octet", 
                   "bitset", "valuetype", "wchar", "int32"]
 
 
+def idl_file(result, name: str) -> str:
+    """The text of the generated .idl file whose path ends with ``name``."""
+    return next(f.text for f in result.files if f.path.endswith(name))
+
+
 @pytest.mark.parametrize("target", ["idl", "ardupilot"])
 @pytest.mark.parametrize("name", KEYWORD_FIELDS)
-def test_a_field_named_like_an_idl_keyword_is_an_error_at_the_name(target: str, name: str) -> None:
+def test_a_field_named_like_an_idl_keyword_is_written_escaped(target: str, name: str) -> None:
     text = f"component kw\nmessage Pose {{ i32 x, i32 {name} }}\npublishes Pose on \"/pose\"\n"
     comp = compile_text(text, "keywords.iface")  # the helper's default file stem, "case", is a keyword too
     assert not comp.has_errors, [d.format() for d in comp.diagnostics]
     result = run(target, comp)
-    found = [d for d in result.diagnostics if d.code == "idl-reserved-name"]
-    assert len(found) == 1 and result.files == []
-    assert f"field '{name}' of msg/Pose is an OMG IDL keyword" in found[0].message
-    assert text[found[0].span.start:found[0].span.end] == name
+    if target == "ardupilot" and c_family_keyword(name):  # C/C++ keywords: refused, whatever IDL allows
+        assert codes(result) == ["ap-reserved-name"] and result.files == []
+        return
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    assert f"      int32 _{name};\n" in idl_file(result, "msg/Pose.idl")
+    warned = [d for d in result.diagnostics if d.code == "idl-escaped-name"]
+    if target == "idl":  # ROS 2's IDL readers take no escape: the idl target says so at the name
+        assert len(warned) == 1 and text[warned[0].span.start:warned[0].span.end] == name
+        assert f"field '{name}' of msg/Pose collides with the IDL keyword" in warned[0].message
+        assert f"written '_{name}'" in warned[0].message and "rosidl_parser" in warned[0].message
+    else:
+        assert warned == []
 
 
-@pytest.mark.parametrize("target", ["idl", "ardupilot"])
-def test_package_message_and_constant_names_are_checked_too(target: str) -> None:
+def test_package_message_and_constant_names_are_escaped_too() -> None:
     text = ('namespace ros2 module\ncomponent kw\nmessage Object { i32 x, const i32 DEFAULT = 1 }\n'
+            'message Holder { Object o, Object[3] three, list<Object> many }\n'
             'service Svc { request { i32 in } response { bool ok } }\nprovides Svc on "/svc"\n')
-    result = run(target, compile_text(text, "keywords.iface"))
-    where = {(d.code, text[d.span.start:d.span.end]) for d in result.diagnostics if d.code.startswith("idl-reserved")}
-    assert where == {("idl-reserved-name", "module"), ("idl-reserved-name", "Object"),
-                     ("idl-reserved-name", "in"), ("idl-reserved-name-case", "DEFAULT")}
-    assert result.files == []
+    result = run("idl", compile_text(text, "keywords.iface"))
+    assert not result.has_errors, [d.format() for d in result.diagnostics]
+    where = {text[d.span.start:d.span.end] for d in result.diagnostics if d.code == "idl-escaped-name"}
+    assert where == {"module", "Object", "in", "DEFAULT"}
+    obj, holder, svc = (idl_file(result, n) for n in ("msg/Object.idl", "msg/Holder.idl", "srv/Svc.idl"))
+    assert "module _module {\n  module msg {\n    module Object_Constants {\n      const int32 _DEFAULT = 1;" in obj
+    assert "    struct _Object {\n" in obj
+    assert "_module::msg::_Object o;" in holder and "sequence<_module::msg::_Object> many;" in holder
+    assert "typedef _module::msg::_Object module__msg__Object__3[3];" in holder
+    assert "module _module {" in svc and "int32 _in;" in svc
 
 
-def test_a_name_differing_from_a_keyword_only_in_case_is_a_warning() -> None:
+def test_ardupilot_refuses_a_reference_to_a_keyword_named_message() -> None:
+    text = ('component kw\nmessage Object { i32 x }\nmessage Holder { Object o }\npublishes Object on "/o"\n'
+            'publishes Holder on "/u"\n')
+    comp = compile_text(text, "keywords.iface")
+    result = run("ardupilot", comp)
+    (d,) = [d for d in result.diagnostics if d.severity == 1]
+    assert d.code == "idl-reserved-name" and result.files == []
+    assert text[d.span.start:d.span.end] == "o" and "field 'o' of msg/Holder has a type of message 'Object'" in d.message
+    assert "Fast-DDS-Gen" in d.message and "'_Object'" in d.message
+    module = ('namespace ros2 module\ncomponent kw\nmessage Point { i32 x }\nmessage Holder { Point p }\n'
+              'publishes Holder on "/h"\n')
+    (d,) = [d for d in run("ardupilot", compile_text(module, "keywords.iface")).diagnostics if d.severity == 1]
+    assert d.code == "idl-reserved-name" and "package 'module'" in d.message and "'_module'" in d.message
+    declared = run("ardupilot", compile_text('component kw\nmessage Object { i32 x }\npublishes Object on "/o"\n',
+                                             "keywords.iface"))
+    assert not declared.has_errors and "struct _Object {" in idl_file(declared, "msg/Object.idl")
+
+
+def test_a_name_differing_from_a_keyword_only_in_case_is_escaped() -> None:
     text = "message Mode { const u8 DEFAULT = 0, const u8 STRUCT = 1, i32 modules }"
     result = run("idl", compile_text(text, "keywords.iface"))
-    assert codes(result).count("idl-reserved-name-case") == 2
+    assert codes(result).count("idl-escaped-name") == 2
     assert not result.has_errors and result.files
-    assert rosbags_idl(result.files[0].text)
+    mode = result.files[0].text
+    assert "const uint8 _DEFAULT = 0;" in mode and "const uint8 _STRUCT = 1;" in mode and "int32 modules;" in mode
+    # ROS 2's readers take no escape: rosbags reads the file once the underscores are stripped as IDL strips them
+    (consts, _), = rosbags_idl(unescaped(mode)).values()
+    assert [c[0] for c in consts] == ["DEFAULT", "STRUCT"]
+
+
+def test_rosbags_and_rosidl_read_no_escaped_name() -> None:
+    """The control behind idl-escaped-name: rosbags refuses '_struct', and reads 'struct' unescaped."""
+    with pytest.raises(Exception, match="parse"):
+        rosbags_idl("module p { module msg { struct M { int32 _struct; }; }; };")
+    assert rosbags_idl("module p { module msg { struct M { int32 struct; }; }; };")["p/msg/M"][1][0][0] == "struct"
 
 
 def test_the_ros2_target_keeps_idl_keywords_rosidl_reads() -> None:

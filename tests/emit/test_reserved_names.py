@@ -1,17 +1,25 @@
-"""Language keywords as names: refused for px4 and ardupilot, warned about for ros2 and idl; rosidl file names."""
+"""Keywords as names: C/C++ ones refused by px4 and ardupilot, warned about by ros2; IDL's escaped; rosidl names."""
 
 from __future__ import annotations
 
 import keyword
+import re
+import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
 
 from iface.emit import generate
-from iface.emit.keywords import C_FAMILY_KEYWORDS, CPP_KEYWORDS, PYTHON_KEYWORDS
+from iface.emit.idl.reserved import keyword_of
+from iface.emit.keywords import C_FAMILY_KEYWORDS, CPP_KEYWORDS, PYTHON_KEYWORDS, c_family_keyword
 
 from .helpers import compile_text
+from .idl_oracle import IDLC, NO_IDLC, code_of, escaped_names, idlc_header, unescaped
 
+FASTDDSGEN = shutil.which("fastddsgen")
+NO_FASTDDSGEN = "fastddsgen (eProsima Fast-DDS-Gen, Debian package fastddsgen) is not installed: scripts/test.sh " \
+                "installs it where it runs as root"
 KW = "component kw\nmessage Kw { u64 timestamp, i32 class, i32 sequence, float32 delete }\npublishes Kw on \"/kw\"\n"
 
 
@@ -50,7 +58,7 @@ def test_ardupilot_refuses_cpp_keyword_fields_at_the_field() -> None:
     result = generate(comp, "ardupilot")
     assert result.has_errors and result.files == []
     assert at(comp, result, "ap-reserved-name") == ["class", "delete"]
-    assert at(comp, result, "idl-reserved-name") == ["sequence"]
+    assert at(comp, result, "idl-reserved-name") == []  # sequence, an IDL keyword, is written escaped
 
 
 @pytest.mark.parametrize("target", ["ros2", "idl"])
@@ -108,6 +116,8 @@ ROLES = {
     "type": "component kw\nmessage {k} {{ u64 timestamp, i32 x }}\npublishes {k} on \"/m\"\n",
 }
 TARGETS = ["ros2", "idl", "json", "markdown", "px4", "ardupilot"]
+#: The targets that write IDL's escape (``_struct``) for a name colliding with an IDL keyword.
+ESCAPING = ("idl", "ardupilot")
 
 
 def _read_back(target: str, path: str, text: str) -> None:
@@ -124,7 +134,8 @@ def _read_back(target: str, path: str, text: str) -> None:
     elif path.endswith(".idl"):
         from iface.importers.idl import read_idl
 
-        read_idl(text)
+        # rosbags reads no escaped name (_struct): it reads the text as IDL's lexical rule makes it
+        read_idl(unescaped(text) if target in ESCAPING else text)
     elif path.endswith(".json"):
         import json
 
@@ -139,6 +150,8 @@ def test_every_keyword_as_a_name_is_written_and_read_back_or_refused_at_the_name
     keywords = _all_keywords()
     assert len(keywords) >= 120 and {"message", "oneway", "senum", "module", "wstring", "valuetype"} <= set(keywords)
     written: dict[str, int] = dict.fromkeys(TARGETS, 0)
+    escapes: dict[str, int] = dict.fromkeys(ESCAPING, 0)
+    refused_ap: list[str] = []
     for k in keywords:
         comp = compile_text(ROLES[role].format(k=k), f"{role}_{k}.iface", tmp_path)
         assert not [d for d in comp.all_diagnostics() if d.severity == 1], k
@@ -148,16 +161,102 @@ def test_every_keyword_as_a_name_is_written_and_read_back_or_refused_at_the_name
             errors = [d for d in result.diagnostics if d.severity == 1]
             if errors:  # refused: each error has a code and points at the keyword-named thing
                 assert result.files == []
+                if target == "ardupilot":  # C/C++ keywords only: IDL keywords are escaped
+                    assert {d.code for d in errors} == {"ap-reserved-name"}, [d.format() for d in errors]
+                    refused_ap.append(k)
                 for d in errors:
                     assert d.code and k in text[d.span.start:d.span.end], (target, k, d.format())
                 continue
             written[target] += 1
             assert any(k.lower() in f.text.lower() for f in result.files), (target, k)
+            if target in ESCAPING:  # every escape is of a name colliding with an IDL keyword, and k is escaped
+                idl = [f.text for f in result.files if f.path.endswith(".idl")]
+                names = [n for text in idl for n in escaped_names(text)]
+                assert all(keyword_of(n) for n in names), (target, k, names)
+                # unless lowering renamed it (ValueBase → value_base): then it is in no identifier of the code
+                assert keyword_of(k) is None or k.lower() in {n.lower() for n in names} or not any(
+                    re.search(rf"(?<!\w){k}(?!\w)", code_of(text), re.I) for text in idl), (target, k)
+                escapes[target] += len(names)
             for f in result.files:
                 try:
                     _read_back(target, f.path, f.text)
                 except Exception as e:  # the platform's parser refused what the target wrote
                     pytest.fail(f"{target} wrote {f.path} for {role} {k!r}, which its parser refuses: {e}")
     # targets without keyword limits write every one; the others refuse only what their language reserves
-    assert written["json"] == written["markdown"] == written["ros2"] == len(keywords), written
+    assert written["json"] == written["markdown"] == written["ros2"] == written["idl"] == len(keywords), written
     assert all(n > 0 for n in written.values()), written
+    assert written["ardupilot"] + len(refused_ap) == len(keywords) and all(c_family_keyword(k.lower())
+                                                                            for k in refused_ap), refused_ap
+    idl_keywords = sum(keyword_of(k) is not None for k in keywords)
+    assert escapes["idl"] >= idl_keywords - 1 and escapes["ardupilot"] >= idl_keywords - 1 - len(refused_ap), escapes
+
+
+def _idl_files(role: str, target: str, root: Path) -> dict[str, list[Path]]:
+    """Every keyword's .idl files, for ``target`` in ``role``, written under ``root`` (the IDL include root)."""
+    out: dict[str, list[Path]] = {}
+    for k in _all_keywords():
+        comp = compile_text(ROLES[role].format(k=k), f"{role}_{k}.iface", root.parent)
+        result = generate(comp, target)
+        for f in result.files:
+            if f.path.endswith(".idl"):
+                path = root / f.path.removeprefix("libraries/AP_DDS/Idl/")
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(f.text)
+                out.setdefault(k, []).append(path)
+    return out
+
+
+@pytest.mark.skipif(IDLC is None, reason=NO_IDLC)
+@pytest.mark.parametrize("target", ESCAPING)
+@pytest.mark.parametrize("role", sorted(ROLES))
+def test_every_keyword_name_compiles_with_idlc_which_strips_the_escape(role: str, target: str, tmp_path: Path) -> None:
+    """Cyclone DDS's idlc compiles each file and declares the escaped names without their underscore."""
+    files = _idl_files(role, target, tmp_path / "idl")
+    assert len(files) >= (len(_all_keywords()) if target == "idl" else 100), len(files)
+    stripped = 0
+    for k, paths in files.items():
+        for path in paths:
+            proc, header = idlc_header(tmp_path / "idl", path, tmp_path / "c" / k)
+            assert proc.returncode == 0, (k, path.read_text(), proc.stderr)
+            for n in escaped_names(path.read_text()):
+                assert re.search(rf"(?<![A-Za-z0-9_]){n}\b|[a-z]_{n}\b", header), (k, n, header)
+                assert not re.search(rf"(?<![A-Za-z0-9])_{n}\b|__{n}\b", header), (k, n, header)
+                stripped += 1
+    assert stripped >= sum(keyword_of(k) is not None for k in files) - 1, stripped  # ValueBase: lowered apart
+
+
+@pytest.mark.skipif(FASTDDSGEN is None, reason=NO_FASTDDSGEN)
+@pytest.mark.parametrize("role", sorted(ROLES))
+def test_every_keyword_name_builds_with_fastddsgen_as_ardupilot_builds_it(role: str, tmp_path: Path) -> None:
+    """Fast-DDS-Gen (ArduPilot builds with its fork) reads every escaped declaration ardupilot writes."""
+    root = tmp_path / "idl"
+    files = _idl_files(role, "ardupilot", root)
+    parts = sorted(p.relative_to(root).as_posix() for ps in files.values() for p in ps)
+    assert len(parts) >= 100, len(parts)
+    top = tmp_path / "together.idl"  # one file including all: one run of the generator reads every one
+    top.write_text("".join(f'#include "{p}"\n' for p in parts))
+    (tmp_path / "gen").mkdir()
+    proc = subprocess.run([str(FASTDDSGEN), "-cs", "-replace", "-d", str(tmp_path / "gen"), "-I", str(root),
+                           str(top)], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0 and "error" not in proc.stdout.lower(), proc.stdout + proc.stderr
+    header = (tmp_path / "gen" / "together.h").read_text()
+    assert all(f'#include "{Path(p).with_suffix(".h").as_posix()}"' in header for p in parts), header[:2000]
+
+
+@pytest.mark.skipif(FASTDDSGEN is None, reason=NO_FASTDDSGEN)
+def test_fastddsgen_resolves_no_escaped_type_reference(tmp_path: Path) -> None:
+    """The control behind ardupilot's idl-reserved-name: the idl target's escaped reference, refused."""
+    src = 'component kw\nmessage Object { i32 x }\nmessage Holder { Object o }\npublishes Holder on "/h"\n'
+    result = generate(compile_text(src, "kw.iface", tmp_path), "idl")
+    for f in result.files:
+        (tmp_path / f.path).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / f.path).write_text(f.text)
+    holder = next(tmp_path.rglob("Holder.idl"))
+    assert "      kw::msg::_Object o;\n" in holder.read_text()
+    if IDLC is not None:  # the spec's form: idlc resolves it
+        proc, header = idlc_header(tmp_path, holder, tmp_path / "c")
+        assert proc.returncode == 0 and "struct kw_msg_Object o;" in header, proc.stderr + header
+    (tmp_path / "gen").mkdir()
+    proc = subprocess.run([str(FASTDDSGEN), "-cs", "-replace", "-d", str(tmp_path / "gen"), "-I", str(tmp_path),
+                           str(holder)], capture_output=True, text=True, timeout=300)
+    assert "was not defined previously" in proc.stdout + proc.stderr, proc.stdout + proc.stderr

@@ -4,7 +4,8 @@ ArduPilot talks to ROS 2 through AP_DDS, which reads ROS 2 types as OMG IDL in
 the rosidl shape (``libraries/AP_DDS/Idl/<pkg>/msg|srv/<Name>.idl``). The IDL is
 the ``idl`` target's, lowered exactly as for ``ros2`` so both sides agree on the
 wire; AP_DDS has no actions, so those are left out with a warning. Its typedefs
-and files carry ArduPilot's ``#ifndef …_defined`` guards. The wiring statements
+and files carry ArduPilot's ``#ifndef …_defined`` guards; names colliding with IDL keywords are
+escaped as there (``_struct``). The wiring statements
 become AP_DDS topic and service table entries and XRCE-DDS profiles (``dds``);
 the configuration set P becomes an ``AP_Param`` group class whose indices are kept
 stable from field ids (``params``, documentation fields from ``metadata``); see
@@ -34,7 +35,7 @@ from ..base import (
 from ..idl import render_package
 from ..idl import templates as idl_templates
 from ..idl.render import check_idl_values
-from ..idl.reserved import check_idl_names
+from ..idl.reserved import check_ap_idl_names
 from ..keywords import c_family_keyword
 from ..ros2.lower import lower_checked
 from ..ros2.package import RosPackage
@@ -55,7 +56,7 @@ FILTERS: dict[str, Callable[..., Any]] = {"cpp_string": cpp_string, "one_line": 
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """IDL for messages and services, AP_DDS tables and profiles, the AP_Param class; errors mean no files."""
-    pkg, lowered = lower_checked(comp, check_idl_values, check_idl_names, _no_keywords, _no_actions)
+    pkg, lowered = lower_checked(comp, check_idl_values, check_ap_idl_names, _no_keywords, _no_actions)
     # package.xml is the ros2 target's business, not ArduPilot's
     diagnostics = [d for d in lowered if d.code not in IGNORED]
     params = ParamBuilder(comp)

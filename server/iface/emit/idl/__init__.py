@@ -3,7 +3,9 @@
 Layout: ``<package>/msg/<Name>.idl``, ``srv/<Name>.idl``, ``action/<Name>.idl``, each
 ``module <package> { module <kind> { … } }`` with constants in ``<Struct>_Constants``
 modules, ``sequence<T, N>``, ``string<N>``, typedefs for fixed arrays, ``@default`` and
-``@verbatim`` comments. The model is lowered exactly as for the ``ros2`` target.
+``@verbatim`` comments. The model is lowered exactly as for the ``ros2`` target. A name that
+collides with an IDL keyword (case-insensitively) is written with IDL's escape, a leading
+underscore (``_struct``), which IDL compilers strip.
 
 May import: what ``emit`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``) and the shared
 modules of ``emit``.
@@ -42,14 +44,16 @@ def render_package(pkg: RosPackage, templates: TemplateSet, *, guards: bool = Fa
     ``#ifndef <package>_<kind>_<typedef>_defined`` as ArduPilot's AP_DDS IDL writes it, and the
     file's modules inside ``#ifndef <package>_<kind>_<Name>_defined``, so a file included twice
     (two components using one dependency) declares its structs once and leaves no empty module.
+    Names colliding with IDL keywords are escaped (``_struct``); the ros2 target, whose reader
+    rosidl_parser takes no escape, renders the same template unescaped.
     """
     header = header_lines("//", pkg.source_name).rstrip("\n")
     files = []
     for kind in ("msg", "srv", "action"):
         for ri in pkg.of_kind(kind):
             text = templates.render("interface.idl.j2", interface=ri, package=pkg.name, header=header,
-                                    structs=structs(ri), typedefs=typedefs(ri), includes=includes(ri),
-                                    guards=guards)
+                                    structs=structs(ri), typedefs=typedefs(ri, escape=True),
+                                    includes=includes(ri), guards=guards, escape=True)
             files.append(GeneratedFile(f"{pkg.name}/{kind}/{ri.name}.idl", text, (ri.source, ri.span)))
     return sorted_files(files)
 

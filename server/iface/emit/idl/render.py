@@ -19,6 +19,7 @@ from ..ros2.package import (
     Scalar,
 )
 from ..text import quote
+from .reserved import idl_name
 
 #: ROS 2 primitive → IDL type (rosidl's own mapping; ``char`` is ``uint8``, ``byte`` is ``octet``).
 ROS_TO_IDL: dict[str, str] = {row.ros2: row.idl for row in types.BASE_TYPES.values()
@@ -55,28 +56,30 @@ def idl_default(value: PyValue) -> str:
     return idl_scalar(value)
 
 
-def element(rt: RosType) -> str:
-    """The IDL element type (no array)."""
+def element(rt: RosType, escape: bool = False) -> str:
+    """The IDL element type (no array); ``escape``: keyword parts of a message type's scoped name escaped."""
     if rt.primitive is not None:
         base = ROS_TO_IDL[rt.primitive]
         return f"{base}<{rt.string_bound}>" if rt.string_bound is not None else base
-    return f"{rt.package}::msg::{rt.name}"
+    if not escape:
+        return f"{rt.package}::msg::{rt.name}"
+    return f"{idl_name(rt.package or '')}::msg::{idl_name(rt.name or '')}"
 
 
 def typedef_name(rt: RosType) -> str:
-    """The typedef rosidl declares for a fixed array (``double__9``)."""
+    """The typedef rosidl declares for a fixed array (``double__9``), from the unescaped names."""
     return re.sub(r"[^A-Za-z0-9]+", "__", element(rt)).strip("_") + f"__{rt.size}"
 
 
-def idl_type(rt: RosType) -> str:
-    """The type of a member."""
+def idl_type(rt: RosType, escape: bool = False) -> str:
+    """The type of a member (``escape``: keyword-named message types escaped)."""
     if rt.array == "fixed":
         return typedef_name(rt)
     if rt.array == "bounded":
-        return f"sequence<{element(rt)}, {rt.size}>"
+        return f"sequence<{element(rt, escape)}, {rt.size}>"
     if rt.array == "unbounded":
-        return f"sequence<{element(rt)}>"
-    return element(rt)
+        return f"sequence<{element(rt, escape)}>"
+    return element(rt, escape)
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,13 +106,14 @@ def structs(ri: RosInterface) -> list[IdlStruct]:
     return out
 
 
-def typedefs(ri: RosInterface) -> list[tuple[str, str, int]]:
+def typedefs(ri: RosInterface, escape: bool = False) -> list[tuple[str, str, int]]:
     """(element, name, size) of every fixed-array typedef the file needs, once each, in order."""
     seen: dict[str, tuple[str, str, int]] = {}
     for sec in ri.sections:
         for f in sec.fields:
             if f.type.array == "fixed":
-                seen.setdefault(typedef_name(f.type), (element(f.type), typedef_name(f.type), f.type.size or 0))
+                seen.setdefault(typedef_name(f.type), (element(f.type, escape), typedef_name(f.type),
+                                                              f.type.size or 0))
     return list(seen.values())
 
 
@@ -143,5 +147,6 @@ FILTERS: dict[str, Callable[..., Any]] = {
     "idl_scalar": idl_scalar,
     "idl_default": idl_default,
     "idl_type": idl_type,
+    "idl_name": lambda name, escape=False: idl_name(name) if escape else name,
     "idl_primitive": ROS_TO_IDL.__getitem__,
 }

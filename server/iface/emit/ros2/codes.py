@@ -35,10 +35,11 @@ CODES: dict[str, tuple[Severity, str]] = {
                                                          "package.xml gets the placeholders TODO and unknown.")),
     "idl-unwritable-string": (Severity.ERROR, "A string default or constant with a backslash, "
                               "which IDL readers decode differently."),
-    "idl-reserved-name": (Severity.ERROR, "A package, message, field or constant name that is an OMG IDL keyword "
-                          "(module, struct, string, default, Object…), which IDL compilers refuse."),
-    "idl-reserved-name-case": (Severity.WARNING, "A name that differs from an OMG IDL keyword only in case "
-                               "(DEFAULT, Module…), which strict IDL compilers refuse."),
+    "idl-escaped-name": (Severity.WARNING, "A package, message, field or constant name that collides with an OMG "
+                         "IDL keyword (struct, DEFAULT…), written with IDL's escape (_struct), which ROS 2's "
+                         "IDL readers do not take."),
+    "idl-reserved-name": (Severity.ERROR, "ardupilot: a field whose type is a message named like an OMG IDL "
+                          "keyword, a reference Fast-DDS-Gen cannot resolve escaped and others refuse unescaped."),
 }
 
 

@@ -1,0 +1,39 @@
+"""IDL's escaped identifiers as independent readers see them: rosbags after the lexical rule, idlc's C."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+IDLC = shutil.which("idlc")
+NO_IDLC = "idlc (Cyclone DDS's IDL compiler, Debian package cyclonedds-tools) is not installed: scripts/test.sh " \
+          "installs it where it runs as root"
+_TEXT = r'"(?:\\.|[^"\\])*"|//[^\n]*'
+#: A string, a comment, or a leading underscore that starts an identifier (not one inside a name).
+_ESCAPE = re.compile(_TEXT + r"|(?<!\w)_(?=[A-Za-z])")
+
+
+def code_of(text: str) -> str:
+    """``text`` without its strings and comments."""
+    return re.sub(_TEXT, " ", text)
+
+
+def escaped_names(text: str) -> list[str]:
+    """The identifiers ``text`` writes escaped (``_struct`` → ``struct``), in order."""
+    return re.findall(r"(?<!\w)_([A-Za-z]\w*)", code_of(text))
+
+
+def unescaped(text: str) -> str:
+    """``text`` with IDL's escape applied as OMG IDL 4.2 7.2.3 says: the leading underscore dropped."""
+    return _ESCAPE.sub(lambda m: m.group() if len(m.group()) > 1 else "", text)
+
+
+def idlc_header(root: Path, idl: Path, out: Path) -> tuple[subprocess.CompletedProcess[str], str]:
+    """Cyclone DDS's idlc over one file (includes from ``root``): its result and the C header it wrote."""
+    out.mkdir(parents=True, exist_ok=True)
+    proc = subprocess.run([str(IDLC), "-I", str(root), "-o", str(out), str(idl)], capture_output=True, text=True,
+                          timeout=120)
+    header = out / idl.with_suffix(".h").name
+    return proc, header.read_text() if header.is_file() else ""
