@@ -30,7 +30,7 @@ export const BUILTIN_TYPES = [
   'bool', 'byte', 'i8', 'i16', 'i32', 'i64', 'double', 'binary', 'uuid',
   'u8', 'u16', 'u32', 'u64', 'int8', 'int16', 'int32', 'int64',
   'uint8', 'uint16', 'uint32', 'uint64', 'float', 'float32', 'float64',
-  'char', 'octet', 'string', 'wstring',
+  'char', 'wchar', 'octet', 'string', 'wstring',
 ];
 export const STRUCT_KINDS = ['struct', 'union', 'exception', 'message', 'configuration', 'state'];
 export const SECTION_NAMES = ['request', 'response', 'goal', 'result', 'feedback'];
