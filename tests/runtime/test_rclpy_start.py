@@ -17,8 +17,6 @@ import sys
 import textwrap
 from pathlib import Path
 
-import pytest
-
 from .conftest import Workspace
 from .ros import DEFAULT_VENV, ROOT, environment, run_bounded
 
@@ -135,7 +133,8 @@ def test_the_readme_commands_give_a_node_standard_calls_can_look_at(ros_venv: Pa
     shutil.copytree(ROOT / "examples", work / "examples")
     bin_dir = tmp_path / "bin"  # iface-lsp of this checkout, whatever is installed
     bin_dir.mkdir()
-    (bin_dir / "iface-lsp").write_text(f'#!/bin/sh\nPYTHONPATH="{ROOT / "server"}" exec "{sys.executable}" -m iface "$@"\n')
+    wrapper = f'#!/bin/sh\nPYTHONPATH="{ROOT / "server"}" exec "{sys.executable}" -m iface "$@"\n'
+    (bin_dir / "iface-lsp").write_text(wrapper)
     (bin_dir / "iface-lsp").chmod(0o755)
     env = environment(ros_venv, log_dir=tmp_path / "ros-log")
     env["PATH"] = f"{bin_dir}{os.pathsep}{env['PATH']}"
