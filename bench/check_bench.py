@@ -1,7 +1,8 @@
 """Benchmark: full check (parse, model, validation) against a bare lark LALR parse.
 
 Run: ``python bench/check_bench.py`` — prints lines/s and the ratios the
-language issue asks for (check ≤ 1.2× bare parse at 10k lines; 50k ≤ 5.5× 10k).
+speed issue asks for, measured in one run: check ≤ 0.7× a bare lark LALR parse
+of the same text, and check of 50k lines ≤ 5.2× check of 10k (linear is 5.0).
 """
 
 from __future__ import annotations
@@ -48,9 +49,9 @@ def main() -> None:
         results[lines] = (t_bare, t_check)
         print(f"{n:>6} lines: bare LALR parse {t_bare * 1000:8.1f} ms ({n / t_bare:8.0f} lines/s)   "
               f"full check {t_check * 1000:8.1f} ms ({n / t_check:8.0f} lines/s)   "
-              f"check/bare {t_check / t_bare:5.2f}x (goal <= 1.2x)")
+              f"check/bare {t_check / t_bare:5.2f}x (goal <= 0.7x{'' if t_check / t_bare <= 0.7 else ': MISSES'})")
     ratio = results[50_000][1] / results[10_000][1]
-    print(f"check 50k / check 10k: {ratio:.2f}x (goal <= 5.5x)")
+    print(f"check 50k / check 10k: {ratio:.2f}x (goal <= 5.2x{'' if ratio <= 5.2 else ': MISSES'}; linear is 5.0)")
 
 
 if __name__ == "__main__":

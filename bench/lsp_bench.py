@@ -6,10 +6,14 @@ document of about 10,000 lines it measures, for both servers:
 - edit → diagnostics: one isolated edit, until the diagnostics of its version arrive;
 - completion right behind an edit: the completion request sent just after the change;
 - idle hover and idle completion: requests on a document that is not changing;
-- start → initialize response: from spawning the process to the answer.
+- start → initialize response: from spawning the process to the answer, against
+  ``python -c "import pygls.lsp.server"`` (spawn to exit) measured in the same run;
+- the server's memory for the open document, against its text size.
 
-Figures are medians (and the 90th percentile) in milliseconds. This is a
-benchmark, not a test: the machine's load moves the numbers.
+With ``--lines`` other than 10,000 our server is measured on a 10,000-line
+document too, so that the ratios N/10k come from one run. Figures are medians
+(and the 90th percentile) in milliseconds, each printed next to its goal. This
+is a benchmark, not a test: the machine's load moves the numbers.
 """
 
 from __future__ import annotations
@@ -33,6 +37,7 @@ OURS = [sys.executable, "-m", "iface", "--stdio"]
 #: The server without the command line in front (which imports every command's module first).
 DIRECT = [sys.executable, "-c", "import sys; from iface.lsp.server import serve; sys.exit(serve())"]
 NAIVE = [sys.executable, str(Path(__file__).parent / "naive_server.py")]
+PYGLS = [sys.executable, "-c", "import pygls.lsp.server"]
 
 
 class Probe:
@@ -100,9 +105,31 @@ def change(uri: str, version: int, line: int, text: str, delete: bool) -> lsp.Di
         content_changes=[lsp.TextDocumentContentChangePartial(range=rng, text=new)])
 
 
+def rss_mb(probe: Probe) -> float:
+    """The server's resident memory in MB (Linux /proc; 0 elsewhere)."""
+    server = getattr(probe.client, "_server", None)
+    try:
+        with open(f"/proc/{server.pid}/status", encoding="ascii") as f:  # type: ignore[union-attr]
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) / 1024
+    except (OSError, AttributeError):
+        pass
+    return 0.0
+
+
+async def spawn_seconds(cmd: list[str]) -> float:
+    """Seconds from spawning ``cmd`` to its exit."""
+    t0 = time.perf_counter()
+    proc = await asyncio.create_subprocess_exec(*cmd)
+    await proc.wait()
+    return time.perf_counter() - t0
+
+
 async def measure(cmd: list[str], text: str, rounds: int, root: Path) -> dict[str, list[float]]:
     """Every figure for one server."""
-    out: dict[str, list[float]] = {"start": [], "edit": [], "behind": [], "hover": [], "completion": []}
+    out: dict[str, list[float]] = {"start": [], "edit": [], "behind": [], "hover": [], "completion": [],
+                                   "memory": []}
     for _ in range(3):
         probe, seconds = await start(cmd, root)
         out["start"].append(seconds * 1000)
@@ -110,9 +137,13 @@ async def measure(cmd: list[str], text: str, rounds: int, root: Path) -> dict[st
     probe, _ = await start(cmd, root)
     client = probe.client
     uri = (root / "big.iface").as_uri()
+    await asyncio.sleep(0.5)  # the warm-up after initialized is done
+    before = rss_mb(probe)
     client.text_document_did_open(lsp.DidOpenTextDocumentParams(
         lsp.TextDocumentItem(uri=uri, language_id="iface", version=1, text=text)))
     await probe.diagnostics(1, timeout=120)
+    await asyncio.sleep(0.3)
+    out["memory"].append(rss_mb(probe) - before)
     version = 1
     doc = lsp.TextDocumentIdentifier(uri=uri)
     for k in range(rounds):
@@ -154,30 +185,60 @@ def summary(values: list[float]) -> str:
     return f"{statistics.median(values):8.1f} (p90 {p90:7.1f})"
 
 
+def med(values: list[float]) -> float:
+    return statistics.median(values)
+
+
+def goal(title: str, value: float, limit: float, unit: str = "×") -> None:
+    """One ratio next to its goal."""
+    verdict = "meets" if value <= limit else "MISSES"
+    print(f"  {title:58} {value:7.2f}{unit}  goal <= {limit:g}{unit}  {verdict}")
+
+
 async def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lines", type=int, default=10_000)
     parser.add_argument("--rounds", type=int, default=10)
     args = parser.parse_args()
     text = generate(args.lines)
+    reference = generate(10_000) if args.lines != 10_000 else None
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         (root / "big.iface").write_text(text, encoding="utf-8")
         print(f"document: {text.count(chr(10))} lines, {len(text)} characters; {args.rounds} rounds", flush=True)
         naive = await measure(NAIVE, text, args.rounds, root)
         ours = await measure(OURS, text, args.rounds, root)
+        small = await measure(OURS, reference, args.rounds, root) if reference is not None else ours
         direct = []
         for _ in range(3):
             probe, seconds = await start(DIRECT, root)
             direct.append(seconds * 1000)
             await stop(probe)
+        pygls = [await spawn_seconds(PYGLS) * 1000 for _ in range(5)]
     rows = [("edit → diagnostics", "edit"), ("completion behind an edit", "behind"), ("idle hover", "hover"),
             ("idle completion", "completion"), ("start → initialize", "start")]
     print(f"{'ms (median, p90)':28} {'naive lark server':>24} {'iface-lsp':>24} {'speed-up':>9}")
     for title, key in rows:
-        ratio = statistics.median(naive[key]) / max(statistics.median(ours[key]), 1e-9)
+        ratio = med(naive[key]) / max(med(ours[key]), 1e-9)
         print(f"{title:28} {summary(naive[key]):>24} {summary(ours[key]):>24} {ratio:8.1f}×")
     print(f"{'start → initialize (serve())':28} {'':>24} {summary(direct):>24}")
+    print(f"{'python -c import pygls.lsp.server':28} {'':>24} {summary(pygls):>24}")
+    if reference is not None:
+        for title, key in rows[:4]:
+            print(f"{title + ' at 10k':28} {'':>24} {summary(small[key]):>24}")
+    text_mb = len(text.encode("utf-8")) / (1024 * 1024)
+    print(f"memory of the open document: {med(ours['memory']):.1f} MB for {text_mb:.2f} MB of text")
+    print("goals (ratios measured in this run):")
+    if reference is None:
+        goal("edit → diagnostics, iface-lsp / naive server at 10k", med(ours["edit"]) / med(naive["edit"]), 1 / 25)
+    else:
+        n = args.lines // 1000
+        goal(f"edit → diagnostics, {n}k / 10k", med(ours["edit"]) / med(small["edit"]), 1.3)
+        goal(f"idle hover, {n}k / 10k", med(ours["hover"]) / med(small["hover"]), 1.5)
+        goal(f"idle completion, {n}k / 10k", med(ours["completion"]) / med(small["completion"]), 1.5)
+    goal("start → initialize / python -c 'import pygls.lsp.server'", med(ours["start"]) / med(pygls), 1.2)
+    goal("start → initialize (serve()) / import pygls.lsp.server", med(direct) / med(pygls), 1.2)
+    goal("memory of the open document / its text", med(ours["memory"]) / text_mb, 15)
     return 0
 
 

@@ -99,3 +99,18 @@ async def test_member_completion_after_a_constant(client: Client, doc: str) -> N
     """A blank line right after a constant member still offers types (seen in VS Code)."""
     items = await complete(client, doc, DOC + "message Limits {\n    const u8 MAX_JOINTS = 6\n    |\n}\n")
     assert {"float64", "Local"} <= labels(items)
+
+
+async def test_many_types_give_the_best_hundred_by_name_and_say_the_list_is_incomplete(client: Client) -> None:
+    """Completion builds only the first names of each group (its cost does not grow with the file); the
+    answer is still the first hundred of all candidates sorted, and says that more exist."""
+    numbers = [(i * 7919) % 600 for i in range(600)]  # every number once, out of order
+    body = 'component many version "1"\n\n' + "".join(f"message T{n} {{\n    u8 a\n}}\n\n" for n in numbers)
+    uri = client.open("many_types.iface", body)
+    await client.wait_diagnostics(uri, 1)
+    result = await client.text_document_completion_async(lsp.CompletionParams(
+        client.doc(uri), lsp.Position(line=body.count("\n") - 3, character=4)))
+    assert isinstance(result, lsp.CompletionList) and result.is_incomplete
+    everything = [f"T{n}" for n in numbers] + ["const", "required", "optional"]  # sort group 2, before builtins
+    assert [i.label for i in result.items] == sorted(everything)[:100]
+    client.close(uri)

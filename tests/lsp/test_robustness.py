@@ -177,9 +177,12 @@ async def test_requests_before_initialize_and_after_shutdown_get_errors_not_sile
     assert "capabilities" in (await response(proc.stdout, 3))["result"]
     send(message({"jsonrpc": "2.0", "method": "initialized", "params": {}}))
     send(message({"jsonrpc": "2.0", "id": 4, "method": "textDocument/hover", "params": hover}))
+    await proc.stdin.drain()
+    # answered before shutdown is sent: pygls cancels what is still pending at shutdown (-32800), and the
+    # hover may wait for the model thread (the parser's warm-up, the workspace index) on a busy machine
+    assert "error" not in await response(proc.stdout, 4)
     send(message({"jsonrpc": "2.0", "id": 5, "method": "shutdown"}))
     await proc.stdin.drain()
-    assert "error" not in await response(proc.stdout, 4)
     assert (await response(proc.stdout, 5))["result"] is None
     send(message({"jsonrpc": "2.0", "id": 6, "method": "textDocument/hover", "params": hover}))
     send(message({"jsonrpc": "2.0", "id": 7, "method": "shutdown"}))

@@ -44,6 +44,8 @@ class Snapshot:
     names: tuple[Name, ...] = ()
     topics: tuple[tuple[str, str], ...] = ()
     deps: frozenset[str] = frozenset()
+    #: The type names of ``names`` sorted by name, local ones then included ones (completion builds it once).
+    sorted_types: tuple[tuple[Name, ...], tuple[Name, ...]] | None = None
 
     @property
     def iface(self) -> Interface | None:

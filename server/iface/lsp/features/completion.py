@@ -15,7 +15,7 @@ from ..context import Context, context_at
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import Name
+    from ..snapshots import Name, Snapshot
 
 MAX_ITEMS = 100
 
@@ -81,7 +81,7 @@ def register(server: IfaceServer) -> None:
         markdown = bool(item_caps and item_caps.documentation_format
                         and lsp.MarkupKind.Markdown in item_caps.documentation_format)
         items = Items(ctx, state.index, offset, snippets, markdown)
-        offer(ctx, names, topics, items)
+        offer(ctx, names, topics, items, sorted_types(snap) if snap is not None else None)
         built, incomplete = items.build(MAX_ITEMS)
         return convert.completion_list(built, incomplete=incomplete)
 
@@ -111,6 +111,10 @@ class Items:
         self.seen: set[str] = set()
         self.prefix = ctx.prefix.lower()
 
+    def fits(self, label: str) -> bool:
+        """True when ``label`` fits the typed prefix."""
+        return not self.prefix or self.prefix in label.lower()
+
     def add(self, label: str, kind: str, detail: str = "", doc: str = "", insert: str | None = None,
             snippet: bool = False, sort: str = "5", replace_from: int | None = None) -> None:
         """One candidate, if its label fits the prefix and it is new."""
@@ -132,8 +136,17 @@ class Items:
         return items, len(self.candidates) > limit
 
 
-def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, str]], items: Items) -> None:
-    """Fill ``items`` with what fits ``ctx``."""
+def sorted_types(snap: Snapshot) -> tuple[tuple[Name, ...], tuple[Name, ...]]:
+    """The type names of a snapshot sorted by name: local ones, then included ones (built once per snapshot)."""
+    if snap.sorted_types is None:
+        types = sorted((n for n in snap.names if n.kind in TYPE_KINDS), key=lambda n: n.name)
+        snap.sorted_types = (tuple(n for n in types if "." not in n.name), tuple(n for n in types if "." in n.name))
+    return snap.sorted_types
+
+
+def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, str]], items: Items,
+          types: tuple[tuple[Name, ...], tuple[Name, ...]] | None = None) -> None:
+    """Fill ``items`` with what fits ``ctx``; ``types`` are the type names sorted (see ``sorted_types``)."""
     where = ctx.where
     if where == "top":
         for kw in KEYWORDS:
@@ -151,7 +164,7 @@ def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, st
                               snippet=items.snippets, sort="1")
             for kw in ("const", "required", "optional"):
                 items.add(kw, "keyword", insert=kw + " ", sort="2")
-        _types(names, items)
+        _types(names, items, types)
     elif where == "wiring-type":
         wanted = {"publishes": ("message", "struct"), "subscribes": ("message", "struct"),
                   "provides": ("service", "action"), "calls": ("service", "action"), "extends": ("service",)}
@@ -181,12 +194,22 @@ def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, st
             items.add(scope, "keyword", "namespace scope", insert=scope + " ", sort="1")
 
 
-def _types(names: tuple[Name, ...], items: Items) -> None:
+def _types(names: tuple[Name, ...], items: Items, types: tuple[tuple[Name, ...], tuple[Name, ...]] | None) -> None:
     for b in BASE_TYPES:
         items.add(b, "base-type", "builtin type", sort="3")
-    for n in names:
-        if n.kind in TYPE_KINDS:
-            items.add(n.name, n.kind, n.detail, n.doc, sort="2" if "." not in n.name else "4")
+    if types is None:
+        local = tuple(n for n in names if n.kind in TYPE_KINDS and "." not in n.name)
+        types = (local, tuple(n for n in names if n.kind in TYPE_KINDS and "." in n.name))
+    # in name order, a group past its first MAX_ITEMS + 1 fitting names cannot reach the MAX_ITEMS best:
+    # the cost of a completion does not grow with the file
+    for group, sort in zip(types, ("2", "4")):
+        added = 0
+        for n in group:
+            if n.name not in items.seen and items.fits(n.name):
+                items.add(n.name, n.kind, n.detail, n.doc, sort=sort)
+                added += 1
+                if added > MAX_ITEMS:
+                    break
 
 
 def _topic_items(ctx: Context, topics: list[tuple[str, str, str]], items: Items) -> None:

@@ -147,13 +147,13 @@ def encode(found: dict[int, tuple[int, int, int]], index: convert.LineIndex, tex
 
 def register(server: IfaceServer) -> None:
     """Register semantic token handlers (full and range); none for a document over the file size limit."""
-    from ...semantics.compile import too_large
-
     project = server.project
 
     @server.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, LEGEND)
     async def full(ls: IfaceServer, params: lsp.SemanticTokensParams) -> lsp.SemanticTokens | None:
         def answer(view: View) -> lsp.SemanticTokens | None:
+            from ...semantics.compile import too_large
+
             if view.iface is None or too_large(view.snap.text):
                 return None
             return convert.semantic_tokens(encode(tokens(view.iface, view.snap.text), view.snap.index, view.snap.text))
@@ -163,6 +163,8 @@ def register(server: IfaceServer) -> None:
     @server.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE, LEGEND)
     async def in_range(ls: IfaceServer, params: lsp.SemanticTokensRangeParams) -> lsp.SemanticTokens | None:
         def answer(view: View) -> lsp.SemanticTokens | None:
+            from ...semantics.compile import too_large
+
             if view.iface is None or too_large(view.snap.text):
                 return None
             index = view.snap.index
