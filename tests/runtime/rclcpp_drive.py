@@ -235,6 +235,20 @@ def main() -> int:
 
         report.step("state: a restore from an incompatible interface is refused with a reason", refused_restore)
 
+        def cleanup() -> str:
+            check(probe.lifecycle_state(node) == "inactive", f"{node} is not inactive after the hand-over")
+            before = count_of(node)
+            time.sleep(0.5)
+            check(count_of(node) == before, "the inactive node counted")
+            moved = probe.transition(node, "cleanup")
+            check(moved == "inactive -> unconfigured", moved)
+            probe.wait_until(lambda: "/counter/reset" not in probe.services_of(node), 10,
+                             "/counter/reset withdrawn from the node")
+            check(f"/{node}/save_state" in probe.services_of(node), "the protocol services went with the members")
+            return f"count stayed {before} while inactive; {moved}; /counter/reset withdrawn, the protocol kept"
+
+        report.step("lifecycle: inactive does no work, cleanup withdraws the members", cleanup)
+
         def shutdown_cpp() -> str:
             out = []
             for p in [x for x in started if x.name in (node, second)]:

@@ -41,6 +41,7 @@ STEPS = [
     "control: pause after the current transaction, resume",
     "state: saved from one instance, restored into a second, the counter continues",
     "state: a restore from an incompatible interface is refused with a reason",
+    "lifecycle: inactive does no work, cleanup withdraws the members",
     "lifecycle: shutdown ends the process",
     "state: the C++ node reads and writes the Python node's state document",
     "handover: iface-lsp handover from the Python counter 1.0 to the C++ counter 2.0",
