@@ -543,6 +543,8 @@ def recursion(iface: m.Interface) -> Iterator[Diagnostic]:
 
     def members(s: m.Struct) -> Iterator[tuple[m.Field, m.Struct]]:
         for f in s.fields:
+            if type(f.type) is m.BaseType:
+                continue  # most fields: nothing to follow
             stack: list[m.TypeRef] = [f.type]
             seen: set[int] = set()  # each container once: a typedef cycle (cut, and reported) never loops here
             while stack:

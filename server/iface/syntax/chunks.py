@@ -11,6 +11,8 @@ by the parser (see ``parse``), so it never changes what a valid file means.
 from __future__ import annotations
 
 import re
+from bisect import bisect_left, bisect_right
+from collections.abc import Callable
 from dataclasses import dataclass
 
 TOP_KEYWORDS = (
@@ -57,13 +59,81 @@ def clean_doc(comment: str) -> str:
     return "\n".join(out)
 
 
-def split(text: str) -> list[Chunk]:
-    """Cut ``text`` into chunks covering it without gaps."""
-    cuts = [0]
+def split(text: str, previous: tuple[str, list[Chunk]] | None = None) -> list[Chunk]:
+    """Cut ``text`` into chunks covering it without gaps.
+
+    With ``previous`` (an earlier version of the text and its chunks) only the
+    text around what changed is scanned again: the chunks before it are kept,
+    and once the scan reaches, past the change, a cut the earlier version had
+    at the same place, the rest is the earlier chunks moved by the change.
+    """
+    if previous is None or not previous[1]:
+        return _split(text, 0)
+    old, old_chunks = previous
+    head = _common_prefix(old, text)
+    tail = _common_suffix(old, text, head)
+    if head == len(old) == len(text):
+        return old_chunks
+    delta = len(text) - len(old)
+    new_end = len(text) - tail
+    starts = [c.start for c in old_chunks]
+    k = max(bisect_right(starts, head) - 2, 0)  # one chunk of margin before the change
+    begin = old_chunks[k].start
+
+    def resumes(cut: int) -> bool:
+        """True for a cut past the change that the earlier version had too (the rest is the same)."""
+        if cut < new_end:
+            return False
+        j = bisect_left(starts, cut - delta)
+        return j < len(starts) and starts[j] == cut - delta
+
+    middle = _split(text, begin, resumes)
+    last = middle[-1]
+    if last.end >= len(text):
+        return old_chunks[:k] + middle
+    i = bisect_left(starts, last.end - delta)
+    moved = [Chunk(c.start + delta, c.end + delta, c.docs, c.unterminated) for c in old_chunks[i:]]
+    return old_chunks[:k] + middle + moved
+
+
+def _common_prefix(a: str, b: str, block: int = 4096) -> int:
+    """The length of the longest common prefix of ``a`` and ``b`` (compared a block at a time in C)."""
+    n = min(len(a), len(b))
+    i = 0
+    while i < n:
+        j = min(i + block, n)
+        if a[i:j] != b[i:j]:
+            while a[i] == b[i]:
+                i += 1
+            return i
+        i = j
+    return n
+
+
+def _common_suffix(a: str, b: str, head: int, block: int = 4096) -> int:
+    """The length of the longest common suffix of ``a`` and ``b`` that leaves ``head`` characters of each."""
+    n = min(len(a), len(b)) - head
+    i = 0
+    la, lb = len(a), len(b)
+    while i < n:
+        j = min(i + block, n)
+        if a[la - j:la - i] != b[lb - j:lb - i]:
+            while a[la - i - 1] == b[lb - i - 1]:
+                i += 1
+            return i
+        i = j
+    return n
+
+
+def _split(text: str, begin: int, resumes: Callable[[int], bool] | None = None) -> list[Chunk]:
+    """Chunks of ``text`` from ``begin`` (a cut) to its end, or to the first cut for which ``resumes`` is
+    true (the last chunk then ends there)."""
+    cuts = [begin]
     docs: list[tuple[int, int, str]] = []  # (comment start, documented offset, text)
     pending_doc = -1
     open_comment = -1
-    for match in _SCAN.finditer(text):
+    stop = -1
+    for match in _SCAN.finditer(text, begin):
         s = match.start()
         c = text[s]
         closed = match.end() - s >= 4 and text.startswith("*/", match.end() - 2)  # no copy of a long comment
@@ -80,12 +150,18 @@ def split(text: str) -> list[Chunk]:
         cut = s
         if pending_doc >= 0 and docs[-1][1] == s:
             cut = pending_doc
-        if cut > cuts[-1]:
-            cuts.append(cut)
         pending_doc = -1
-    if open_comment > cuts[-1]:
+        if cut > cuts[-1]:
+            if resumes is not None and resumes(cut):
+                stop = cut
+                break
+            cuts.append(cut)
+    end = len(text)
+    if stop >= 0:
+        end = stop
+    elif open_comment > cuts[-1]:
         cuts.append(open_comment)
-    cuts.append(len(text))
+    cuts.append(end)
     chunks: list[Chunk] = []
     di = 0
     for a, b in zip(cuts, cuts[1:]):
@@ -94,7 +170,7 @@ def split(text: str) -> list[Chunk]:
             _, target, doc = docs[di]
             cd[target - a] = doc
             di += 1
-        chunks.append(Chunk(a, b, cd, a == open_comment))
+        chunks.append(Chunk(a, b, cd, a == open_comment and stop < 0))
     if not chunks:
-        chunks.append(Chunk(0, 0, {}))
+        chunks.append(Chunk(begin, begin, {}))
     return chunks

@@ -335,6 +335,8 @@ class ChunkCache:
 
     def __init__(self) -> None:
         self._by_text: dict[str, list[ChunkResult]] = {}
+        #: The last text and its chunks: the next version's text is cut again only around what changed.
+        self.split: tuple[str, list[Chunk]] | None = None
 
     def take(self, text: str) -> ChunkResult | None:
         """A cached result for ``text``, removed so it is used once per version."""
@@ -358,7 +360,9 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
     error and models the rest.
     """
     parser = chunk_parser()
-    chunks = split(text)
+    chunks = split(text, cache.split if cache is not None else None)
+    if cache is not None:
+        cache.split = (text, chunks)
     if cache is None and not chunks[-1].unterminated:
         docs: dict[int, str] = {}
         for ch in chunks:
