@@ -90,6 +90,7 @@ def test_a_missing_file_is_one_io_diagnostic_beside_the_others(tmp_path: Path) -
     lines = r.stdout.splitlines()
     assert "bad.iface:2:5: error[unknown-type]: unknown type 'Unknown'" in lines
     assert [line for line in lines if "missing.iface" in line] == ["missing.iface:1:1: error[cannot-read]: no such file"]
+    assert lines[-1].startswith("failed: 2 errors in 2 files (1 not read), "), lines[-1]
     r = run_cli("check", "--format", "json", str(bad), str(missing), cwd=tmp_path)
     found = [(d["file"], d["code"]) for d in json.loads(r.stdout)["diagnostics"]]
     assert ("bad.iface", "unknown-type") in found and ("missing.iface", "cannot-read") in found

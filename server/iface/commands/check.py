@@ -37,11 +37,14 @@ def _count(n: int, what: str) -> str:
     return f"{n} {what}{'' if n == 1 else 's'}"
 
 
-def summary(comps: Sequence[Compilation], diags: Sequence[Diagnostic]) -> str:
-    """``ok: 2 files, 16 definitions`` (``, 3 warnings`` when there are some), or ``failed: …`` with errors."""
+def summary(comps: Sequence[Compilation], diags: Sequence[Diagnostic], unread: int = 0) -> str:
+    """``ok: 2 files, 16 definitions`` (``, 3 warnings`` when there are some), or ``failed: …`` with errors.
+
+    Files named but not read count among the files, with ``(N not read)``.
+    """
     files = {c.path: c for comp in comps for c in comp.closure()}
-    parts = [_count(len(files), "file"), _count(sum(len(c.interface.definitions) for c in files.values()),
-                                                "definition")]
+    parts = [_count(len(files) + unread, "file") + (f" ({unread} not read)" if unread else ""),
+             _count(sum(len(c.interface.definitions) for c in files.values()), "definition")]
     errors = sum(1 for d in diags if d.severity == Severity.ERROR)
     warnings = sum(1 for d in diags if d.severity == Severity.WARNING)
     if errors:
@@ -67,5 +70,5 @@ def run(args: argparse.Namespace) -> int:
     shown = [d for d in diags if d.severity == Severity.ERROR] if args.quiet else diags
     print_diagnostics(shown, args.format)
     if args.format == "text" and not args.quiet:
-        print(summary(comps, diags))
+        print(summary(comps, diags, len({d.path for d in unread})))
     return 2 if unread else 1 if has_errors(diags) else 0
