@@ -164,8 +164,9 @@ def every_member_cpp(workspaces: dict[str, Any], ros_workspace: Any) -> tuple[Pa
 
 def test_every_member_builds_and_checks_its_parameters(workspaces: dict[str, Any],
                                                        every_member_cpp: tuple[Path, dict[str, str]]) -> None:
-    """Every kind of member compiles; the C++ node refuses parameters with the Python node's reasons, and writes
-    the Python node's state document byte for byte (floats, strings, a message, arrays, extreme integers)."""
+    """Every kind of member compiles; /diagnostics comes at the file's rate and the Δ service answers; the C++ node
+    refuses parameters with the Python node's reasons, and writes the Python node's state document byte for byte
+    (floats, strings, a message, arrays, extreme integers)."""
     venv = workspaces["venv"]
     ws, env = every_member_cpp
     exe = ws / "install" / "every_member" / "lib" / "every_member" / "every_member"
@@ -187,6 +188,13 @@ try:
     for name, value in (("start_mode", 7), ("label", "much too long"), ("offsets", [1.0]), ("ids", [1, 2, 3, 4, 5]),
                         ("gain", 11.0), ("retries", 4), ("serial", "SN-2")):
         out[name] = [probe.set_param(node, name, value) for node in ("em_cpp", "em_py")]
+    import importlib
+    Diagnostics = importlib.import_module("every_member_msgs.srv").Diagnostics
+    seen = probe.diagnostics_of("/em_cpp")
+    time.sleep(2.5)
+    out["diagnostics_per_s"] = len(seen) / 2.5
+    answer = probe.call(Diagnostics, "/em_cpp/diagnostics", Diagnostics.Request(level=1))
+    out["delta"] = type(answer).__name__
     doc = proto.save("em_py")
     doc["values"] = {"counter": 2 ** 64 - 1, "last_label": "\u00fc\"\\x\u2603", "position": [0.1, 1e-07, 1e16],
                      "target": {"x": 1.5, "y": -0.0, "name": "w\u00e9"}, "mode": -2147483648, "busy": True,
@@ -209,6 +217,8 @@ print(json.dumps(out))
     assert done.returncode == 0, done.stderr[-2000:]
     got = json.loads(done.stdout.strip().splitlines()[-1])
     python, cpp = got.pop("documents")
+    assert 3.0 <= got.pop("diagnostics_per_s") <= 5.0  # the file's rate = 4 (Hz), while unconfigured
+    assert got.pop("delta") == "Diagnostics_Response"  # ~/diagnostics answered from the diagnostics group
     assert cpp == python, f"C++ {cpp}\nPython {python}"
     assert '"position":[0.1,1e-07,1e+16]' in cpp and '"last_label":"ü\\"\\\\x☃"' in cpp, cpp
     for name, (mine, theirs) in got.items():
