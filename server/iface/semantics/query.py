@@ -58,11 +58,14 @@ def _touches(span: Span, offset: int) -> bool:
 # what is at an offset
 
 
+def _start(item: m.Item) -> int:
+    return item.span.start
+
+
 def item_at(iface: m.Interface, offset: int) -> m.Item | None:
     """The top-level item whose span holds ``offset``."""
     items = iface.items
-    starts = [i.span.start for i in items]
-    k = bisect_right(starts, offset) - 1
+    k = bisect_right(items, offset, key=_start) - 1  # no list of every start: a hover costs the same in any file
     for j in (k, k - 1):
         if 0 <= j < len(items) and _touches(items[j].span, offset):
             return items[j]

@@ -74,7 +74,7 @@ def register(server: IfaceServer) -> None:
         ctx = context_at(state.text, offset)
         snap = project.snapshots.get(doc.uri)
         names = snap.names if snap is not None else ()
-        topics = _topics(project, snap)
+        topics = _topics(project, snap) if ctx.where == "topic" else []  # every wiring: only where wanted
         caps = ls.client_capabilities.text_document
         item_caps = caps.completion.completion_item if caps and caps.completion else None
         snippets = bool(item_caps and item_caps.snippet_support)
