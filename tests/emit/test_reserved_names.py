@@ -260,3 +260,147 @@ def test_fastddsgen_resolves_no_escaped_type_reference(tmp_path: Path) -> None:
     proc = subprocess.run([str(FASTDDSGEN), "-cs", "-replace", "-d", str(tmp_path / "gen"), "-I", str(tmp_path),
                            str(holder)], capture_output=True, text=True, timeout=300)
     assert "was not defined previously" in proc.stdout + proc.stderr, proc.stdout + proc.stderr
+
+
+# ---- the node targets: each language's keywords, through the interface package and the node code ----------
+
+#: The node targets and the language of their node code.
+NODE_TARGETS = {"rclpy": "python", "rclcpp": "c++"}
+#: The roles of ROLES, and the names only the node code takes: a parameter (its accessor) and a state field.
+NODE_ROLES = {
+    **ROLES,
+    "parameter": "component kw\nmessage M {{ u64 timestamp, i32 x }}\nconfiguration params {{ i32 {k} = 1 }}\n"
+                 "publishes M on \"/m\"\n",
+    "state": "component kw\nmessage M {{ u64 timestamp, i32 x }}\nstate s {{ i32 {k} }}\npublishes M on \"/m\"\n",
+}
+#: The name that takes the keyword's place in the control run (no keyword of any language).
+NEUTRAL = "zqname"
+#: The interface package's codes each node target refuses (``runtime-reserved-name``) instead of warning.
+REFUSED = {"rclpy": {"ros2-reserved-name", "ros2-python-keyword"}, "rclcpp": {"ros2-reserved-name"}}
+_CPP_NOISE = re.compile(r'//[^\n]*|/\*.*?\*/|R"(\w*)\(.*?\)\1"|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', re.S)
+
+
+def cpp_keyword_tokens(files: list) -> dict[str, int]:
+    """How often each C++ keyword is a token of the component's C++ code (comments and literals left out)."""
+    counts: dict[str, int] = {}
+    for f in files:
+        if f.path.endswith((".cpp", ".hpp")):
+            for token in re.findall(r"[A-Za-z_]\w*", _CPP_NOISE.sub(" ", f.text)):
+                if token in CPP_KEYWORDS:
+                    counts[token] = counts.get(token, 0) + 1
+    return counts
+
+
+def python_errors(files: list) -> list[str]:
+    """``path:line: message`` of each written .py file Python cannot compile."""
+    out = []
+    for f in files:
+        if f.path.endswith(".py"):
+            try:
+                compile(f.text, f.path, "exec")
+            except SyntaxError as e:
+                out.append(f"{f.path}:{e.lineno}: {e.msg}")
+    return out
+
+
+def test_node_code_checks_can_fail() -> None:
+    """The two checks below see a keyword where node code would take one."""
+    from iface.emit.base import GeneratedFile
+
+    assert python_errors([GeneratedFile("a/base.py", "from kw_msgs.msg import True as KwTrue\n")])
+    hpp = "// class in a comment\nconst char * s = \"delete\";\nstruct A { int x; };\nvoid f(A & a) { a.class_ = 1; }\n"
+    assert cpp_keyword_tokens([GeneratedFile("a.hpp", hpp)]) == {"const": 1, "char": 1, "struct": 1, "int": 1,
+                                                                 "void": 1}
+    assert cpp_keyword_tokens([GeneratedFile("a.cpp", "void f(A & a) { a.delete = 1; }\n")])["delete"] == 1
+
+
+@pytest.mark.parametrize("target", sorted(NODE_TARGETS))
+@pytest.mark.parametrize("role", sorted(NODE_ROLES))
+def test_every_keyword_through_the_node_targets(role: str, target: str, tmp_path: Path) -> None:
+    """Refused at the name exactly where the interface package's rule meets the node's language; else valid code.
+
+    Written: every .py file compiles, and the C++ code has each C++ keyword as often as with a neutral
+    name in its place (the keyword became no identifier; a full compile needs the generated messages).
+    """
+    keywords = _all_keywords()
+    control = generate(compile_text(NODE_ROLES[role].format(k=NEUTRAL), f"{role}_{NEUTRAL}.iface", tmp_path), target)
+    assert not control.has_errors and control.files, [d.format() for d in control.diagnostics]
+    baseline = cpp_keyword_tokens(control.files)
+    written, refused = 0, []
+    for k in keywords:
+        comp = compile_text(NODE_ROLES[role].format(k=k), f"{role}_{k}.iface", tmp_path)
+        assert not [d for d in comp.all_diagnostics() if d.severity == 1], k
+        text = comp.interface.source.text
+        ros2 = generate(comp, "ros2")
+        rule = sorted((d.span.start, d.span.end) for d in ros2.diagnostics if d.code in REFUSED[target])
+        result = generate(comp, target)
+        errors = [d for d in result.diagnostics if d.severity == 1]
+        assert sorted((d.span.start, d.span.end) for d in errors) == rule, (k, [d.format() for d in errors])
+        if errors:
+            assert result.files == [] and {d.code for d in errors} == {"runtime-reserved-name"}, k
+            assert all(k in text[d.span.start:d.span.end] for d in errors), (k, [d.format() for d in errors])
+            refused.append(k)
+            continue
+        written += 1
+        assert not python_errors(result.files), (target, role, k, python_errors(result.files))
+        assert cpp_keyword_tokens(result.files) == baseline, (target, role, k)
+        # the interface package's warnings that the node's language does not make errors are still given
+        kept = {d.code for d in ros2.diagnostics if d.code in REFUSED["rclpy"] - REFUSED[target]}
+        assert kept <= {d.code for d in result.diagnostics}, (k, kept)
+    assert written + len(refused) == len(keywords) and written >= 100, (written, refused)
+    if role in ("field", "state"):  # fields keep their (lower-case) name: the C/C++ keywords among them are refused
+        assert {"true", "void", "struct", "namespace", "double", "TRUE"} <= set(refused), refused
+        assert ("import" in refused) == ("async" in refused) == (target == "rclpy"), refused
+    elif role == "type":  # types are CamelCase: only Python's True/False/None, and only for Python
+        from iface.model.naming import ros_type_name
+
+        python = [k for k in keywords if ros_type_name(k) in PYTHON_KEYWORDS]
+        assert refused == (python if target == "rclpy" else []) and python == ["false", "true"], refused
+    else:  # constants are UPPER_CASE; parameters take an escaped accessor in the node code
+        assert refused == [], refused
+
+
+def test_keyword_parameters_get_escaped_accessors(tmp_path: Path) -> None:
+    src = NODE_ROLES["parameter"].format(k="class")
+    comp = compile_text(src, "param_class.iface", tmp_path)
+    py_base = next(f.text for f in generate(comp, "rclpy").files if f.path.endswith("/base.py"))
+    assert "    def class_(self) -> int:" in py_base and "ParamSpec('class', " in py_base
+    hpp = next(f.text for f in generate(comp, "rclcpp").files if f.path.endswith("/base.hpp"))
+    assert re.search(r"\bclass_\(\) const", hpp), hpp
+
+
+WIRED = """component kw
+message M {{ u64 timestamp, i32 x }}
+service S {{ request {{ i32 a }} response {{ i32 b }} }}
+action A {{ goal {{ i32 g }} result {{ i32 r }} feedback {{ i32 f }} }}
+publishes M on "/{a}"
+subscribes M on "/{b}"
+provides S on "/{b}"
+calls S on "/{c}"
+provides A on "/{d}"
+calls A on "/{e}"
+"""
+
+
+@pytest.mark.parametrize("target", sorted(NODE_TARGETS))
+def test_keyword_wire_names_take_prefixed_handler_names(target: str, tmp_path: Path) -> None:
+    """``publishes M on "/true"``, a service named ``class``…: every derived name has a prefix or a suffix."""
+    names = {"a": "true", "b": "class", "c": "import", "d": "def", "e": "delete"}
+    comp = compile_text(WIRED.format(**names), "wired_kw.iface", tmp_path)
+    control = generate(compile_text(WIRED.format(**dict.fromkeys(names, NEUTRAL)).replace(
+        f'"/{NEUTRAL}"', '"/zq"', 1), "wired_zq.iface", tmp_path), target)
+    result = generate(comp, target)
+    assert not result.has_errors and not control.has_errors, [d.format() for d in result.diagnostics]
+    assert not python_errors(result.files), python_errors(result.files)
+    assert cpp_keyword_tokens(result.files) == cpp_keyword_tokens(control.files)
+    code = "".join(f.text for f in result.files if f.path.endswith((".py", ".hpp", ".cpp")))
+    for name in ("publish_true", "on_class", "handle_class", "call_import", "execute_def", "send_delete_goal"):
+        assert re.search(rf"\b{name}\b", code), (target, name)
+
+
+def test_a_message_named_like_a_builtin_the_node_code_raises_is_imported_under_an_alias(tmp_path: Path) -> None:
+    src = 'component kw\nmessage NotImplementedError { i32 x }\nsubscribes NotImplementedError on "/m"\n'
+    result = generate(compile_text(src, "builtin.iface", tmp_path), "rclpy")
+    base = next(f.text for f in result.files if f.path.endswith("/base.py"))
+    assert "import NotImplementedError as BuiltinNotImplementedError" in base, base
+    assert "msg: BuiltinNotImplementedError" in base and "raise NotImplementedError('on_m')" in base

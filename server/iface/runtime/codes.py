@@ -13,6 +13,9 @@ CODES: dict[str, tuple[Severity, str]] = {
     "runtime-name-clash": (Severity.ERROR, "A definition named like a service of the component protocol "
                            "(SaveState, RestoreState, ComponentControl), or two members whose handlers would "
                            "get one name."),
+    "runtime-reserved-name": (Severity.ERROR, "A name of the interface package that the node's packages cannot "
+                              "be built or run with: a C/C++ keyword (both node targets), a Python keyword "
+                              "(the rclpy target)."),
     "runtime-unsupported": (Severity.ERROR, "What one node target cannot generate yet (the rclcpp target: a "
                             "state that uses a message of another package)."),
     "runtime-user-code": (Severity.WARNING, "The user module of a generated component no longer matches the "

@@ -12,7 +12,6 @@ from pathlib import Path
 from typing import Any, Protocol
 from ..emit.base import Result, TemplateSet
 from ..emit.ros2.filenames import check_rosidl_names
-from ..emit.ros2.keywords import check_keywords
 from ..emit.ros2.lower import lower_run
 from ..emit.ros2.package import RosConst, RosField, RosInterface, RosPackage, RosSection, RosType
 from ..emit.ros2.render import check_msg_values
@@ -20,6 +19,7 @@ from ..emit.support import component_span
 from ..semantics.compile import Compilation
 from . import protocol
 from .component import ComponentSpec, RosRef, describe
+from .keywords import node_keywords
 
 
 def _ros_type(text: str) -> RosType:
@@ -49,9 +49,12 @@ def protocol_refs(spec: ComponentSpec) -> list[RosRef]:
     return [RosRef(spec.interface_package, "srv", s.type_name) for s in protocol.SERVICES]
 
 
-def prepare(comp: Compilation) -> tuple[Result, RosPackage | None, ComponentSpec | None]:
-    """The interface package (with the protocol) and the node description; None and the findings on errors."""
-    pkg, diagnostics, run = lower_run(comp, check_msg_values, check_keywords, check_rosidl_names)
+def prepare(comp: Compilation, language: str) -> tuple[Result, RosPackage | None, ComponentSpec | None]:
+    """The interface package (with the protocol) and the node description; None and the findings on errors.
+
+    ``language`` (``python`` or ``c++``) is the node's: it decides which keywords are refused.
+    """
+    pkg, diagnostics, run = lower_run(comp, check_msg_values, node_keywords(language), check_rosidl_names)
     result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result, None, None

@@ -92,7 +92,7 @@ def user_file_path(out: str, spec: ComponentSpec) -> str:
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's file there is checked against the interface."""
-    result, pkg, spec = prepare(comp)
+    result, pkg, spec = prepare(comp, "c++")
     if pkg is None or spec is None:
         return result
     v = build(spec)

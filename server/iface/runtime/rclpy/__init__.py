@@ -89,7 +89,7 @@ def user_module_path(out: str, spec: ComponentSpec) -> str:
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's module there is checked against the interface."""
-    result, pkg, spec = prepare(comp)
+    result, pkg, spec = prepare(comp, "python")
     if pkg is None or spec is None:
         return result
     ros2 = TemplateSet(ROS2_TEMPLATES, "ros2", filters=ROS2_FILTERS)

@@ -11,9 +11,9 @@ from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef
 from ..nodepkg import remappings
 
-#: Names the generated modules define or import themselves.
+#: Names the generated modules define, import or use themselves (the builtins their code raises or imports).
 _TAKEN = frozenset({"Any", "ComponentNode", "HandlerSpec", "ParamSpec", "DEFAULT_TIMEOUT_SEC", "annotations",
-                    "sys", "main", "run"})
+                    "sys", "main", "run", "ImportError", "NotImplementedError", "RuntimeError", "TimeoutError"})
 
 
 def py(value: Any) -> str:
