@@ -193,3 +193,17 @@ def test_a_state_with_a_message_of_another_package_is_refused_with_a_reason(tmp_
                      "package", done.stdout), done.stdout
     assert not (tmp_path / "out").exists()
     assert cli("generate", str(path), "--target", "rclpy", "--out", str(tmp_path / "py")).returncode == 0
+
+
+def test_qos_values_ros2_lacks_are_downgraded_with_a_warning_at_the_annotation(tmp_path: Path) -> None:
+    from .test_rclpy_target import QOS_DOWNGRADED, QOS_WARNINGS, downgrade_warnings
+
+    (tmp_path / "q.iface").write_text(QOS_DOWNGRADED)
+    proc = cli("generate", str(tmp_path / "q.iface"), "--target", "rclcpp", "--out", str(tmp_path / "out"))
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert downgrade_warnings(proc.stderr) == QOS_WARNINGS, proc.stderr
+    base = (tmp_path / "out" / "q_node" / "src" / "base.cpp").read_text()
+    assert 'make_publisher<M>("/kept", {{"durability", "transient_local"}})' in base, base
+    assert '{{"durability", "transient_local"}, {"liveliness", "manual_by_topic"}}' in base
+    assert "persistent" not in base and "manual_by_node" not in base
+    assert (tmp_path / "out" / "q_node" / "src" / "node.cpp").is_file()

@@ -484,3 +484,43 @@ def test_the_handler_check_names_missing_mismatched_and_stale_handlers(contract)
         "User.on_old handles nothing in c.iface (was its member renamed or removed? list helper methods with such "
         "names in NOT_HANDLERS)",
     ]
+
+
+# ---- QoS values ROS 2 has no setting for -------------------------------------------------------------
+
+QOS_DOWNGRADED = """component q
+message M { i32 x }
+service S { request { i32 a } response { i32 b } }
+publishes M on "/kept" (qos.durability = "transient")
+subscribes M on "/in" (qos.durability = "persistent", qos.liveliness = "MANUAL_BY_NODE")
+provides S on "/s" (qos.durability = "transient_local", qos.liveliness = "manual_by_topic")
+"""
+#: (line, column, what) of each runtime-qos-downgraded warning for QOS_DOWNGRADED: not the values ROS 2 has.
+QOS_WARNINGS = [("4", "25", "qos.durability = transient"), ("5", "24", "qos.durability = persistent"),
+                ("5", "55", "qos.liveliness = manual_by_node")]
+
+
+def downgrade_warnings(stderr: str) -> list[tuple[str, str, str]]:
+    """(line, column, what) of each runtime-qos-downgraded warning ``generate`` printed for q.iface."""
+    return re.findall(r"^(?:.*[/\\])?q\.iface:(\d+):(\d+): warning\[runtime-qos-downgraded\]: (qos\.\w+ = \w+): ",
+                      stderr, re.M)
+
+
+def test_qos_values_ros2_lacks_are_downgraded_with_a_warning_at_the_annotation(tmp_path: Path) -> None:
+    (tmp_path / "q.iface").write_text(QOS_DOWNGRADED)
+    proc = cli("generate", "q.iface", "--target", "rclpy", "--out", "out", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert downgrade_warnings(proc.stderr) == QOS_WARNINGS, proc.stderr
+    assert "the generated node asks for transient_local" in proc.stderr
+    base = (tmp_path / "out" / "q_node" / "q_node" / "base.py").read_text()
+    assert "self._publisher(M, '/kept', {'durability': 'transient_local'})" in base
+    assert "'/in', 'on_in', {'durability': 'transient_local', 'liveliness': 'manual_by_topic'})" in base
+    assert (tmp_path / "out" / "q" / "msg" / "M.msg").is_file()
+    # the values ROS 2 has are given as written, without a warning
+    (tmp_path / "ok").mkdir()
+    (tmp_path / "ok" / "q.iface").write_text(QOS_DOWNGRADED.replace('"transient"', '"transient_local"').replace(
+        '"persistent"', '"volatile"').replace("MANUAL_BY_NODE", "automatic"))
+    ok = cli("generate", "q.iface", "--target", "rclpy", "--out", "out", cwd=tmp_path / "ok")
+    assert ok.returncode == 0 and "runtime-qos-downgraded" not in ok.stderr, ok.stderr
+    assert "'/in', 'on_in', {'durability': 'volatile', 'liveliness': 'automatic'})" in \
+        (tmp_path / "ok" / "out" / "q_node" / "q_node" / "base.py").read_text()

@@ -13,6 +13,9 @@ CODES: dict[str, tuple[Severity, str]] = {
     "runtime-name-clash": (Severity.ERROR, "A definition named like a service of the component protocol "
                            "(SaveState, RestoreState, ComponentControl), or two members whose handlers would "
                            "get one name."),
+    "runtime-qos-downgraded": (Severity.WARNING, "A QoS value ROS 2 (rmw) has no setting for (durability "
+                               "transient or persistent, liveliness manual_by_node): the node asks for the "
+                               "nearest one it has (transient_local, manual_by_topic)."),
     "runtime-reserved-name": (Severity.ERROR, "A name of the interface package that the node's packages cannot "
                               "be built or run with: a C/C++ keyword (both node targets), a Python keyword "
                               "(the rclpy target)."),

@@ -20,6 +20,7 @@ from ..semantics.compile import Compilation
 from . import protocol
 from .component import ComponentSpec, RosRef, describe
 from .keywords import node_keywords
+from .qosmap import check_downgrades
 
 
 def _ros_type(text: str) -> RosType:
@@ -60,6 +61,7 @@ def prepare(comp: Compilation, language: str) -> tuple[Result, RosPackage | None
         return result, None, None
     spec, found = describe(comp, pkg, run)
     result.diagnostics.extend(found)
+    result.diagnostics.extend(check_downgrades(spec))
     if result.has_errors:
         return result, None, None
     add_protocol(pkg, comp)

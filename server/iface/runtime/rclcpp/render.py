@@ -11,6 +11,7 @@ from ...emit.ros2.package import RosPackage
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef, schema_type
 from ..nodepkg import remappings
+from ..qosmap import rmw_value
 
 #: Names the runtime defines in the base class's scope: a type alias must not take them.
 _TAKEN = frozenset({"ComponentNode", "Json", "Type", "ParamSpec", "Gate", "StateError", "Info"})
@@ -81,8 +82,7 @@ def qos_map(qos: dict[str, str]) -> str:
                 continue
             out.append((key, repr(float(seconds))))
         elif value != "system_default" or key in ("reliability", "durability", "history", "liveliness"):
-            out.append((key, {"transient": "transient_local", "persistent": "transient_local",
-                              "manual_by_node": "manual_by_topic"}.get(value, value)))
+            out.append((key, rmw_value(key, value)))
     return "{" + ", ".join(f"{{{cpp_str(k)}, {cpp_str(v)}}}" for k, v in out) + "}"
 
 

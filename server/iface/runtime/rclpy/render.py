@@ -10,6 +10,7 @@ from typing import Any
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef
 from ..nodepkg import remappings
+from ..qosmap import rmw_value
 
 #: Names the generated modules define, import or use themselves (the builtins their code raises or imports).
 _TAKEN = frozenset({"Any", "ComponentNode", "HandlerSpec", "ParamSpec", "DEFAULT_TIMEOUT_SEC", "annotations",
@@ -68,8 +69,7 @@ def qos_literal(qos: dict[str, str]) -> str:
                 continue
             out[key] = seconds
         elif value != "system_default" or key in ("reliability", "durability", "history", "liveliness"):
-            out[key] = {"transient": "transient_local", "persistent": "transient_local",
-                        "manual_by_node": "manual_by_topic"}.get(value, value)
+            out[key] = rmw_value(key, value)
     return py(out)
 
 

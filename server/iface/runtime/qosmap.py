@@ -1,0 +1,54 @@
+"""QoS values a ROS 2 node cannot ask for, the nearest it asks for instead, and the warning that says so.
+
+``qos.durability = "transient"`` and ``"persistent"`` are DDS durabilities that rmw has no
+setting for (``rmw_qos_durability_policy_t``: volatile, transient_local, best_available);
+``qos.liveliness = "manual_by_node"`` is deprecated in rmw's ``types.h`` and gone from rclpy's
+``LivelinessPolicy`` (rclpy 9.1.2, Kilted). The node targets give the node the nearest setting
+rmw has and warn at the annotation (``runtime-qos-downgraded``).
+"""
+
+from __future__ import annotations
+
+from ..model import nodes as m
+from ..model import qos as rules
+from ..model.diagnostics import Diagnostic
+from .codes import diag
+from .component import ComponentSpec
+
+#: (policy, value) → the value the node is given.
+DOWNGRADES: dict[tuple[str, str], str] = {
+    ("durability", "transient"): "transient_local",
+    ("durability", "persistent"): "transient_local",
+    ("liveliness", "manual_by_node"): "manual_by_topic",
+}
+_WHY = {"durability": "ROS 2 has no such durability (rmw's are volatile, transient_local, best_available)",
+        "liveliness": "rmw marks it deprecated and rclpy's LivelinessPolicy no longer has it"}
+
+
+def rmw_value(key: str, value: str) -> str:
+    """The value a node asks rmw for ``qos.<key> = value`` (lower case, full policy name)."""
+    return DOWNGRADES.get((key, value), value)
+
+
+def check_downgrades(spec: ComponentSpec) -> list[Diagnostic]:
+    """A warning at each QoS annotation of the members whose value a node cannot ask for."""
+    out: list[Diagnostic] = []
+    seen: set[int] = set()
+    for member in spec.all_members():
+        w: m.Wiring | None = member.wiring
+        if w is None or id(w) in seen:
+            continue
+        seen.add(id(w))
+        for a in w.annotations:
+            if not a.key.startswith("qos."):
+                continue
+            key = rules.ALIASES.get(a.key[4:], a.key[4:])
+            value = a.text.strip().lower()
+            given = DOWNGRADES.get((key, value))
+            if given is not None:
+                out.append(diag("runtime-qos-downgraded", f"qos.{key} = {value}: {_WHY[key]}; the generated node "
+                                f"asks for {given}", member.source, a.span))
+    return sorted(out, key=lambda d: (d.span.start, d.span.end))
+
+
+__all__ = ["DOWNGRADES", "check_downgrades", "rmw_value"]
