@@ -127,10 +127,7 @@ def test_grammar_file_is_the_packaged_one() -> None:
 
 
 #: Imports known not to resolve, each reported to its area's owner; remove an entry once it is fixed.
-KNOWN_UNRESOLVED = frozenset({
-    "lsp/features/configuration.py: iface.lsp.grammar",  # _warm_up: should be ...syntax.grammar
-    "lsp/features/configuration.py: iface.lsp.parse",  # _warm_up: should be ...syntax.parse
-})
+KNOWN_UNRESOLVED: frozenset[str] = frozenset()
 
 
 def _unresolved(path: Path, root: Path = PACKAGE) -> list[str]:

@@ -68,6 +68,16 @@ async def test_types_where_a_type_goes(client: Client, doc: str) -> None:
     assert "Local" in labels(prefixed) and "u8" not in labels(prefixed)
 
 
+async def test_every_base_type_is_offered_wchar_too(client: Client, doc: str) -> None:
+    from iface.model.nodes import BASE_ALIASES
+
+    found = labels(await complete(client, doc, DOC + "message New {\n    |\n}\n"))
+    assert {"wchar", "wstring", "char", "octet", "list", "set", "map"} <= found
+    assert set(BASE_ALIASES) <= found
+    prefixed = await complete(client, doc, DOC + "message New {\n    wc|\n}\n")
+    assert "wchar" in labels(prefixed) and "wstring" not in labels(prefixed)
+
+
 async def test_sections_in_a_service(client: Client, doc: str) -> None:
     items = await complete(client, doc, DOC + "service S {\n    |\n}\n")
     assert {"request", "response"} <= labels(items)

@@ -61,6 +61,13 @@ async def test_base_type_and_nothing_on_blank(client: Client) -> None:
     assert blank is None
 
 
+async def test_hover_over_wchar_says_how_each_target_writes_it(client: Client) -> None:
+    uri = client.open("wide.iface", "namespace ros2 wide\nmessage Key {\n    wchar code\n}\n")
+    await client.wait_diagnostics(uri, 1)
+    text = await hover(client, uri, "wchar code", 1)
+    assert text.startswith("**wchar**") and "OMG IDL: `wchar`" in text and "PX4 (uORB): —" in text
+
+
 async def test_hover_over_a_typedef_cycle_answers(client: Client) -> None:
     """`typedef list<Loop> Loop` is an error; hovering its uses still answers (and ends)."""
     uri = client.open("loop.iface", 'typedef list<Loop> Loop\nmessage UsesLoop {\n    Loop field\n}\n'

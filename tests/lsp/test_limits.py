@@ -10,7 +10,8 @@ import pytest
 from lsprotocol import types as lsp
 
 from iface.lsp.documents import path_to_uri
-from iface.lsp.project import MAX_DIAGNOSTICS, Project
+from iface.lsp.findings import MAX_DIAGNOSTICS
+from iface.lsp.project import Project
 from iface.semantics.compile import MAX_FILE_BYTES
 
 from .harness import Client
@@ -68,7 +69,7 @@ async def test_closing_documents_releases_what_was_cached_for_them(tmp_path: Pat
             project.close(uri)
         await project.run(lambda: None)  # the model thread has released them
         assert project.workspace().cached_paths() == set()
-        assert not project.docs and not project.snapshots and not project._indexes and not project._name_cache
+        assert not project.docs and not project.snapshots and not project.line_indexes and not project._name_cache
 
         keeper = path_to_uri(str(tmp_path / "keeper.iface"))
         project.open(keeper, 'include "shared.iface"\nstruct K { 1: shared.Vec v }\n', 1)

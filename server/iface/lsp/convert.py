@@ -87,6 +87,33 @@ class LineIndex:
         return i
 
 
+class LineIndexes:
+    """Line indexes of other files' texts, by source, at most ``limit`` of them (find references
+    answers from every file of a workspace)."""
+
+    def __init__(self, limit: int = 4096) -> None:
+        self.limit = limit
+        self._by_id: dict[int, tuple[Source, LineIndex]] = {}
+
+    def __len__(self) -> int:
+        return len(self._by_id)
+
+    def get(self, source: Source, encoding: str) -> LineIndex:
+        """The line index of ``source``'s text, built on first use."""
+        cached = self._by_id.get(id(source))
+        if cached is not None and cached[0] is source and cached[1].encoding == encoding:
+            return cached[1]
+        if len(self._by_id) >= self.limit:
+            self._by_id.clear()
+        index = LineIndex(source.text, encoding)
+        self._by_id[id(source)] = (source, index)
+        return index
+
+    def retain(self, paths: set[str]) -> None:
+        """Keep only the indexes of files in ``paths``."""
+        self._by_id = {k: v for k, v in self._by_id.items() if v[0].path in paths}
+
+
 # ---------------------------------------------------------------------------
 # lsprotocol builders (imported here only: the rest of iface never sees them)
 
@@ -96,7 +123,7 @@ from lsprotocol import types as lsp  # noqa: E402
 
 if TYPE_CHECKING:
     from ..model.diagnostics import Diagnostic
-    from ..model.source import Span
+    from ..model.source import Source, Span
     from ..semantics.query import Symbol
 
 ENCODINGS = {UTF8: lsp.PositionEncodingKind.Utf8, UTF16: lsp.PositionEncodingKind.Utf16,

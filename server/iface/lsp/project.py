@@ -15,39 +15,27 @@ import asyncio
 import logging
 import os
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from .convert import UTF16, LineIndex
+from .convert import UTF16, LineIndex, LineIndexes
 from .documents import DocState, Document, path_to_uri, uri_to_path
+from .findings import Findings, capped
 from .settings import Settings
 from .snapshots import Name, Snapshot, View, names_of
 
 if TYPE_CHECKING:
-    from ..model.diagnostics import Diagnostic
     from ..model.nodes import Interface
     from ..model.source import Source, Span
-    from ..semantics.compile import Compilation, Workspace
+    from ..semantics.compile import Workspace
 
 log = logging.getLogger("iface.lsp")
 T = TypeVar("T")
-#: Findings published per file; past it one ``too-many-findings`` says how many more there are.
-MAX_DIAGNOSTICS = 500
-#: Line indexes of other files kept (find references answers from every file of a workspace).
-MAX_LINE_INDEXES = 4096
 
 
-def capped(found: list[Diagnostic]) -> list[Diagnostic]:
-    """The first ``MAX_DIAGNOSTICS`` findings (in order), then one saying how many were left out."""
-    if len(found) <= MAX_DIAGNOSTICS:
-        return found
-    from ..model.diagnostics import make
-
-    rest = found[MAX_DIAGNOSTICS:]
-    first = rest[0]
-    more = make("too-many-findings", f"and {len(rest)} more finding(s) in this file: the editor shows the "
-                f"first {MAX_DIAGNOSTICS}; `iface-lsp check` lists them all", first.source, first.span)
-    return [*found[:MAX_DIAGNOSTICS], more]
+def _log_failure(done: Future[object]) -> None:
+    if not done.cancelled() and (error := done.exception()) is not None:
+        log.error("work on the model thread failed", exc_info=error)
 
 
 class Project:
@@ -68,15 +56,19 @@ class Project:
         self._kick: asyncio.Event | None = None
         self._waiters: dict[str, list[tuple[int, asyncio.Future[Snapshot | None]]]] = {}
         self._external: dict[str, set[str]] = {}
-        self._indexes: dict[int, tuple[Source, LineIndex]] = {}
+        self.line_indexes = LineIndexes()
         self._name_cache: dict[int, tuple[object, Name]] = {}
-        self._baselines: dict[tuple[str, str], Compilation | None] = {}
+        self.findings = Findings()
         self.workspace_index: Any = None
 
     # ---- the model thread ------------------------------------------------------
     async def run(self, fn: Callable[..., T], *args: Any) -> T:
         """Run ``fn(*args)`` on the model thread."""
         return await asyncio.get_running_loop().run_in_executor(self.model, fn, *args)
+
+    def submit(self, fn: Callable[..., object], *args: Any) -> None:
+        """Run ``fn(*args)`` on the model thread without waiting for it; a failure is logged, not lost."""
+        self.model.submit(fn, *args).add_done_callback(_log_failure)
 
     def workspace(self) -> Workspace:
         """The core workspace (model thread only), created with the configured include paths."""
@@ -98,15 +90,7 @@ class Project:
 
     def index_of(self, source: Source) -> LineIndex:
         """A line index for another file's text (model thread)."""
-        key = id(source)
-        cached = self._indexes.get(key)
-        if cached is not None and cached[0] is source:
-            return cached[1]
-        if len(self._indexes) > MAX_LINE_INDEXES:
-            self._indexes.clear()
-        index = LineIndex(source.text, self.encoding)
-        self._indexes[key] = (source, index)
-        return index
+        return self.line_indexes.get(source, self.encoding)
 
     def location(self, source: Source, span: Span) -> Any:
         """An LSP location of a span in any file (model thread)."""
@@ -135,7 +119,7 @@ class Project:
         snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
         self._install(doc, snap)
         uri_of = path_to_uri
-        found = capped([*comp.diagnostics, *self._compat(path, comp), *self._target_findings(comp)])
+        found = self.findings.of(path, comp, self.settings, self._include_paths())
         pubs: list[tuple[str, int | None, list[Any]]] = [
             (uri, state.version, [convert.diagnostic(d, index, uri_of, self.index_of) for d in found])]
         for inc in comp.closure()[1:]:
@@ -150,59 +134,6 @@ class Project:
     def _install(self, doc: Document, snap: Snapshot) -> None:
         if self.docs.get(doc.uri) is doc:
             self.snapshots[doc.uri] = snap
-
-    def _compat(self, path: str, comp: Compilation) -> list[Any]:
-        """Findings against the configured compatibility baseline, if any (model thread)."""
-        spec = self.settings.compat_baseline
-        if not spec or comp.has_errors:
-            return []
-        try:
-            from ..compat import baseline_diagnostics, load_baseline
-        except ImportError:
-            return []
-        key = (path, spec)
-        if key not in self._baselines:
-            self._baselines[key] = load_baseline(path, spec, self._include_paths())
-        old = self._baselines[key]
-        if old is None:
-            return []
-        try:
-            return baseline_diagnostics(old, comp)
-        except Exception:
-            log.exception("comparing %s with its baseline failed", path)
-            return []
-
-    def _target_findings(self, comp: Compilation) -> list[Any]:
-        """What generating for the configured targets (setting ``targets``) reports in this file, beyond
-        the core checks (model thread): warnings such as package metadata show while editing."""
-        if not self.settings.targets or comp.has_errors:
-            return []
-        try:
-            from ..emit.base import GenerationError
-            from ..emit.registry import targets
-        except ImportError:
-            return []
-        installed = targets()
-        seen = {(d.code, d.span.start, d.span.end) for d in comp.diagnostics}
-        out = []
-        for name in self.settings.targets:
-            target = installed.get(name)
-            if target is None:
-                continue
-            try:
-                result = target.generate(comp, {})
-            except GenerationError:
-                continue
-            for d in result.diagnostics:
-                key = (d.code, d.span.start, d.span.end)
-                if d.path == comp.path and key not in seen:
-                    seen.add(key)
-                    out.append(d)
-        return out
-
-    def forget_baselines(self) -> None:
-        """Read baselines again (the setting changed); model thread."""
-        self._baselines.clear()
 
     def compile_disk(self, uri: str) -> Snapshot | None:
         """A snapshot of a file that is not open, read from the disk (model thread)."""
@@ -241,7 +172,7 @@ class Project:
         keep = {d.path for d in self.docs.values()}
         for snap in self.snapshots.values():
             keep |= snap.deps
-        self.model.submit(self._release, doc.path, keep)
+        self.submit(self._release, doc.path, keep)
         self.publish(uri, None, [])
         for other, snap in list(self.snapshots.items()):
             if doc.path in snap.deps:
@@ -257,8 +188,8 @@ class Project:
             indexed = set(getattr(self.workspace_index, "compilations", {}) or {})
             self._ws.retain({self._ws.normpath(p) for p in keep | indexed})
         self._name_cache.clear()
-        self._indexes = {k: v for k, v in self._indexes.items() if v[0].path in keep}
-        self._baselines = {k: v for k, v in self._baselines.items() if k[0] in keep}
+        self.line_indexes.retain(keep)
+        self.findings.retain(keep)
 
     def file_changed_on_disk(self, path: str) -> None:
         """A file that is not open changed: recheck the open documents that include it."""

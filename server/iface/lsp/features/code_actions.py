@@ -3,18 +3,19 @@
 Quick fixes read what the diagnostic's ``data`` carries (suggestions, the
 replacement name, the missing parts, a compatibility fix), so they need no
 second analysis. Source actions run the server's commands (generate, preview,
-export JSON).
+export JSON). The fixes of ROS habits are in ``ros_habits``, the package
+metadata fix in ``package_metadata``.
 """
 
 from __future__ import annotations
 
-import os
 from typing import TYPE_CHECKING, Any
 
 from lsprotocol import types as lsp
 
 from .. import convert
 from ..snapshots import View
+from . import package_metadata, ros_habits
 
 if TYPE_CHECKING:
     from ...model import nodes as m
@@ -84,12 +85,12 @@ class Fixes:
         elif code == "px4-timestamp-added":
             self._timestamp(start, diag)
         elif code == "ros2-package-metadata-missing" and isinstance(data.get("missing"), list):
-            self._metadata(diag, [str(x) for x in data["missing"]])
+            package_metadata.add_metadata(self, diag, [str(x) for x in data["missing"]])
         elif code == "ros-constant-as-field" and isinstance(data.get("replacement"), str):
-            self._constant(diag, data)
+            ros_habits.constant(self, diag, data)
         elif code == "syntax-error" and isinstance(data.get("package"), str) and isinstance(
                 data.get("replacement"), str):
-            self._ros_type(diag, start, end, data["package"], data["replacement"])
+            ros_habits.ros_type(self, diag, start, end, data["package"], data["replacement"])
         elif code.startswith("compat-") and isinstance(data.get("fix"), dict):
             self._compat_fix(diag, data["fix"])
 
@@ -220,79 +221,8 @@ class Fixes:
         self.add(f"Add `uint64 timestamp` to '{d.name}' (PX4)", QUICKFIX if diag else REWRITE,
                  self.edit(at, at, insert), diag)
 
-    def _constant(self, diag: lsp.Diagnostic, data: dict[str, Any]) -> None:
-        start, end = data.get("start"), data.get("end")
-        if not isinstance(start, int) or not isinstance(end, int):
-            return
-        new = str(data["replacement"])
-        self.add(f"Make it a constant: `{new}`", QUICKFIX, self.edit(start, end, new), diag, preferred=True)
-
-    def _metadata(self, diag: lsp.Diagnostic, missing: list[str]) -> None:
-        """Add ``license`` and ``maintainer`` (with an e-mail) to the component, creating its line if needed."""
-        iface = self.view.iface
-        if iface is None:
-            return
-        comp = iface.component
-        have = {a.key for a in comp.annotations} if comp is not None else set()
-        name, email = _git_identity(os.path.dirname(self.view.snap.path))
-        values = {"license": LICENSE, "maintainer": name, "maintainer_email": email}
-        wanted = set(missing) | ({"maintainer_email"} if "maintainer" in missing else set())
-        keys = [k for k in ("license", "maintainer", "maintainer_email") if k in wanted and k not in have]
-        if not keys:
-            return
-        pairs = [f'{k} = "{values[k]}"' for k in keys]
-        text = self.view.snap.text
-        if comp is None:
-            at, insert = 0, f"component {iface.name} ({', '.join(pairs)})\n"
-        elif comp.annotations:
-            at = comp.annotations[-1].span.end
-            sep = ",\n    " if "\n" in text[comp.annotations[0].span.start:at] else ", "
-            insert = "".join(sep + p for p in pairs)
-        else:
-            at, insert = comp.span.end, f" ({', '.join(pairs)})"
-        shown = ", ".join(pairs[:2] if "license" in keys else pairs[:1])
-        self.add(f"Add {shown} to the component", QUICKFIX, self.edit(at, at, insert), diag, preferred=True)
-
-    def _header_end(self) -> tuple[int, str]:
-        """Where a new ``include``/``external`` line goes: after the last header line, else at the top."""
-        from ...model import nodes as m
-
-        iface = self.view.iface
-        header = [x for x in (iface.items if iface is not None else [])
-                  if isinstance(x, (m.ComponentDecl, m.Namespace, m.Include, m.External))]
-        if not header:
-            return 0, "{line}\n"
-        return max(x.span.end for x in header), "\n{line}"
-
-    def _ros_type(self, diag: lsp.Diagnostic, start: int, end: int, package: str, replacement: str) -> None:
-        """``std_msgs/Header`` → ``std_msgs.Header``, with the include or external that provides it."""
-        import os
-
-        iface = self.view.iface
-        declared = iface is not None and (any(e.name == package for e in iface.externals) or any(
-            os.path.basename(i.path) == f"{package}.iface" for i in iface.includes))
-        changes = [(start, end, replacement)]
-        if declared:
-            self._multi(f"Write '{replacement}'", changes, diag, preferred=True)
-            return
-        at, template = self._header_end()
-        found = self._find_include(f"{package}.iface")
-        lines = [f'include "{package}.iface"', f"external {package}"]
-        if not found:
-            lines.reverse()
-        for i, line in enumerate(lines):
-            self._multi(f"Write '{replacement}' and add `{line}`", [(at, at, template.format(line=line)), *changes],
-                        diag, preferred=i == 0)
-
-    def _find_include(self, name: str) -> bool:
-        """True when an included file ``name`` would be found (beside the file or on the include paths)."""
-        import os
-
-        folders = [os.path.dirname(self.view.snap.path), *self.view.project.workspace().include_paths]
-        return any(os.path.isfile(os.path.join(f, name)) for f in folders)
-
-    def _multi(self, title: str, changes: list[tuple[int, int, str]], diag: lsp.Diagnostic,
-               preferred: bool = False) -> None:
+    def multi(self, title: str, changes: list[tuple[int, int, str]], diag: lsp.Diagnostic,
+              preferred: bool = False) -> None:
         """An action of several edits of this document (nothing when one cannot be placed)."""
         edits: list[lsp.TextEdit] = []
         for start, end, text in changes:
@@ -349,25 +279,6 @@ class Fixes:
                                                 cmd=convert.command("Preview generated files", "iface.preview", [uri, t])))
         self.out.append(convert.code_action("Export JSON", SOURCE_EXPORT,
                                             cmd=convert.command("Export JSON", "iface.exportJson", [uri])))
-
-
-#: The license the metadata fix proposes: ROS 2's own packages use it (the title shows it, so it is a choice).
-LICENSE = "Apache-2.0"
-
-
-def _git_identity(folder: str) -> tuple[str, str]:
-    """The user's name and e-mail from git's configuration, as ``ros2 pkg create`` uses them; placeholders without."""
-    import subprocess
-
-    def get(key: str) -> str:
-        try:
-            done = subprocess.run(["git", "config", "--get", key], cwd=folder or None, capture_output=True,
-                                  text=True, timeout=5, check=False)
-        except (OSError, subprocess.SubprocessError):
-            return ""
-        return done.stdout.strip() if done.returncode == 0 else ""
-
-    return get("user.name") or "Your Name", get("user.email") or "you@example.com"
 
 
 def _zero(f: m.Field) -> str | None:

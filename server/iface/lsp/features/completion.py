@@ -6,6 +6,7 @@ Runs on the event loop without waiting for a compile: the context comes from
 
 from __future__ import annotations
 
+from functools import cache
 from typing import TYPE_CHECKING
 
 from lsprotocol import types as lsp
@@ -46,9 +47,8 @@ SNIPPETS: dict[str, tuple[str, str, str]] = {
     "const": ("const ${1:i32} ${2:NAME} = ${3:0}", "const ", "a constant"),
 }
 
-BASE_TYPES = ("bool", "byte", "i8", "i16", "i32", "i64", "u8", "u16", "u32", "u64", "int8", "int16", "int32",
-              "int64", "uint8", "uint16", "uint32", "uint64", "float", "float32", "float64", "double", "char",
-              "octet", "string", "wstring", "binary", "uuid", "list", "set", "map")
+#: Container types offered beside the base types.
+CONTAINERS = ("list", "set", "map")
 TYPE_KINDS = frozenset({"struct", "message", "union", "exception", "enum", "senum", "typedef", "configuration",
                         "state"})
 SECTIONS = {"service": ("request", "response"), "action": ("goal", "result", "feedback")}
@@ -57,6 +57,14 @@ QOS_KEYS = ("qos.depth", "qos.reliability", "qos.durability", "qos.history", "qo
             "qos.liveliness", "rate")
 FIELD_KEYS = ("unit", "range", "min", "max", "deprecated")
 DEFINITION_KEYS = ("diagnostics", "role", "deprecated")
+
+
+@cache
+def base_types() -> tuple[str, ...]:
+    """Every spelling of a base type the language knows (``BASE_ALIASES``), then the containers."""
+    from ...model.nodes import BASE_ALIASES
+
+    return (*BASE_ALIASES, *CONTAINERS)
 
 
 def register(server: IfaceServer) -> None:
@@ -195,7 +203,7 @@ def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, st
 
 
 def _types(names: tuple[Name, ...], items: Items, types: tuple[tuple[Name, ...], tuple[Name, ...]] | None) -> None:
-    for b in BASE_TYPES:
+    for b in base_types():
         items.add(b, "base-type", "builtin type", sort="3")
     if types is None:
         local = tuple(n for n in names if n.kind in TYPE_KINDS and "." not in n.name)

@@ -28,7 +28,7 @@ def register(server: IfaceServer) -> None:
 
     @server.feature(lsp.INITIALIZED)
     def initialized(ls: IfaceServer, params: lsp.InitializedParams) -> None:
-        project.model.submit(_warm_up)
+        project.submit(warm_up)
         from ..index import WorkspaceIndex
         from ..progress import Progress
         project.workspace_index = WorkspaceIndex(project, lambda: Progress(ls, "Indexing interface files"))
@@ -59,16 +59,15 @@ def _apply(ls: IfaceServer, options: Any, initial: bool = False) -> None:
     if initial:
         return
     if new.include_paths != old.include_paths:
-        project.model.submit(project.reset_workspace)
+        project.submit(project.reset_workspace)
     if new.compat_baseline != old.compat_baseline:
-        project.model.submit(project.forget_baselines)
+        project.submit(project.findings.forget)
     project.recheck_all()
 
 
-def _warm_up() -> None:
+def warm_up() -> None:
     """Build the parser and its error messages before the first edit needs them (model thread)."""
-    from ..grammar import terminal_descriptions
-    from ..parse import chunk_parser
+    from ...syntax.grammar import terminal_descriptions
+    from ...syntax.parse import chunk_parser
 
-    chunk_parser()
-    terminal_descriptions()
+    terminal_descriptions(chunk_parser().parser)
