@@ -9,6 +9,8 @@ rmw has and warn at the annotation (``runtime-qos-downgraded``).
 
 from __future__ import annotations
 
+import math
+
 from ..model import nodes as m
 from ..model import qos as rules
 from ..model.diagnostics import Diagnostic
@@ -28,6 +30,25 @@ _WHY = {"durability": "ROS 2 has no such durability (rmw's are volatile, transie
 def rmw_value(key: str, value: str) -> str:
     """The value a node asks rmw for ``qos.<key> = value`` (lower case, full policy name)."""
     return DOWNGRADES.get((key, value), value)
+
+
+def node_qos(qos: dict[str, str]) -> list[tuple[str, int | float | str]]:
+    """A member's QoS as a node asks for it: depth a number, durations in seconds, other policies as rmw names them.
+
+    Infinite or unreadable durations and ``system_default`` of the duration-like policies are left to rmw.
+    """
+    out: list[tuple[str, int | float | str]] = []
+    for key, value in qos.items():
+        if key == "depth":
+            out.append((key, int(value)))
+        elif key in rules.DURATIONS:
+            seconds = rules.duration(value)
+            if seconds is None or math.isinf(seconds):
+                continue
+            out.append((key, seconds))
+        elif value != "system_default" or key in ("reliability", "durability", "history", "liveliness"):
+            out.append((key, rmw_value(key, value)))
+    return out
 
 
 def check_downgrades(spec: ComponentSpec) -> list[Diagnostic]:
@@ -51,4 +72,4 @@ def check_downgrades(spec: ComponentSpec) -> list[Diagnostic]:
     return sorted(out, key=lambda d: (d.span.start, d.span.end))
 
 
-__all__ = ["DOWNGRADES", "check_downgrades", "rmw_value"]
+__all__ = ["DOWNGRADES", "check_downgrades", "node_qos", "rmw_value"]

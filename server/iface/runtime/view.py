@@ -1,0 +1,77 @@
+"""What the templates of both node targets read of a component: its names, files, type aliases and members."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import Generic, Protocol, TypeVar
+
+from .component import ComponentSpec, Member, RosRef
+
+
+class _MemberView(Protocol):
+    m: Member
+
+
+V = TypeVar("V", bound=_MemberView)
+
+
+def type_aliases(spec: ComponentSpec, taken: Iterable[str],
+                 reserved: Callable[[str], bool] = lambda _: False) -> dict[RosRef, str]:
+    """A local name for every interface type the node uses: its own name, or, where that is taken, reserved
+    or the node's own class names, the package's CamelCase name before it (``SensorMsgsImage``)."""
+    own = {f"{spec.class_name}Base", f"{spec.class_name}Parameters", spec.class_name, *taken}
+    used: dict[str, RosRef] = {}
+    out: dict[RosRef, str] = {}
+    for ref in spec.types():
+        alias = ref.name
+        if alias in used or alias in own or reserved(alias):
+            alias = "".join(w[:1].upper() + w[1:] for w in ref.package.split("_")) + ref.name
+        while alias in used:
+            alias += "_"
+        used[alias] = ref
+        out[ref] = alias
+    return out
+
+
+@dataclass
+class NodeView(Generic[V]):
+    """The part of a node package's view that does not depend on the client library."""
+
+    spec: ComponentSpec
+    source_name: str
+    aliases: dict[RosRef, str] = field(default_factory=dict)
+    members: list[V] = field(default_factory=list)
+
+    #: ``rclpy`` or ``rclcpp``, as the package's description names it.
+    client_library = ""
+
+    @property
+    def pkg(self) -> str:
+        return self.spec.package
+
+    @property
+    def cls(self) -> str:
+        return self.spec.class_name
+
+    @property
+    def description(self) -> str:
+        return (f"The {self.spec.component} component: a ROS 2 lifecycle node ({self.client_library}) generated "
+                f"by iface from {self.source_name}.")
+
+    @property
+    def params_file(self) -> str:
+        return f"{self.spec.node}.params.yaml"
+
+    @property
+    def launch_file(self) -> str:
+        return f"{self.spec.node}.launch.py"
+
+    def name(self, ref: RosRef) -> str:
+        return self.aliases[ref]
+
+    def of_kind(self, *kinds: str) -> list[V]:
+        return [v for v in self.members if v.m.kind in kinds]
+
+
+__all__ = ["NodeView", "type_aliases"]
