@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 from ..emit.base import Result, TemplateSet
 from ..emit.ros2.filenames import check_rosidl_names
 from ..emit.ros2.lower import lower_run
@@ -21,6 +21,7 @@ from . import protocol
 from .component import ComponentSpec, RosRef, describe
 from .keywords import node_keywords
 from .qosmap import check_downgrades
+from .view import NodeView
 
 
 def _ros_type(text: str) -> RosType:
@@ -83,45 +84,11 @@ def read_user_file(path: str) -> str | None:
 TEMPLATES = Path(__file__).parent / "templates"
 
 
-class NodeView(Protocol):
-    """What the shared templates read of a target's view of the component."""
-
-    spec: ComponentSpec
-    source_name: str
-
-    @property
-    def pkg(self) -> str: ...
-
-    @property
-    def params_file(self) -> str: ...
-
-    @property
-    def launch_file(self) -> str: ...
-
-    def remappings(self) -> list[tuple[str, str]]: ...
-
-
-def launch_text(view: NodeView, header: str, start_command: str, override: str | None = None) -> str:
+def launch_text(view: NodeView[Any], header: str, start_command: str, override: str | None = None) -> str:
     """``launch/<node>.launch.py``: the node, its parameter file, a launch argument per wired name."""
     templates = TemplateSet(TEMPLATES, "runtime", filters={"pystr": repr}, override=override)
     context: dict[str, Any] = {"v": view, "header": header, "start_command": start_command}
     return templates.render("launch.py.j2", **context)
 
 
-def remappings(spec: ComponentSpec) -> list[tuple[str, str]]:
-    """(name, launch argument) for each wired name that can be remapped."""
-    out: list[tuple[str, str]] = []
-    seen: set[str] = set()
-    for m in spec.all_members():
-        name = m.name
-        if name.startswith("~") or name in (n for n, _ in out):
-            continue
-        arg = m.slug if m.slug not in seen else m.full_slug
-        while arg in seen or arg in ("params_file", "namespace", "node_name"):
-            arg += "_"
-        seen.add(arg)
-        out.append((name, arg))
-    return out
-
-
-__all__ = ["NodeView", "add_protocol", "launch_text", "prepare", "protocol_refs", "read_user_file", "remappings"]
+__all__ = ["add_protocol", "launch_text", "prepare", "protocol_refs", "read_user_file"]

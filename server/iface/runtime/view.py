@@ -34,6 +34,22 @@ def type_aliases(spec: ComponentSpec, taken: Iterable[str],
     return out
 
 
+def remappings(spec: ComponentSpec) -> list[tuple[str, str]]:
+    """(name, launch argument) for each wired name that can be remapped."""
+    out: list[tuple[str, str]] = []
+    seen: set[str] = set()
+    for m in spec.all_members():
+        name = m.name
+        if name.startswith("~") or name in (n for n, _ in out):
+            continue
+        arg = m.slug if m.slug not in seen else m.full_slug
+        while arg in seen or arg in ("params_file", "namespace", "node_name"):
+            arg += "_"
+        seen.add(arg)
+        out.append((name, arg))
+    return out
+
+
 @dataclass
 class NodeView(Generic[V]):
     """The part of a node package's view that does not depend on the client library."""
@@ -73,5 +89,9 @@ class NodeView(Generic[V]):
     def of_kind(self, *kinds: str) -> list[V]:
         return [v for v in self.members if v.m.kind in kinds]
 
+    def remappings(self) -> list[tuple[str, str]]:
+        """(name, launch argument) for each wired name that can be remapped."""
+        return remappings(self.spec)
 
-__all__ = ["NodeView", "type_aliases"]
+
+__all__ = ["NodeView", "remappings", "type_aliases"]

@@ -10,7 +10,6 @@ from ...emit.ros2.filenames import rosidl_snake
 from ...emit.ros2.package import RosPackage
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef, schema_type
-from ..nodepkg import remappings
 from ..qosmap import node_qos
 from ..view import NodeView, type_aliases
 
@@ -173,9 +172,6 @@ class CppPackage(NodeView[MemberView]):
         if p.read_only:
             parts.append("Read-only.")
         return cpp_comment(" ".join(parts))
-
-    def remappings(self) -> list[tuple[str, str]]:
-        return remappings(self.spec)
 
     def executor_threads(self) -> str:
         return (f"4 + 2 * {len(self.of_kind('action_server'))} + "

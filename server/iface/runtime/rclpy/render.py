@@ -9,7 +9,6 @@ from typing import Any
 
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef
-from ..nodepkg import remappings
 from ..qosmap import node_qos
 from ..view import NodeView, type_aliases
 
@@ -141,10 +140,6 @@ class PyPackage(NodeView[MemberView]):
         if p.kind.endswith("_array"):
             return f"list({value})"
         return value
-
-    def remappings(self) -> list[tuple[str, str]]:
-        """(name, launch argument) for each wired name that can be remapped."""
-        return remappings(self.spec)
 
 
 def build(spec: ComponentSpec) -> PyPackage:
