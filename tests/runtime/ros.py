@@ -8,13 +8,16 @@ clone, else ``/work/shared``) and fall back to the venv's colcon with the same a
 
 from __future__ import annotations
 
+import fcntl
 import os
 import random
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
+from typing import IO
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).parent / "data"
@@ -43,8 +46,37 @@ def shared_dir() -> Path | None:
     return None
 
 
+DOMAIN_LOCKS = Path(tempfile.gettempdir()) / "iface-ros-domains"
+_held: dict[int, IO[str]] = {}
+
+
+def free_domain() -> int:
+    """A ROS_DOMAIN_ID that no other test run on this machine holds, kept until this process ends.
+
+    Two test runs side by side start nodes of the same names; a shared domain would mix them up.
+    Each run takes a new domain per scenario while one is free (1..101 stay clear of the ephemeral
+    ports), then reuses its own oldest one.
+    """
+    DOMAIN_LOCKS.mkdir(exist_ok=True)
+    free = [d for d in range(1, 102) if d not in _held]
+    random.SystemRandom().shuffle(free)
+    for domain in free:
+        handle = open(DOMAIN_LOCKS / f"{domain}.lock", "a")  # noqa: SIM115 - held until the process ends
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        _held[domain] = handle
+        return domain
+    oldest = next(iter(_held), random.SystemRandom().randint(1, 101))
+    if oldest in _held:
+        _held[oldest] = _held.pop(oldest)
+    return oldest
+
+
 def environment(venv: Path, workspace: Path | None = None, log_dir: Path | None = None) -> dict[str, str]:
-    """The environment of ``ros2-env.sh`` (and the workspace's setup), confined to loopback, a random domain."""
+    """The environment of ``ros2-env.sh`` (and the workspace's setup), confined to loopback, in a domain of its own."""
     script = f'set +u; . "{venv}/ros2-env.sh" >/dev/null'
     if workspace is not None:
         script += f' && . "{workspace}/install/setup.bash" >/dev/null'
@@ -55,7 +87,7 @@ def environment(venv: Path, workspace: Path | None = None, log_dir: Path | None 
     env.update(LOOPBACK)
     for key in NOT_LOOPBACK:
         env.pop(key, None)
-    env["ROS_DOMAIN_ID"] = str(random.SystemRandom().randint(1, 100))
+    env["ROS_DOMAIN_ID"] = str(free_domain())
     if log_dir is not None:
         env["ROS_LOG_DIR"] = str(log_dir)
     return env

@@ -66,6 +66,7 @@ class Report:
             ok = False
             detail = f"{type(e).__name__}: {e}" if isinstance(e, (StepFailed, TimeoutError)) else \
                 traceback.format_exc().strip().splitlines()[-1]
+            detail += Component.status_of_all()
         self.steps[name] = {"ok": ok, "detail": str(detail or ""), "seconds": round(time.monotonic() - start, 2)}
         self.path.write_text(json.dumps(self.steps, indent=1))
         print(f"{'PASS' if ok else 'FAIL'} {name}: {detail}", flush=True)
@@ -75,12 +76,25 @@ class Report:
 class Component:
     """A component process started from its entry point."""
 
+    started: list[Component] = []
+
     def __init__(self, package: str, name: str, logs: Path, ros_args: list[str], own: tuple[str, ...] = ()) -> None:
+        Component.started.append(self)
         self.name = name
         self.log_path = logs / f"{name}.log"
         self._log = open(self.log_path, "w")  # noqa: SIM115 - closed in stop()
         argv = [sys.executable, "-m", package, *own, "--ros-args", "-r", f"__node:={name}", *ros_args]
         self.proc = subprocess.Popen(argv, stdout=self._log, stderr=subprocess.STDOUT)
+
+    @classmethod
+    def status_of_all(cls) -> str:
+        """Each started process: running or its exit status, and the end of its log (for a failed step)."""
+        parts = []
+        for comp in cls.started:
+            code = comp.proc.poll()
+            tail = (comp.log() if not comp._log.closed else comp.log_path.read_text(errors="replace"))[-600:]
+            parts.append(f"\n--- {comp.name}: {'running' if code is None else f'exited {code}'}\n{tail}")
+        return "".join(parts)
 
     def log(self) -> str:
         self._log.flush()
@@ -145,13 +159,32 @@ class Probe:
             time.sleep(0.05)
         raise TimeoutError(f"{what}: not seen within {timeout:g} s")
 
-    def call(self, srv_type: Any, name: str, request: Any, timeout: float = 10.0) -> Any:
+    def call(self, srv_type: Any, name: str, request: Any, timeout: float = 10.0, idempotent: bool = False) -> Any:
+        """Call a service. An idempotent request is sent again every few seconds until ``timeout``: a
+        server seen in the graph may not have matched this client's reply reader yet, and DDS then
+        drops the reply (a late reply to an earlier send is ignored by its sequence number)."""
         key = (srv_type, name)
         if key not in self._clients:
             self._clients[key] = self.node.create_client(srv_type, name)
         client = self._clients[key]
         check(client.wait_for_service(timeout_sec=timeout), f"service {name} not available after {timeout:g} s")
-        return self.wait(client.call_async(request), timeout, name)
+        if not idempotent:
+            return self.wait(client.call_async(request), timeout, name)
+        end = time.monotonic() + timeout
+        sends = 0
+        while True:
+            sends += 1
+            left = end - time.monotonic()
+            try:
+                return self.wait(client.call_async(request), max(0.1, min(3.0, left)), name)
+            except TimeoutError:
+                if left <= 3.0:
+                    raise TimeoutError(f"no answer from {name} within {timeout:g} s ({sends} sends)") from None
+
+    def wait_ready(self, node: str, timeout: float = 30.0) -> str:
+        """Wait until a newly started ``node`` answers get_state (being in the graph is not enough)."""
+        self.wait_until(lambda: f"/{node}/get_state" in self.services_of(node), timeout, f"{node}'s lifecycle services")
+        return self.lifecycle_state(node)
 
     def call_async(self, srv_type: Any, name: str, request: Any, timeout: float = 10.0) -> Any:
         key = (srv_type, name)
@@ -163,7 +196,8 @@ class Probe:
 
     # ---- lifecycle
     def lifecycle_state(self, node: str) -> str:
-        return str(self.call(GetState, f"/{node}/get_state", GetState.Request()).current_state.label)
+        return str(self.call(GetState, f"/{node}/get_state", GetState.Request(), idempotent=True)
+                   .current_state.label)
 
     def transition(self, node: str, label: str) -> str:
         before = self.lifecycle_state(node)
@@ -178,12 +212,13 @@ class Probe:
 
     # ---- parameters
     def params(self, node: str, names: list[str]) -> dict[str, Any]:
-        response = self.call(GetParameters, f"/{node}/get_parameters", GetParameters.Request(names=names))
+        response = self.call(GetParameters, f"/{node}/get_parameters", GetParameters.Request(names=names),
+                             idempotent=True)
         return {n: parameter_value_to_python(v) for n, v in zip(names, response.values, strict=True)}
 
     def describe(self, node: str, names: list[str]) -> dict[str, Any]:
         response = self.call(DescribeParameters, f"/{node}/describe_parameters",
-                             DescribeParameters.Request(names=names))
+                             DescribeParameters.Request(names=names), idempotent=True)
         return dict(zip(names, response.descriptors, strict=True))
 
     def set_param(self, node: str, name: str, value: Any) -> tuple[bool, str]:
@@ -248,7 +283,8 @@ class Protocol:
         self.control_t = import_interface(f"{package}/srv/ComponentControl")
 
     def save(self, node: str) -> dict[str, Any]:
-        response = self.probe.call(self.save_t, f"/{node}/save_state", self.save_t.Request(timeout_sec=5.0))
+        response = self.probe.call(self.save_t, f"/{node}/save_state", self.save_t.Request(timeout_sec=5.0),
+                                   idempotent=True)
         check(response.success, f"save_state of {node} failed: {response.message}")
         return json.loads(response.state)
 
@@ -291,8 +327,7 @@ def robot_arm(report: Report, logs: Path) -> None:
     b: Component | None = None
     try:
         def start() -> str:
-            probe.wait_until(lambda: "/robot_arm/get_state" in probe.services_of("robot_arm"), 20,
-                             "robot_arm's lifecycle services")
+            probe.wait_ready("robot_arm")
             line = probe.wait_until(lambda: next((x for x in a.log().splitlines() if "parameter file:" in x), None),
                                     10, "the parameter file line in the log")
             check(line.rstrip().endswith("share/robot_arm/config/robot_arm.params.yaml"), line)
@@ -462,8 +497,7 @@ def robot_arm(report: Report, logs: Path) -> None:
             doc = proto.save("robot_arm")
             saved.update(doc)
             b = Component("robot_arm", "robot_arm_b", logs, [])
-            probe.wait_until(lambda: "/robot_arm_b/get_state" in probe.services_of("robot_arm_b"), 20,
-                             "robot_arm_b")
+            probe.wait_ready("robot_arm_b")
             probe.transition("robot_arm_b", "configure")
             answer = proto.restore("robot_arm_b", doc)
             check(answer.success, f"restore refused: {answer.message}")
@@ -553,8 +587,7 @@ def every_member(report: Report, logs: Path) -> None:
     names = ["gain", "retries", "priority", "enabled", "label", "start_mode", "offsets", "ids", "tags", "serial"]
     try:
         def start() -> str:
-            probe.wait_until(lambda: "/every_member/get_state" in probe.services_of("every_member"), 20,
-                             "every_member's lifecycle services")
+            probe.wait_ready("every_member")
             values = probe.params("every_member", names)
             wanted = {"gain": 1.5, "retries": 3, "priority": 5, "enabled": True, "label": "station",
                       "start_mode": 0, "offsets": [0.0, 0.5, 1.0], "ids": [1, 2], "tags": ["a", "b"],
@@ -751,8 +784,7 @@ def every_member(report: Report, logs: Path) -> None:
             check(set(doc["values"]) == {"counter", "last_label", "position", "target", "mode", "busy", "history",
                                          "flags"}, f"variables {sorted(doc['values'])}")
             s2 = Component("every_member", "every_member_b", logs, [])
-            probe.wait_until(lambda: "/every_member_b/get_state" in probe.services_of("every_member_b"), 20,
-                             "every_member_b")
+            probe.wait_ready("every_member_b")
             probe.transition("every_member_b", "configure")
             answer = proto.restore("every_member_b", doc)
             check(answer.success, answer.message)
