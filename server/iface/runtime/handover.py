@@ -37,6 +37,10 @@ ACCEPTED = ("equivalent", "replaceable")
 UNCONFIGURED, INACTIVE, ACTIVE = 1, 2, 3
 STATE_LABELS = {0: "unknown", 1: "unconfigured", 2: "inactive", 3: "active", 4: "finalized"}
 CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
+#: The state each transition ends in.
+GOAL = {CONFIGURE: INACTIVE, ACTIVATE: ACTIVE, DEACTIVATE: INACTIVE}
+#: Seconds before an unanswered idempotent request is sent again.
+RESEND = 2.0
 
 
 class Refused(Exception):
@@ -89,6 +93,7 @@ class HandOver:
         if self._own_context:
             rclpy.init()
         self._node = Node(f"iface_handover_{int(time.monotonic() * 1000) % 100000}")
+        self._clients: dict[str, Any] = {}
 
     def _close(self) -> None:
         self._node.destroy_node()
@@ -107,30 +112,56 @@ class HandOver:
                 raise Refused(f"{service} does not exist (no answer within {self.timeout:g} s)")
             self._rclpy.spin_once(self._node, timeout_sec=0.1)
 
-    def _call(self, service: str, fill: dict[str, Any], timeout: float | None = None) -> Any:
+    def _call(self, service: str, fill: dict[str, Any], timeout: float | None = None,
+              idempotent: bool = True) -> Any:
+        """Call ``service``: the first answer counts; an unanswered idempotent request is sent again
+        every :data:`RESEND` seconds.
+
+        A server just seen in the graph may not yet have matched this client's reply reader; DDS
+        then drops the reply (rmw_fastrtps: "client will not receive response"). Sending again is
+        safe for every request here but a lifecycle transition (see :meth:`_transition`).
+        """
         srv = self._service_type(service)
-        client = self._node.create_client(srv, service)
-        try:
-            limit = timeout if timeout is not None else self.timeout
-            if not client.wait_for_service(timeout_sec=limit):
+        client = self._clients.get(service)
+        if client is None:
+            client = self._clients[service] = self._node.create_client(srv, service)
+        limit = timeout if timeout is not None else self.timeout
+        if not client.wait_for_service(timeout_sec=limit):
+            raise Refused(f"{service} does not answer within {limit:g} s")
+        request = srv.Request()
+        for key, value in fill.items():
+            setattr(request, key, value)
+        deadline = time.monotonic() + limit
+        futures: list[Any] = []
+        send_at = time.monotonic()
+        while True:
+            now = time.monotonic()
+            if now >= deadline:
                 raise Refused(f"{service} does not answer within {limit:g} s")
-            request = srv.Request()
-            for key, value in fill.items():
-                setattr(request, key, value)
-            future = client.call_async(request)
-            self._rclpy.spin_until_future_complete(self._node, future, timeout_sec=limit)
-            if not future.done() or future.result() is None:
-                raise Refused(f"{service} does not answer within {limit:g} s")
-            return future.result()
-        finally:
-            self._node.destroy_client(client)
+            if not futures or (idempotent and now >= send_at):
+                futures.append(client.call_async(request))
+                send_at = now + RESEND
+            self._rclpy.spin_once(self._node, timeout_sec=min(0.1, max(0.0, deadline - now)))
+            answer = next((f.result() for f in futures if f.done() and f.result() is not None), None)
+            if answer is not None:
+                return answer
 
     def _control(self, node: str, command: int) -> Any:
         return self._call(f"{node}/control", {"command": command, "timeout_sec": self.timeout},
                           self.timeout + 5)
 
+    def _lifecycle_state(self, node: str) -> int:
+        return int(self._call(f"{node}/get_state", {}).current_state.id)
+
     def _transition(self, node: str, transition: int, label: str) -> None:
-        answer = self._call(f"{node}/change_state", {"transition": _transition_msg(transition)})
+        """Ask ``node`` for a transition, sent once; without an answer, its state tells whether it happened."""
+        try:
+            answer = self._call(f"{node}/change_state", {"transition": _transition_msg(transition)},
+                                idempotent=False)
+        except Refused:
+            if self._lifecycle_state(node) == GOAL[transition]:
+                return
+            raise
         if not answer.success:
             raise Refused(f"{node} refused to {label}")
 
