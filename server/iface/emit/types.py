@@ -85,7 +85,7 @@ CONTAINERS: dict[str, TypeRow] = {row.language: row for row in (
 )}
 
 #: Column titles of the table, by TypeRow attribute.
-COLUMNS: dict[str, str] = {"language": "iface", "ros2": "ROS 2 (.msg)", "px4": "PX4 (uORB)",
+COLUMNS: dict[str, str] = {"language": "iface", "ros2": "ROS 2 (.msg, .idl)", "px4": "PX4 (uORB)",
                            "idl": "OMG IDL", "json_schema": "JSON Schema"}
 
 #: How the language spells each canonical base type (the aliases shown in the docs).
