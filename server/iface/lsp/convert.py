@@ -15,36 +15,108 @@ UTF8, UTF16, UTF32 = "utf-8", "utf-16", "utf-32"
 _BREAK = re.compile(r"\r\n|\r|\n")
 
 
-class LineIndex:
-    """Line starts of one text, and conversions between offsets and (line, units)."""
+#: Line starts are kept in blocks of about this many lines, each with an offset still to add to its starts,
+#: so that an edit copies one block and moves the later ones by their offsets alone.
+_BLOCK = 1024
 
-    __slots__ = ("text", "encoding", "ascii", "starts")
+
+def _line_starts(text: str) -> list[int]:
+    if "\r" in text:
+        return [0, *(m.end() for m in _BREAK.finditer(text))]
+    starts = [0]
+    find = text.find
+    i = find("\n")
+    while i >= 0:
+        starts.append(i + 1)
+        i = find("\n", i + 1)
+    return starts
+
+
+class LineIndex:
+    """Line starts of one text, and conversions between offsets and (line, units).
+
+    An edited text's index is made from the last one (``edited``) in time that follows the edit: the
+    starts are blocks of lines, and the blocks after the edit are shared, moved by a number each.
+    """
+
+    __slots__ = ("text", "encoding", "ascii", "_blocks", "_shift", "_heads", "_lines")
 
     def __init__(self, text: str, encoding: str = UTF16) -> None:
         self.text = text
         self.encoding = encoding
         self.ascii = text.isascii()
-        if "\r" in text:
-            self.starts = [0, *(m.end() for m in _BREAK.finditer(text))]
-        else:
-            starts = [0]
-            find = text.find
-            i = find("\n")
-            while i >= 0:
-                starts.append(i + 1)
-                i = find("\n", i + 1)
-            self.starts = starts
+        starts = _line_starts(text)
+        self._blocks = [starts[i:i + _BLOCK] for i in range(0, len(starts), _BLOCK)]
+        self._shift = [0] * len(self._blocks)
+        self._heads = [b[0] for b in self._blocks]
+        self._lines = list(range(0, len(starts), _BLOCK))
+
+    @property
+    def starts(self) -> list[int]:
+        """Offsets at which each line starts."""
+        return [x + d for b, d in zip(self._blocks, self._shift) for x in b]
 
     @property
     def line_count(self) -> int:
         """The number of lines (a text ending with a newline has an empty last line)."""
-        return len(self.starts)
+        return self._lines[-1] + len(self._blocks[-1])
+
+    def _start(self, line: int) -> int:
+        k = bisect_right(self._lines, line) - 1
+        return self._blocks[k][line - self._lines[k]] + self._shift[k]
+
+    def _line_of(self, offset: int) -> tuple[int, int]:
+        """(line, its start) of an offset inside the text."""
+        k = bisect_right(self._heads, offset) - 1
+        d = self._shift[k]
+        block = self._blocks[k]
+        i = bisect_right(block, offset - d) - 1
+        return self._lines[k] + i, block[i] + d
+
+    def edited(self, start: int, end: int, new: str, text: str) -> LineIndex:
+        """The index of ``text``: this index's text with [start, end) replaced by ``new``."""
+        if "\r" in new or not self.ascii and "\r" in text or len(self._blocks) < 2:
+            return LineIndex(text, self.encoding)
+        if "\r" in self.text[max(start - 1, 0):end + 1]:
+            return LineIndex(text, self.encoding)
+        out = LineIndex.__new__(LineIndex)
+        out.text = text
+        out.encoding = self.encoding
+        out.ascii = self.ascii and new.isascii()
+        first, _ = self._line_of(start)
+        last, _ = self._line_of(end)
+        k1 = bisect_right(self._lines, first) - 1
+        k2 = bisect_right(self._lines, last) - 1
+        delta = len(new) - (end - start)
+        merged = [x + self._shift[k] for k in range(k1, k2 + 1) for x in self._blocks[k]]
+        lo = first - self._lines[k1] + 1
+        hi = last - self._lines[k1] + 1
+        added = []
+        i = new.find("\n")
+        while i >= 0:
+            added.append(start + i + 1)
+            i = new.find("\n", i + 1)
+        merged[lo:hi] = added
+        merged[lo + len(added):] = [x + delta for x in merged[lo + len(added):]]
+        pieces = [merged[i:i + _BLOCK] for i in range(0, len(merged), _BLOCK)] or [[0]]
+        out._blocks = [*self._blocks[:k1], *pieces, *self._blocks[k2 + 1:]]
+        out._shift = [*self._shift[:k1], *([0] * len(pieces)), *(d + delta for d in self._shift[k2 + 1:])]
+        out._heads = [*self._heads[:k1], *(p[0] for p in pieces), *(h + delta for h in self._heads[k2 + 1:])]
+        lines = self._lines[:k1]
+        n = self._lines[k1]
+        for p in pieces:
+            lines.append(n)
+            n += len(p)
+        moved = n - (self._lines[k2] + len(self._blocks[k2]))
+        lines.extend(x + moved for x in self._lines[k2 + 1:])
+        out._lines = lines
+        return out
 
     def line_end(self, line: int) -> int:
         """Offset of the end of ``line``, before its line break."""
-        if line + 1 < len(self.starts):
-            end = self.starts[line + 1] - 1
-            if end > self.starts[line] and self.text[end] == "\n" and self.text[end - 1] == "\r":
+        if line + 1 < self.line_count:
+            end = self._start(line + 1) - 1
+            if end > self._start(line) and self.text[end] == "\n" and self.text[end - 1] == "\r":
                 end -= 1
             return end
         return len(self.text)
@@ -60,8 +132,7 @@ class LineIndex:
     def position(self, offset: int) -> tuple[int, int]:
         """(line, character in the negotiated encoding) of a code point offset."""
         offset = max(0, min(offset, len(self.text)))
-        line = bisect_right(self.starts, offset) - 1
-        start = self.starts[line]
+        line, start = self._line_of(offset)
         if self.ascii or self.encoding == UTF32:
             return line, offset - start
         return line, self.units(self.text[start:offset])
@@ -70,9 +141,9 @@ class LineIndex:
         """Code point offset of an LSP position, clamped to its line."""
         if line < 0:
             return 0
-        if line >= len(self.starts):
+        if line >= self.line_count:
             return len(self.text)
-        start = self.starts[line]
+        start = self._start(line)
         end = self.line_end(line)
         character = max(character, 0)
         if self.ascii or self.encoding == UTF32:

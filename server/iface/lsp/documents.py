@@ -146,7 +146,9 @@ class Document:
                 end = max(start, index.offset(rng.end.line, rng.end.character))
                 self.log.append((start, end, len(change.text)))
                 text = text[:start] + change.text + text[end:]
-            index = LineIndex(text, st.encoding) if len(changes) > 1 else index
-        self.state = DocState(text, version, self.log.seq, st.encoding)
+                index = index.edited(start, end, change.text, text)
+                continue
+            index = LineIndex(text, st.encoding)
+        self.state = DocState(text, version, self.log.seq, st.encoding, [index])
 
 

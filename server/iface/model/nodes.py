@@ -535,6 +535,8 @@ class Interface:
     wirings: list[Wiring] = field(default_factory=list)
     definitions: list[Definition] = field(default_factory=list)
     component: ComponentDecl | None = None
+    #: Every component declaration, the first one being ``component`` (a second one is an error).
+    component_decls: list[ComponentDecl] = field(default_factory=list)
     #: Definitions of this file by name (first one wins on duplicates).
     symbols: dict[str, Definition] = field(default_factory=dict)
     #: Interfaces of included files, by the prefix used to refer to them.

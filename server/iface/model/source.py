@@ -33,6 +33,39 @@ class Span:
         return self.start <= offset <= self.end
 
 
+class AnchoredSpan(Span):
+    """A span of a chunk that may move: offsets kept relative to the chunk's ``anchor``.
+
+    The anchor is a plain ``Span`` whose ``start`` is where the chunk begins, the one span the chunk
+    records (``ChunkResult.move_to`` moves it); moving a chunk is then one addition, not one per span.
+    """
+
+    __slots__ = ("_start", "_end", "anchor")
+
+    def __init__(self, start: int, end: int, anchor: Span) -> None:  # noqa: D107
+        self.anchor = anchor
+        self._start = start - anchor.start
+        self._end = end - anchor.start
+
+    @property
+    def start(self) -> int:
+        """Where the span starts."""
+        return self._start + self.anchor.start
+
+    @start.setter
+    def start(self, value: int) -> None:
+        self._start = value - self.anchor.start
+
+    @property
+    def end(self) -> int:
+        """Where the span ends."""
+        return self._end + self.anchor.start
+
+    @end.setter
+    def end(self, value: int) -> None:
+        self._end = value - self.anchor.start
+
+
 @dataclass(eq=False)
 class Source:
     """The text of one file with a lazily built line index."""

@@ -17,9 +17,7 @@ from ..model.diagnostics import Diagnostic, Related, Severity, make
 from ..model.normalize import normalize_action, normalize_service
 from ..model.source import Source, Span
 from ..syntax.parse import ChunkCache, ParseResult, parse_text
-from .resolve import break_cycles, build_symbols, resolve_references, settle_typedefs
-from .sets import derive
-from .validate import Memo, validate
+from .analysis import Analysis, analyse
 
 #: Files larger than this are refused with a message (interface files are small).
 MAX_FILE_BYTES = 4 * 1024 * 1024
@@ -114,7 +112,7 @@ class Workspace:
         self.overlays: dict[str, str] = {}
         self._cache: dict[str, tuple[object, Compilation]] = {}
         self._chunks: dict[str, ChunkCache] = {}
-        self._memos: dict[str, Memo] = {}
+        self._memos: dict[str, Analysis] = {}
 
     # ---- reading ---------------------------------------------------------------
     @staticmethod
@@ -275,7 +273,7 @@ class Workspace:
             return Compilation(src, m.Interface(src, Path(key).stem), [too_large_diagnostic(key, size)])
         editing = key in self.overlays
         cache = self._chunks.setdefault(key, ChunkCache()) if editing else None
-        memo = self._memos.setdefault(key, {}) if editing else None
+        memo = self._memos.setdefault(key, Analysis()) if editing else None
         return (yield from compile_steps(Source(key, text), problems, cache=cache, memo=memo,
                                          find=self.find_include))
 
@@ -296,7 +294,7 @@ CompileSteps = Generator[str, "Compilation | Refused | None", Compilation]
 
 def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
                    cache: ChunkCache | None = None,
-                   memo: Memo | None = None,
+                   memo: Analysis | None = None,
                    includes: Workspace | None = None) -> Compilation:
     """Parse, model, resolve and check one source; ``includes`` finds and compiles the files it includes."""
     steps = compile_steps(source, problems, cache=cache, memo=memo,
@@ -313,7 +311,7 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
 
 def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
                   cache: ChunkCache | None = None,
-                  memo: Memo | None = None,
+                  memo: Analysis | None = None,
                   find: Callable[[str, str], str | None] | None = None) -> CompileSteps:
     """``compile_source`` as steps: yields each included file's path and is sent its compilation."""
     diagnostics: list[Diagnostic] = list(problems or [])
@@ -326,13 +324,8 @@ def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
     enabled = gc.isenabled()
     gc.disable()
     try:
-        diagnostics.extend(build_symbols(iface))
-        diagnostics.extend(resolve_references(iface))
-        diagnostics.extend(break_cycles(iface))
-        settle_typedefs(iface)
-        diagnostics.extend(derive(iface))
-        diagnostics.extend(validate(iface, memo))
-        broken = parsed.broken_ranges()
+        diagnostics.extend(analyse(iface, memo))
+        broken = parsed.broken_ranges() if any(p.code == "syntax-error" for p in parsed.problems) else None
         if broken:
             diagnostics = [d for d in diagnostics if d.code == "syntax-error" or d.source is not source
                            or not _inside(broken, d.span.start)]
@@ -375,6 +368,7 @@ def build_interface(source: Source, items: list[m.Item]) -> m.Interface:
         elif isinstance(item, m.External):
             iface.externals.append(item)
         elif isinstance(item, m.ComponentDecl):
+            iface.component_decls.append(item)
             if iface.component is None:
                 iface.component = item
         else:

@@ -67,29 +67,45 @@ def did_you_mean(iface: m.Interface, name: str) -> list[str]:
 
 def resolve_references(iface: m.Interface) -> Iterator[Diagnostic]:
     """Resolve every named type of the file; report those that name nothing."""
-    src = iface.source
-    close_names: Suggester | None = None  # made at the first unknown name
+    unknown: list[m.NamedType] = []
     for item in iface.items:
-        for root in type_roots(item):
-            for t in named_types(root):
-                if resolve_named(iface, t):
-                    continue
-                prefix = t.qualifier
-                if prefix and prefix not in iface.included:
-                    hint = (f"; '{prefix}' is neither an included file nor a declared package"
-                            f" (add `include \"{prefix}.iface\"` or `external {prefix}`)")
-                    yield make("unknown-type", f"unknown type '{t.name}'{hint}", src, t.span,
-                               suggestions=[], name=t.name)
-                    continue
-                if close_names is None:
-                    close_names = suggester(iface)
-                close = close_names.suggest(t.name)
-                hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
-                yield make("unknown-type", f"unknown type '{t.name}'{hint}", src, t.span,
-                           suggestions=close, name=t.name)
+        unknown.extend(resolve_item(iface, item))
+    yield from unknown_types(iface, unknown, [])
 
 
-def break_cycles(iface: m.Interface) -> Iterator[Diagnostic]:
+def resolve_item(iface: m.Interface, item: m.Item, uses: set[str] | None = None) -> list[m.NamedType]:
+    """Resolve the named types of one item; returns those that name nothing. ``uses`` gets the names looked up."""
+    unknown: list[m.NamedType] = []
+    for root in type_roots(item):
+        for t in named_types(root):
+            if uses is not None:
+                uses.add(t.name)
+            if not resolve_named(iface, t):
+                unknown.append(t)
+    return unknown
+
+
+def unknown_types(iface: m.Interface, unknown: list[m.NamedType], close_names: list[Suggester]) -> Iterator[Diagnostic]:
+    """The findings of named types that name nothing, in order; ``close_names`` holds the one Suggester of a
+    compile once it is made (at the first name that needs it: made at most once, used in the file's order)."""
+    src = iface.source
+    for t in unknown:
+        prefix = t.qualifier
+        if prefix and prefix not in iface.included:
+            hint = (f"; '{prefix}' is neither an included file nor a declared package"
+                    f" (add `include \"{prefix}.iface\"` or `external {prefix}`)")
+            yield make("unknown-type", f"unknown type '{t.name}'{hint}", src, t.span,
+                       suggestions=[], name=t.name)
+            continue
+        if not close_names:
+            close_names.append(suggester(iface))
+        close = close_names[0].suggest(t.name)
+        hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+        yield make("unknown-type", f"unknown type '{t.name}'{hint}", src, t.span,
+                   suggestions=close, name=t.name)
+
+
+def break_cycles(iface: m.Interface, members_out: set[int] | None = None) -> Iterator[Diagnostic]:
     """Typedefs that stand for themselves (``typedef B A``, ``typedef A B``; ``typedef list<A> A``) and services
     that extend themselves: each definition of a cycle gets an error naming it, and its references to the
     cycle are left unresolved, so that no walk of the model follows the cycle round."""
@@ -115,6 +131,8 @@ def break_cycles(iface: m.Interface) -> Iterator[Diagnostic]:
                 message = f"service '{d.name}' extends itself: {names}; the chain of extends must end"
             yield make(f"{kind}-cycle", message, src, d.name_span, cycle=[x.name for x in cycle])
     members = {id(d) for cycle in cycles for d in cycle}
+    if members_out is not None:
+        members_out.update(members)
     for cycle in cycles:
         for d in cycle:
             if id(d) in local:

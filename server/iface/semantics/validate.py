@@ -32,11 +32,14 @@ from .resolve import constant_value
 
 Rule = Callable[[m.Interface], Iterator[Diagnostic]]
 LocalRule = Callable[[Source, m.Definition], Iterator[Diagnostic]]
+DefinitionRule = Callable[[m.Interface, m.Definition], Iterator[Diagnostic]]
+WiringRule = Callable[[Source, m.Wiring], Iterator[Diagnostic]]
 RULES: list[tuple[Rule, bool]] = []  # (rule, robot_only): rules over the whole file
 LOCAL_RULES: list[tuple[LocalRule, bool]] = []  # rules over one definition, cached while it is unchanged
-
-#: Per-document memo of local findings: id(definition) -> (definition, robot, findings).
-Memo = dict[int, tuple[m.Definition, bool, list[Diagnostic]]]
+#: Rules over one resolved definition: they read what its names resolve to (run again when that changes).
+DEFINITION_RULES: list[DefinitionRule] = []
+#: Rules over one wiring statement alone (robot targets only).
+WIRING_RULES: list[WiringRule] = []
 
 _UUID = re.compile(r"^\{?[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}\}?$")
 _TOPIC = re.compile(r"^~?/?[A-Za-z_{][A-Za-z0-9_{}]*(/[A-Za-z_{][A-Za-z0-9_{}]*)*$")
@@ -58,35 +61,40 @@ def local_rule(robot_only: bool = False) -> Callable[[LocalRule], LocalRule]:
     return register
 
 
+def definition_rule(fn: DefinitionRule) -> DefinitionRule:
+    """Register a check over one resolved definition."""
+    DEFINITION_RULES.append(fn)
+    return fn
+
+
+def wiring_rule(fn: WiringRule) -> WiringRule:
+    """Register a check over one wiring statement (robot targets only)."""
+    WIRING_RULES.append(fn)
+    return fn
+
+
 def is_robot(iface: m.Interface) -> bool:
     """True when robot-target rules apply to the file."""
     return iface.source.path.endswith(".iface") or any(
         ns.scope in ("ros2", "px4") for ns in iface.namespaces)
 
 
-def validate(iface: m.Interface, memo: Memo | None = None) -> Iterator[Diagnostic]:
-    """Run every registered rule that applies; ``memo`` reuses findings of unchanged definitions."""
-    robot = is_robot(iface)
-    src = iface.source
-    fresh: Memo = {}
-    for d in iface.definitions:
-        hit = memo.get(id(d)) if memo is not None else None
-        if hit is not None and hit[0] is d and hit[1] == robot:
-            found = [_rehome(x, src) for x in hit[2]]
-        else:
-            found = [x for fn, robot_only in LOCAL_RULES if robot or not robot_only for x in fn(src, d)]
-        fresh[id(d)] = (d, robot, found)
-        yield from found
-    if memo is not None:
-        memo.clear()
-        memo.update(fresh)
-    for fn, robot_only in RULES:
-        if robot_only and not robot:
-            continue
-        yield from fn(iface)
+def local_findings(src: Source, d: m.Definition, robot: bool) -> list[Diagnostic]:
+    """What the local rules find in one definition (it alone decides)."""
+    return [x for fn, robot_only in LOCAL_RULES if robot or not robot_only for x in fn(src, d)]
 
 
-def _rehome(d: Diagnostic, src: Source) -> Diagnostic:
+def definition_findings(iface: m.Interface, d: m.Definition) -> list[Diagnostic]:
+    """What the rules over one resolved definition find in it."""
+    return [x for fn in DEFINITION_RULES for x in fn(iface, d)]
+
+
+def wiring_findings(src: Source, w: m.Wiring) -> list[Diagnostic]:
+    """What the wiring rules find in one wiring statement."""
+    return [x for fn in WIRING_RULES for x in fn(src, w)]
+
+
+def rehome(d: Diagnostic, src: Source) -> Diagnostic:
     """A cached finding, attached to the newest version of its file."""
     if d.source is src:
         return d
@@ -276,16 +284,15 @@ def _show(v: m.Value) -> str:
             "list": "a list", "map": "a map"}[v.kind]
 
 
-@rule()
-def values(iface: m.Interface) -> Iterator[Diagnostic]:
+@definition_rule
+def values(iface: m.Interface, d: m.Definition) -> Iterator[Diagnostic]:
     """Defaults and constants fit their types."""
-    for d in iface.definitions:
-        for c in all_consts(d):
-            yield from check_value(iface, c.type, c.value, f"constant '{c.name}'")
-        for _, fields, _ in bodies(d):
-            for f in fields:
-                if f.default is not None:
-                    yield from check_value(iface, f.type, f.default, f"default of '{f.name}'")
+    for c in all_consts(d):
+        yield from check_value(iface, c.type, c.value, f"constant '{c.name}'")
+    for _, fields, _ in bodies(d):
+        for f in fields:
+            if f.default is not None:
+                yield from check_value(iface, f.type, f.default, f"default of '{f.name}'")
 
 
 @local_rule()
@@ -363,13 +370,11 @@ def _parts(src: Source, d: m.Service | m.Action, parts: tuple[str, ...], word: s
                    f"write the parts explicitly to say what is meant", src, d.name_span)
 
 
-@rule()
-def functions(iface: m.Interface) -> Iterator[Diagnostic]:
+@definition_rule
+def functions(iface: m.Interface, d: m.Definition) -> Iterator[Diagnostic]:
     """oneway functions return nothing; throws names exceptions; extends names a service."""
     src = iface.source
-    for d in iface.definitions:
-        if not isinstance(d, m.Service):
-            continue
+    if isinstance(d, m.Service):
         if d.extends is not None and d.extends.target is not None and not isinstance(d.extends.target, m.Service):
             yield make("wrong-kind", f"'{d.extends.name}' is not a service and cannot be extended", src, d.extends.span)
         for fn in d.functions:
@@ -384,28 +389,27 @@ def functions(iface: m.Interface) -> Iterator[Diagnostic]:
                                src, t.type.span)
 
 
-@rule()
-def field_kinds(iface: m.Interface) -> Iterator[Diagnostic]:
+@definition_rule
+def field_kinds(iface: m.Interface, d: m.Definition) -> Iterator[Diagnostic]:
     """A field's type is a type: not a service, action or constant; unions have no required fields."""
     src = iface.source
-    for d in iface.definitions:
-        for f in _fields(d):
-            t = f.type
-            while isinstance(t, (m.ArrayType, m.SetType)):
-                t = t.element
-            if isinstance(t, m.NamedType) and isinstance(t.target, (m.Service, m.Action, m.Const)):
-                yield make("wrong-kind", f"'{t.name}' is a {t.target.kind}, not a type", src, t.span)
-        if isinstance(d, m.Struct) and d.kind == "union":
-            for f in d.fields:
-                if f.requiredness == "required":
-                    yield make("required-in-union", f"union field '{f.name}' cannot be required", src, f.span)
+    for f in _fields(d):
+        t = f.type
+        while isinstance(t, (m.ArrayType, m.SetType)):
+            t = t.element
+        if isinstance(t, m.NamedType) and isinstance(t.target, (m.Service, m.Action, m.Const)):
+            yield make("wrong-kind", f"'{t.name}' is a {t.target.kind}, not a type", src, t.span)
+    if isinstance(d, m.Struct) and d.kind == "union":
+        for f in d.fields:
+            if f.requiredness == "required":
+                yield make("required-in-union", f"union field '{f.name}' cannot be required", src, f.span)
 
 
 @rule()
 def components(iface: m.Interface) -> Iterator[Diagnostic]:
     """At most one component declaration."""
     src = iface.source
-    decls = [i for i in iface.items if isinstance(i, m.ComponentDecl)]
+    decls = iface.component_decls
     for extra in decls[1:]:
         yield make("duplicate-component", "the file already declares its component", src, extra.span,
                    related=[Related(src, decls[0].span, "component declared here")])
@@ -506,64 +510,66 @@ def _ros_name(src: m.Source, name: str, new: str | None, span: m.Span, what: str
                 src, span, name=name, replacement=new)
 
 
-@rule(robot_only=True)
-def topic_names(iface: m.Interface) -> Iterator[Diagnostic]:
+@wiring_rule
+def topic_names(src: Source, w: m.Wiring) -> Iterator[Diagnostic]:
     """Topic and service names follow ROS 2 rules."""
-    src = iface.source
-    for w in iface.wirings:
-        t = w.topic
-        if not _TOPIC.match(t) or "//" in t or t.endswith("/") or "__" in t:
-            yield make("invalid-topic-name", f"'{t}' is not a valid ROS 2 name: use letters, digits, "
+    t = w.topic
+    if not _TOPIC.match(t) or "//" in t or t.endswith("/") or "__" in t:
+        yield make("invalid-topic-name", f"'{t}' is not a valid ROS 2 name: use letters, digits, "
                        "'_' and '/' separators, not starting with a digit", src, w.topic_span)
 
 
-@rule(robot_only=True)
-def qos_settings(iface: m.Interface) -> Iterator[Diagnostic]:
+@wiring_rule
+def qos_settings(src: Source, w: m.Wiring) -> Iterator[Diagnostic]:
     """QoS annotations name ROS 2 policies with values they can take."""
-    src = iface.source
-    for w in iface.wirings:
-        for a in w.annotations:
-            if not a.key.startswith("qos."):
+    for a in w.annotations:
+        if not a.key.startswith("qos."):
+            continue
+        found = qos_problem(a.key[4:], a.text)
+        if found is not None:
+            is_error, message = found
+            yield make("invalid-qos", message, src, a.span,
+                       severity=Severity.ERROR if is_error else Severity.WARNING)
+
+
+def struct_members(s: m.Struct) -> Iterator[tuple[m.Field, m.Struct]]:
+    """(field, struct) for every struct a field of ``s`` holds, through containers and typedefs."""
+    for f in s.fields:
+        if type(f.type) is m.BaseType:
+            continue  # most fields: nothing to follow
+        stack: list[m.TypeRef] = [f.type]
+        seen: set[int] = set()  # each container once: a typedef cycle (cut, and reported) never loops here
+        while stack:
+            t = resolve_typedefs(stack.pop())
+            if id(t) in seen:
                 continue
-            found = qos_problem(a.key[4:], a.text)
-            if found is not None:
-                is_error, message = found
-                yield make("invalid-qos", message, src, a.span,
-                           severity=Severity.ERROR if is_error else Severity.WARNING)
+            seen.add(id(t))
+            if isinstance(t, m.NamedType):
+                if isinstance(t.target, m.Struct):
+                    yield f, t.target
+            elif isinstance(t, m.MapType):
+                stack.extend((t.key, t.element))
+            elif not isinstance(t, m.BaseType):
+                stack.append(t.element)
 
 
 @rule(robot_only=True)
 def recursion(iface: m.Interface) -> Iterator[Diagnostic]:
     """A type that contains itself (ROS 2 and PX4 messages cannot)."""
+    yield from recursive_types(iface, [d for d in iface.definitions if isinstance(d, m.Struct)], set())
+
+
+def recursive_types(iface: m.Interface, structs: list[m.Struct], involved: set[int]) -> Iterator[Diagnostic]:
+    """``recursion`` over the file's ``structs`` (in order); ``involved`` gets the ids of the structs on a cycle."""
     src = iface.source
-    structs = [d for d in iface.definitions if isinstance(d, m.Struct)]
     state: dict[int, int] = {}  # id -> 1 visiting, 2 done
     reported: set[int] = set()
     local = {id(s) for s in structs}
 
-    def members(s: m.Struct) -> Iterator[tuple[m.Field, m.Struct]]:
-        for f in s.fields:
-            if type(f.type) is m.BaseType:
-                continue  # most fields: nothing to follow
-            stack: list[m.TypeRef] = [f.type]
-            seen: set[int] = set()  # each container once: a typedef cycle (cut, and reported) never loops here
-            while stack:
-                t = resolve_typedefs(stack.pop())
-                if id(t) in seen:
-                    continue
-                seen.add(id(t))
-                if isinstance(t, m.NamedType):
-                    if isinstance(t.target, m.Struct):
-                        yield f, t.target
-                elif isinstance(t, m.MapType):
-                    stack.extend((t.key, t.element))
-                elif not isinstance(t, m.BaseType):
-                    stack.append(t.element)
-
     for root in structs:
         if state.get(id(root)):
             continue
-        path: list[tuple[m.Struct, Iterator[tuple[m.Field, m.Struct]]]] = [(root, members(root))]
+        path: list[tuple[m.Struct, Iterator[tuple[m.Field, m.Struct]]]] = [(root, struct_members(root))]
         state[id(root)] = 1
         while path:
             node, it = path[-1]
@@ -575,10 +581,12 @@ def recursion(iface: m.Interface) -> Iterator[Diagnostic]:
             f, child = step
             mark = state.get(id(child))
             if mark == 1:
+                at = next(i for i, (x, _) in enumerate(path) if x is child)
+                involved.update(id(x) for x, _ in path[at:])
                 if id(f) not in reported and id(node) in local:
                     reported.add(id(f))
                     yield make("recursive-type", f"'{node.name}' contains itself through '{f.name}': "
                                "ROS 2 and PX4 messages cannot be recursive", src, f.span)
             elif mark is None:
                 state[id(child)] = 1
-                path.append((child, members(child)))
+                path.append((child, struct_members(child)))

@@ -1,0 +1,336 @@
+"""Resolution and checks of one file, kept per item so that an edit redoes only what it changed.
+
+Every definition and wiring statement is a ``Unit``: the names it looks up,
+what resolving them found, and its findings (those of the item alone, and
+those that read what its names resolve to). An ``Analysis`` keeps the units of
+one document between its versions; an unchanged chunk keeps its model objects,
+so a unit whose item is the same object, and none of whose names now resolve
+to another definition, is kept as it is. The file-wide results are made from
+small summaries kept in dicts (definitions by name, the struct graph's edges),
+so an edit updates them in time that follows the edit.
+
+A compile without an ``Analysis`` (``check``) runs the same steps with nothing
+to keep. Where an edit could change what the summaries cannot see (a typedef,
+an ``extends``, a cycle, the includes) every unit is made again: the same steps
+as a first compile.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from operator import attrgetter
+
+from ..model import nodes as m
+from ..model.diagnostics import Diagnostic, Related, make
+from ..model.source import Source
+from ..model.walk import all_consts, bodies
+from .resolve import break_cycles, resolve_item, settle_typedefs, unknown_types
+from .sets import derive
+from .suggest import Suggester
+from .validate import (
+    RULES,
+    definition_findings,
+    is_robot,
+    local_findings,
+    recursion,
+    recursive_types,
+    rehome,
+    struct_members,
+    wiring_findings,
+)
+
+
+@dataclass(slots=True, eq=False)
+class Unit:
+    """One definition or wiring statement and what it found."""
+
+    item: m.Definition | m.Wiring
+    #: Every name the item looks up (types and named values, with their parts).
+    uses: frozenset[str]
+    #: Its named types that name nothing, in order.
+    unknown: list[m.NamedType]
+    #: ``unknown-type`` findings of ``unknown``.
+    unresolved: list[Diagnostic]
+    #: Findings of the item alone (local rules; wiring rules).
+    local: list[Diagnostic]
+    #: Findings that read what its names resolve to.
+    checked: list[Diagnostic]
+    #: For a struct: the structs its fields hold (a local one by name), the edges of the recursion check.
+    edges: tuple[object, ...] = ()
+
+
+class Analysis:
+    """What one document's last compile found, per item (the memo of ``analyse``)."""
+
+    def __init__(self) -> None:
+        self.context: object = None
+        self.units: dict[int, Unit] = {}
+        self.users: dict[str, set[int]] = {}
+        self.by_name: dict[str, list[m.Definition]] = {}
+        self.duplicates: dict[str, list[Diagnostic]] = {}
+        self.symbols: dict[str, m.Definition] = {}
+        #: Units with a finding, by id of their item.
+        self.noisy: dict[int, Unit] = {}
+        #: Units with a named type that names nothing, by id of their item.
+        self.unknown: dict[int, Unit] = {}
+        #: The source the kept findings are attached to.
+        self.source: Source | None = None
+        self.cycles: list[Diagnostic] = []
+        self.cycle_members: set[int] = set()
+        self.recursion: list[Diagnostic] = []
+        self.involved: set[int] = set()
+
+    def reset(self) -> None:
+        """Forget everything (the next compile is a first one)."""
+        self.__init__()  # type: ignore[misc]
+
+
+def _value_names(v: m.Value | None, out: set[str]) -> None:
+    """The names a value refers to, with the parts ``constant_value`` looks up."""
+    stack = [v] if v is not None else []
+    while stack:
+        x = stack.pop()
+        if x.kind == "name":
+            name = str(x.value)
+            owner, _, local = name.rpartition(".")
+            out.update((name, local, owner, owner.rpartition(".")[2]))
+        elif x.kind == "list":
+            stack.extend(x.value)
+        elif x.kind == "map":
+            for key, val in x.value:
+                stack.append(key)
+                stack.append(val)
+
+
+def _named_values(d: m.Definition, out: set[str]) -> None:
+    for c in all_consts(d):
+        _value_names(c.value, out)
+    for _, fields, _ in bodies(d):
+        for f in fields:
+            if f.default is not None:
+                _value_names(f.default, out)
+
+
+def _edges(iface: m.Interface, s: m.Struct) -> tuple[object, ...]:
+    """The structs the fields of ``s`` hold: a local one by its name, an included one by identity."""
+    symbols = iface.symbols
+    return tuple(c.name if symbols.get(c.name) is c else id(c) for _, c in struct_members(s))
+
+
+_START = attrgetter("span.start")
+
+
+def analyse(iface: m.Interface, an: Analysis | None = None) -> list[Diagnostic]:
+    """Resolve ``iface`` and check it; ``an`` keeps what an unchanged item found for the next version.
+
+    The findings come in the order of a whole-file pass (duplicates, unknown types, cycles, sets, local
+    checks, checks of resolved definitions, file rules, recursion): sorting by place keeps that order
+    between findings at one place.
+    """
+    src = iface.source
+    robot = is_robot(iface)
+    context = (robot, src.path, tuple((p, id(i)) for p, i in iface.included.items()),
+               tuple(e.name for e in iface.externals))
+    keep = an is not None
+    if an is None:
+        an = Analysis()
+    elif an.context != context:
+        an.reset()
+    an.context = context
+    defs = iface.definitions
+    items: list[m.Definition | m.Wiring] = [*defs, *iface.wirings]
+    by_id = dict(zip(map(id, items), items))
+    units = an.units
+    removed = [units.pop(k) for k in units.keys() - by_id.keys()]
+    added = [by_id[k] for k in by_id.keys() - units.keys()]
+    if (_structural(an, removed, added)):
+        an.reset()
+        an.context = context
+        units = an.units
+        removed = []
+        added = items
+    first = not units
+    added.sort(key=_START)
+    if an.source is not None and an.source is not src:
+        _rehome_all(an, src)
+    an.source = src
+    # ---- definitions by name: duplicates and the symbol table -------------------------------------
+    changed: set[str] = set()
+    for u in removed:
+        for n in u.uses:
+            users = an.users.get(n)
+            if users is not None:
+                users.discard(id(u.item))
+        an.noisy.pop(id(u.item), None)
+        an.unknown.pop(id(u.item), None)
+        if not isinstance(u.item, m.Wiring):
+            an.by_name[u.item.name].remove(u.item)
+            changed.add(u.item.name)
+    for x in added:
+        if not isinstance(x, m.Wiring):
+            an.by_name.setdefault(x.name, []).append(x)
+            changed.add(x.name)
+    for n in an.duplicates:  # two chunks of one text may swap their model objects between versions
+        if n not in changed and an.by_name[n] != sorted(an.by_name[n], key=_START):
+            changed.add(n)
+    for n in changed:
+        same = an.by_name.get(n) or []
+        if len(same) > 1:
+            same.sort(key=_START)
+        if not same:
+            an.by_name.pop(n, None)
+            an.duplicates.pop(n, None)
+            continue
+        if len(same) == 1:
+            an.duplicates.pop(n, None)
+            continue
+        head = same[0]
+        an.duplicates[n] = [make("duplicate-definition", f"'{d.name}' is already defined", src, d.name_span,
+                                 related=[Related(src, head.name_span, f"first definition of '{d.name}'")])
+                            for d in same[1:]]
+    old_symbols = an.symbols
+    if changed or first:
+        symbols: dict[str, m.Definition] = {}
+        for d in defs:
+            if d.name not in symbols:
+                symbols[d.name] = d
+        an.symbols = symbols
+    iface.symbols = dict(an.symbols)
+    rebound = [n for n in changed if an.symbols.get(n) is not old_symbols.get(n)]
+    names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(old_symbols.get(n), m.Const)
+                        or (n in an.symbols) != (n in old_symbols) for n in rebound)
+    # ---- resolve what is new, and what uses a name that now means another definition ----------------
+    redo: dict[int, m.Definition | m.Wiring] = {id(x): x for x in added}
+    for n in rebound:
+        for k in an.users.get(n, ()):
+            if k not in redo:
+                redo[k] = by_id[k]
+    todo = added if first else sorted(redo.values(), key=_START)
+    fresh: list[Unit] = []
+    for x in todo:
+        uses: set[str] = set()
+        unknown = resolve_item(iface, x, uses)
+        old = units.get(id(x))
+        if isinstance(x, m.Wiring):
+            local = old.local if old is not None else (wiring_findings(src, x) if robot else [])
+        else:
+            _named_values(x, uses)
+            local = old.local if old is not None else local_findings(src, x, robot)
+        unit = Unit(x, frozenset(uses), unknown, [], local, [], old.edges if old is not None else ())
+        if keep:
+            if old is not None:
+                for n in old.uses - uses:
+                    an.users[n].discard(id(x))
+            for n in uses:
+                an.users.setdefault(n, set()).add(id(x))
+        units[id(x)] = unit
+        if unknown:
+            an.unknown[id(x)] = unit
+        else:
+            an.unknown.pop(id(x), None)
+        fresh.append(unit)
+    if first:
+        an.cycle_members = set()
+        an.cycles = list(break_cycles(iface, an.cycle_members))
+        settle_typedefs(iface)
+    # ---- unknown names: all of them again, in order, when the names in reach changed ------------------
+    if names_changed or any(u.unknown for u in fresh):
+        pending = sorted(an.unknown.values(), key=lambda u: u.item.span.start)
+        close: list[Suggester] = []
+        for u in pending:
+            u.unresolved = list(unknown_types(iface, u.unknown, close))
+    # ---- checks of resolved definitions -----------------------------------------------------------
+    for u in fresh:
+        if not isinstance(u.item, m.Wiring):
+            u.checked = definition_findings(iface, u.item)
+    # ---- recursion over the struct graph ----------------------------------------------------------
+    if robot:
+        _recursion(iface, an, removed, fresh, first, keep)
+    else:
+        an.recursion = []
+    for u in fresh:
+        if u.unresolved or u.local or u.checked:
+            an.noisy[id(u.item)] = u
+        else:
+            an.noisy.pop(id(u.item), None)
+    # ---- the findings, in the order of a whole-file pass --------------------------------------------
+    noisy = list(an.noisy.values())
+    out: list[Diagnostic] = []
+    for found in an.duplicates.values():
+        out.extend(found)
+    for u in noisy:
+        out.extend(u.unresolved)
+    out.extend(an.cycles)
+    out.extend(derive(iface))
+    for u in noisy:
+        out.extend(u.local)
+    for u in noisy:
+        out.extend(u.checked)
+    for fn, robot_only in RULES:
+        if fn is not recursion and (robot or not robot_only):
+            out.extend(fn(iface))
+    out.extend(an.recursion)
+    return out
+
+
+def _rehome_all(an: Analysis, src: Source) -> None:
+    """Attach every kept finding to the newest version of the file."""
+    an.duplicates = {n: [rehome(d, src) for d in found] for n, found in an.duplicates.items()}
+    an.cycles = [rehome(d, src) for d in an.cycles]
+    an.recursion = [rehome(d, src) for d in an.recursion]
+    for u in an.noisy.values():
+        u.unresolved = [rehome(d, src) for d in u.unresolved]
+        u.local = [rehome(d, src) for d in u.local]
+        u.checked = [rehome(d, src) for d in u.checked]
+
+
+def _structural(an: Analysis, removed: list[Unit], added: list[m.Definition | m.Wiring]) -> bool:
+    """True when an edit touches what the per-item summaries do not follow: typedefs (their chains),
+    ``extends`` (its cycles), a definition on a cycle. Then every unit is made again."""
+    if not an.units and not removed:
+        return False
+    for x in [*(u.item for u in removed), *added]:
+        if isinstance(x, m.Typedef) or (isinstance(x, m.Service) and x.extends is not None):
+            return True
+        if id(x) in an.cycle_members:
+            return True
+    names = {x.name for x in [*(u.item for u in removed), *added] if not isinstance(x, m.Wiring)}
+    for n in names:
+        users = an.users.get(n, ())
+        for k in users:
+            u = an.units.get(k)
+            if u is not None and (isinstance(u.item, m.Typedef) or (isinstance(u.item, m.Service) and
+                                                                    u.item.extends is not None)
+                                  or k in an.cycle_members):
+                return True
+    return False
+
+
+def _recursion(iface: m.Interface, an: Analysis, removed: list[Unit], fresh: list[Unit], first: bool,
+               keep: bool) -> None:
+    """The recursion check again, unless the edit left the struct graph as it was and it has no cycle."""
+    same = not first and not an.involved
+    if not keep:  # nothing to compare with later
+        an.recursion = list(recursive_types(iface, [d for d in iface.definitions if isinstance(d, m.Struct)],
+                                            an.involved))
+        return
+    gone: dict[str, tuple[object, ...]] = {}
+    for u in removed:
+        if isinstance(u.item, m.Struct) and u.edges:
+            gone[u.item.name] = u.edges
+    for u in fresh:
+        if not isinstance(u.item, m.Struct):
+            continue
+        before = u.edges
+        u.edges = _edges(iface, u.item)
+        if not same:
+            continue
+        if before:  # the same struct, resolved again
+            same = before == u.edges
+        elif u.edges:  # a new struct: it must stand for one gone with the same edges
+            same = gone.pop(u.item.name, None) == u.edges
+    if same and not gone:
+        return
+    an.involved = set()
+    structs = [d for d in iface.definitions if isinstance(d, m.Struct)]
+    an.recursion = list(recursive_types(iface, structs, an.involved))
