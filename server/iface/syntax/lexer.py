@@ -12,6 +12,7 @@ lark's own lexer with error recovery.
 from __future__ import annotations
 
 import re
+import string
 from collections.abc import Iterator
 from typing import Any
 
@@ -54,6 +55,19 @@ class FastScanner(Lexer):
         parts.append("(?P<PUNCT>" + "|".join(re.escape(v) for _, v in punct) + ")")
         self.pattern = re.compile("|".join(parts))
         self.words = words
+        # the whole-file path (driver.py): one match per token with the blanks and comments before it,
+        # read with findall (no match objects); a character no token reads is a match of its own
+        skip = "|".join(_uncaptured(terminals[name].pattern.to_regexp()) for name in _SKIP)
+        token = "|".join([*(_uncaptured(terminals[name].pattern.to_regexp()) for name in _PATTERNS[2:]),
+                          *(re.escape(v) for _, v in punct)])
+        #: (blanks and comments, a token, a character no token reads); at the end of the text both are empty
+        self.triples = re.compile(f"((?:{skip})*+)(?:({token})|((?s:.))|\\Z)")
+        #: the terminal read from a token's first character: None for a number (INT or DOUBLE)
+        self.first: dict[str, str | None] = {c: "IDENTIFIER" for c in string.ascii_letters + "_"}
+        self.first.update({'"': "LITERAL", "'": "LITERAL"})
+        self.first.update({c: None for c in string.digits + "+-."})
+        self.int = re.compile(terminals["INT"].pattern.to_regexp())
+        self.block_comment = re.compile(r"(?=/\*)(?:" + terminals["COMMENT"].pattern.to_regexp() + ")")
 
     def lex(self, lexer_state: LexerState, parser_state: Any) -> Iterator[Token]:
         """Tokens of the whole text; raises ScanError at anything unexpected."""
@@ -88,3 +102,10 @@ class FastScanner(Lexer):
 def parse_fast(parser: Lark, scanner: FastScanner, text: str) -> Any:
     """Parse ``text`` with ``parser`` (its transformer runs inline), tokens from ``scanner``."""
     return parser.parser.parser.parse(LexerThread.from_text(scanner, text), "start")
+
+
+def _uncaptured(regex: str) -> str:
+    """``regex`` with its groups made non-capturing (the same matches; the findall pattern has only its own)."""
+    out = re.sub(r"(?<!\\)\((?!\?)", "(?:", regex)
+    assert re.compile(out).groups == 0 and "(?P=" not in out, regex
+    return out

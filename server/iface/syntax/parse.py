@@ -22,7 +22,9 @@ from ..model import nodes as m
 from ..model.source import Span
 from .chunks import Chunk, split
 from .grammar import build_parser, terminal_descriptions
-from .lexer import FastScanner, ScanError, parse_fast
+from .driver import Driver
+from .lexer import FastScanner, ScanError
+from .oldgen import file_as_old
 from .transform import ModelBuilder
 
 _CLOSERS = ("RBRACE", "RPAR", "RSQB", "MORETHAN")
@@ -84,17 +86,17 @@ class _ChunkParser:
         self.builder = ModelBuilder()
         self.parser = build_parser(self.builder)
         self.lock = threading.Lock()
-        self.scanner: FastScanner | None = None
+        self.driver: Driver | None = None
 
     def parse_clean(self, text: str, docs: dict[int, str]) -> list[Any] | None:
         """The items of a text that has no problem at all, read by the fast scanner; else None."""
         with self.lock:
-            if self.scanner is None:
-                self.scanner = FastScanner(self.parser)
+            if self.driver is None:
+                self.driver = Driver(self.parser, self.builder, FastScanner(self.parser))
             b = self.builder
             b.reset(docs, False)
             try:
-                items = parse_fast(self.parser, self.scanner, text)
+                items = self.driver.parse(text)
             except (ScanError, UnexpectedInput, RecursionError):
                 return None
             if b.problems or not isinstance(items, list):
@@ -369,6 +371,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
             docs.update({k + ch.start: v for k, v in ch.docs.items()})
         clean = parser.parse_clean(text, docs)
         if clean is not None:
+            file_as_old()  # the model outlives the young collections that would traverse it
             return ParseResult(clean, [], [ChunkResult(text, clean, [], [])])
     results: list[ChunkResult] = []
     i = 0

@@ -1,0 +1,197 @@
+"""The whole-file fast path: lark's LALR tables driven by one loop, tokens from one regex.
+
+lark's parser feeds each token through ``ParserState.feed_token`` and each
+reduction through a chain of tree-builder wrappers; for a clean file this loop
+does the same work inline. The tables are lark's, built from grammar.lark, and
+each rule's reduction is planned from the same rule options lark's tree builder
+reads (which children are kept, which ``_rule`` children are spliced in, ``?rule``
+passing a single child through), so the callbacks get exactly the children they
+get from lark. Helper rules (``_item``, ``__x_star_N``) become plain lists,
+spliced into their parent, instead of trees. Anything unexpected raises
+``ScanError``: the caller then parses with lark itself, which recovers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from lark import Lark, Token, Tree
+from lark.parsers.lalr_analysis import Shift
+
+from .lexer import FastScanner, ScanError
+
+#: One rule's reduction on the parser's stacks (states, values): the state after it.
+Reduce = Callable[[list[int], list[Any]], int]
+
+
+def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Reduce:
+    """The reduction of ``rule``: what lark's tree builder and ``transformer`` do, as one generated function.
+
+    The plan follows ``lark.parse_tree_builder``: a child is kept unless it is a filtered token (an
+    anonymous string, ``_SEP``) of a rule without ``!``; a ``_rule`` child is spliced in (here it is a
+    list); a ``?rule`` left with one child is that child; else the transformer's method of the rule's
+    name (or alias) builds the value, or a ``Tree`` when there is none. ``goto`` maps the state under
+    the popped children to the state after the rule.
+    """
+    expansion = rule.expansion
+    options = rule.options
+    size = len(expansion)
+    name = rule.alias or options.template_source or rule.origin.name
+    keep = [(i, not s.is_term and s.name.startswith("_")) for i, s in enumerate(expansion)
+            if options.keep_all_tokens or not (s.is_term and s.filter_out)]
+    spliced = any(sp for _, sp in keep)
+    expand1 = bool(options.expand1 and not rule.alias)
+    fn = getattr(transformer, name, None) if transformer is not None else None
+    if name.startswith("_"):
+        # lark splices a helper rule's tree into its parent; here the helper's value is the list itself
+        assert fn is None, f"a helper rule has a callback: {name}"
+        build = "k"
+    elif fn is not None:
+        build = "fn(k)"
+    else:
+        build = "Tree(name, k)"
+    body: list[str] = []
+    if size > 1:
+        body.append(f"{', '.join(f'c{i}' for i in range(size))}, = values[-{size}:]")
+        body.append(f"del values[-{size - 1}:]")
+        body.append(f"del states[-{size - 1}:]")
+    elif size == 1:
+        body.append("c0 = values[-1]")
+    if expand1 and len(keep) == 1 and not spliced:
+        value = f"c{keep[0][0]}"  # a ``?rule`` of one child: the child itself
+    else:
+        if not spliced:
+            body.append(f"k = [{', '.join(f'c{i}' for i, _ in keep)}]")
+        else:
+            first = True
+            for i, sp in keep:
+                if first:
+                    # like lark: the first spliced list is taken over, not copied (left recursion stays linear)
+                    body.append(f"k = c{i}" if sp else f"k = [c{i}]")
+                    first = False
+                else:
+                    body.append(f"k += c{i}" if sp else f"k.append(c{i})")
+        value = f"(k[0] if len(k) == 1 else {build})" if expand1 and spliced else build
+    if size == 1 and value == "c0":
+        body = []  # the child is the value: only the state changes
+    if size:
+        if body:
+            body.append(f"values[-1] = {value}")
+        body.append("s = goto[states[-2]]")
+        body.append("states[-1] = s")
+    else:
+        body.append(f"values.append({value})")
+        body.append("s = goto[states[-1]]")
+        body.append("states.append(s)")
+    body.append("return s")
+    source = "def reduce(states, values):\n" + "".join(f"    {line}\n" for line in body)
+    namespace: dict[str, Any] = {"fn": fn, "goto": goto, "Tree": Tree, "name": name}
+    exec(compile(source, f"<reduce {rule}>", "exec"), namespace)
+    reduce: Reduce = namespace["reduce"]
+    reduce.__doc__ = source
+    return reduce
+
+
+#: Characters read by one ``findall`` (then on to the end of the line).
+_WINDOW = 16384
+
+
+class Driver:
+    """Parse a clean text with ``parser``'s LALR tables and ``transformer``'s callbacks, tokens from ``scanner``."""
+
+    def __init__(self, parser: Lark, transformer: object | None, scanner: FastScanner) -> None:
+        table = parser.parser.parser.parser.parse_table
+        gotos: dict[str, dict[int, int]] = {}
+        for state, row in table.states.items():
+            for sym, (action, arg) in row.items():
+                if not (sym.isupper() or sym == "$END"):
+                    assert action is Shift
+                    gotos.setdefault(sym, {})[state] = arg
+        reducers = {rule: reducer(rule, transformer, gotos.get(rule.origin.name, {})) for rule in parser.rules}
+        n = max(table.states) + 1
+        #: per state: terminal → the next state (an int: a shift) or the reduction to make
+        self.actions: list[dict[str, int | Reduce]] = [{} for _ in range(n)]
+        for state, row in table.states.items():
+            actions = self.actions[state]
+            for sym, (action, arg) in row.items():
+                if sym.isupper() or sym == "$END":
+                    actions[sym] = arg if action is Shift else reducers[arg]
+        self.start = table.start_states["start"]
+        self.end = table.end_states["start"]
+        self.triples = scanner.triples
+        #: the terminal of a punctuation token or a word that is a keyword or a base type
+        self.fixed = {**scanner.punct, **scanner.words}
+        #: the terminals of words: each is a name where the parser takes a name and not it
+        self.contextual = frozenset(scanner.words.values())
+        self.first = scanner.first
+        self.is_int = scanner.int.fullmatch
+        #: a block comment at an offset (a match; None when none starts there or it never closes)
+        self.block_comment = scanner.block_comment.match
+
+    def parse(self, text: str) -> Any:
+        """The value of ``start`` for ``text``; ``ScanError`` at the first thing not read.
+
+        The text is read a window of lines at a time (``findall`` copies what it matches, the blanks
+        and comments too, so a long comment is copied by pieces or not at all; no token spans a line).
+        A block comment that runs past its window is stepped over as one match, without a copy.
+        """
+        actions = self.actions
+        fixed = self.fixed
+        contextual = self.contextual
+        first = self.first
+        is_int = self.is_int
+        findall = self.triples.findall
+        new_str = str.__new__
+        states = [self.start]
+        values: list[Any] = []
+        row = actions[self.start]
+        pos = 0
+        n = len(text)
+        while pos < n:
+            end = text.find("\n", pos + _WINDOW) + 1 if pos + _WINDOW < n else n
+            if end <= 0:
+                end = n
+            for blank, value, bad in findall(text, pos, end):
+                start = pos + len(blank)
+                if not value:
+                    if bad:
+                        comment = self.block_comment(text, start) if bad == "/" else None
+                        if comment is None:
+                            raise ScanError(start)
+                        pos = comment.end()  # a block comment longer than the rest of the window
+                    else:
+                        pos = start  # the blanks and comments up to the window's end
+                    break
+                pos = start + len(value)
+                kind = fixed.get(value)
+                if kind is None:
+                    kind = first[value[0]]
+                    if kind is None:
+                        kind = "INT" if is_int(value) else "DOUBLE"
+                elif kind in contextual and kind not in row and "IDENTIFIER" in row:
+                    kind = "IDENTIFIER"  # a keyword is a name where the parser takes a name and not the keyword
+                tok = new_str(Token, value)
+                tok.type = kind
+                tok.value = value
+                tok.start_pos = start
+                tok.end_pos = pos
+                tok.line = tok.column = tok.end_line = tok.end_column = None
+                while True:
+                    act = row.get(kind)
+                    if type(act) is int:
+                        states.append(act)
+                        values.append(tok)
+                        row = actions[act]
+                        break
+                    if act is None:
+                        raise ScanError(start)
+                    row = actions[act(states, values)]
+        while True:
+            act = row.get("$END")
+            if act is None or type(act) is int:
+                raise ScanError(pos)
+            state = act(states, values)
+            if state == self.end:
+                return values[-1]
+            row = actions[state]
