@@ -145,6 +145,9 @@ class Driver:
         new_str = str.__new__
         states = [self.start]
         values: list[Any] = []
+        numbers: dict[str, str] = {}  # the terminal of each number read so far
+        push_state = states.append
+        push_value = values.append
         row = actions[self.start]
         pos = 0
         n = len(text)
@@ -168,7 +171,9 @@ class Driver:
                 if kind is None:
                     kind = first[value[0]]
                     if kind is None:
-                        kind = "INT" if is_int(value) else "DOUBLE"
+                        kind = numbers.get(value)
+                        if kind is None:
+                            kind = numbers[value] = "INT" if is_int(value) else "DOUBLE"
                 elif kind in contextual and kind not in row and "IDENTIFIER" in row:
                     kind = "IDENTIFIER"  # a keyword is a name where the parser takes a name and not the keyword
                 tok = new_str(Token, value)
@@ -177,16 +182,15 @@ class Driver:
                 tok.start_pos = start
                 tok.end_pos = pos
                 tok.line = tok.column = tok.end_line = tok.end_column = None
-                while True:
-                    act = row.get(kind)
-                    if type(act) is int:
-                        states.append(act)
-                        values.append(tok)
-                        row = actions[act]
-                        break
+                act = row.get(kind)
+                while type(act) is not int:
                     if act is None:
                         raise ScanError(start)
                     row = actions[act(states, values)]
+                    act = row.get(kind)
+                push_state(act)
+                push_value(tok)
+                row = actions[act]
         while True:
             act = row.get("$END")
             if act is None or type(act) is int:

@@ -57,11 +57,18 @@ class FastScanner(Lexer):
         self.words = words
         # the whole-file path (driver.py): one match per token with the blanks and comments before it,
         # read with findall (no match objects); a character no token reads is a match of its own
-        skip = "|".join(_uncaptured(terminals[name].pattern.to_regexp()) for name in _SKIP)
-        token = "|".join([*(_uncaptured(terminals[name].pattern.to_regexp()) for name in _PATTERNS[2:]),
-                          *(re.escape(v) for _, v in punct)])
+        ws = terminals["WS"].pattern.to_regexp()
+        assert re.fullmatch(r"\[[^\]]+\]\+", ws), "WS is one character class, repeated"
+        blank = f"{ws[:-1]}*+(?:(?:{_uncaptured(terminals['COMMENT'].pattern.to_regexp())}){ws[:-1]}*+)*+"
+        # each token pattern starts with characters no other starts with, so their order only decides how
+        # soon one is found: names first, then punctuation (the longer first), numbers (INT before DOUBLE),
+        # strings
+        singles = "".join(re.escape(v) for _, v in punct if len(v) == 1)
+        longer = [re.escape(v) for _, v in punct if len(v) > 1]
+        token = "|".join([_uncaptured(terminals["IDENTIFIER"].pattern.to_regexp()), *longer, f"[{singles}]",
+                          *(_uncaptured(terminals[name].pattern.to_regexp()) for name in ("INT", "DOUBLE", "LITERAL"))])
         #: (blanks and comments, a token, a character no token reads); at the end of the text both are empty
-        self.triples = re.compile(f"((?:{skip})*+)(?:({token})|((?s:.))|\\Z)")
+        self.triples = re.compile(f"({blank})(?:({token})|((?s:.))|\\Z)")
         #: the terminal read from a token's first character: None for a number (INT or DOUBLE)
         self.first: dict[str, str | None] = {c: "IDENTIFIER" for c in string.ascii_letters + "_"}
         self.first.update({'"': "LITERAL", "'": "LITERAL"})
