@@ -127,7 +127,7 @@ class Project:
             self._install(doc, snap)
             return snap, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
         _settle_heap()
-        names, topics = names_of(comp, self._name_cache)
+        names, topics = names_of(comp, self._name_cache, self.snapshots.get(uri))
         deps = frozenset(c.path for c in comp.closure()[1:])
         snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
         self._install(doc, snap)

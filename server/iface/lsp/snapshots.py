@@ -119,12 +119,14 @@ class View:
         return self.project.location(source, span)
 
 
-def names_of(comp: Compilation, cache: dict[int, tuple[object, Name]]
-           ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
+def names_of(comp: Compilation, cache: dict[int, tuple[object, Name]], last: Snapshot | None = None
+             ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
     """Names of a compilation for completion: local definitions, then included ones with their prefix.
 
     ``cache`` keeps the entry of each definition object: chunks that did not
     change keep their definition objects, so an edit rebuilds only its own.
+    When the compilation's lists were spliced from those of the ``last``
+    snapshot's, so are its names and topics, in time that follows the edit.
     """
     from ..model import nodes as m
     from ..model.walk import all_fields
@@ -148,6 +150,20 @@ def names_of(comp: Compilation, cache: dict[int, tuple[object, Name]]
         return name
 
     iface = comp.interface
+    spliced = iface.spliced
+    before = last.iface if last is not None else None
+    if spliced is not None and before is not None and spliced[0] == id(before) and \
+            [(p, id(i)) for p, i in before.included.items()] == [(p, id(i)) for p, i in iface.included.items()]:
+        n = len(before.definitions)
+        at, out, come = spliced[1].get("definitions", (0, 0, 0))
+        assert last is not None
+        spliced_names = (*last.names[:at], *(entry("", d) for d in iface.definitions[at:at + come]),
+                         *last.names[at + out:])
+        at, out, come = spliced[1].get("wirings", (0, 0, 0))
+        topics = (*last.topics[:at], *((w.topic, w.type.name) for w in iface.wirings[at:at + come]),
+                  *last.topics[at + out:])
+        if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
+            return spliced_names, topics
     names = [entry("", d) for d in iface.definitions]
     for prefix, inc in sorted(iface.included.items()):
         names.extend(entry(prefix + ".", d) for d in inc.definitions)

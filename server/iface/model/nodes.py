@@ -541,6 +541,9 @@ class Interface:
     symbols: dict[str, Definition] = field(default_factory=dict)
     #: Interfaces of included files, by the prefix used to refer to them.
     included: dict[str, Interface] = field(default_factory=dict)
+    #: When this version's lists were made from the last version's: (id of the last version's Interface,
+    #: {list name: (index, items there before, items there now)} for the lists the edit changed).
+    spliced: tuple[int, dict[str, tuple[int, int, int]]] | None = None
 
     # the seven sets, filled by ``sets.derive``
     subscribed: list[Endpoint] = field(default_factory=list)       # M
@@ -552,6 +555,21 @@ class Interface:
     diagnostics: list[Service] = field(default_factory=list)       # Δ
     #: Δ with the name each service is served under (its `provides` wiring, else its own name).
     diagnostics_endpoints: list[Endpoint] = field(default_factory=list)
+
+    def __getattr__(self, name: str) -> Any:
+        # the seven sets of a compile that left them to be made when first read (see ``defer_sets``)
+        fill = self.__dict__.get("_fill_sets")
+        if fill is not None and name in SET_FIELDS:
+            del self.__dict__["_fill_sets"]
+            fill(self)
+            return self.__dict__[name]
+        raise AttributeError(name)
+
+    def defer_sets(self, fill: Any) -> None:
+        """Make the seven sets when one is first read, by ``fill(self)`` (which sets every one of them)."""
+        for name in SET_FIELDS:
+            self.__dict__.pop(name, None)
+        self.__dict__["_fill_sets"] = fill
 
     @property
     def path(self) -> str:
@@ -589,3 +607,8 @@ class Interface:
         if prefix and prefix in self.included:
             return self.included[prefix].symbols.get(local)
         return None
+
+
+#: The fields of ``Interface`` that hold the seven sets (``sets.derive`` fills them).
+SET_FIELDS = frozenset({"subscribed", "published", "services", "actions", "parameters", "state", "diagnostics",
+                        "diagnostics_endpoints"})

@@ -14,18 +14,23 @@ say it directly, and are what tools write.
 from __future__ import annotations
 
 from . import nodes as m
-from .source import Span
+from .source import AnchoredSpan, Span
 
 SERVICE_PARTS = ("request", "response")
 ACTION_PARTS = ("goal", "result", "feedback")
 
 
 def _implicit(name: str, fields: list[m.Field], at: Span) -> m.Section:
+    """A section read from a flat body; its spans move with the chunk the body is in."""
+    near = fields[0].span if fields else at
     if fields:
-        span = Span(fields[0].span.start, fields[-1].span.end)
+        start, end = fields[0].span.start, fields[-1].span.end
     else:
-        span = Span(at.start, at.end)
-    return m.Section(name, span, Span(span.start, span.start), list(fields), [], True)
+        start, end = at.start, at.end
+    if isinstance(near, AnchoredSpan):
+        return m.Section(name, AnchoredSpan(start, end, near.anchor), AnchoredSpan(start, start, near.anchor),
+                         list(fields), [], True)
+    return m.Section(name, Span(start, end), Span(start, start), list(fields), [], True)
 
 
 def normalize_service(svc: m.Service) -> None:

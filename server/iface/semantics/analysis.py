@@ -17,6 +17,7 @@ as a first compile.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from operator import attrgetter
 
@@ -24,8 +25,9 @@ from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
 from ..model.source import Source
 from ..model.walk import all_consts, bodies
+from ..syntax.edits import Change
 from .resolve import break_cycles, resolve_item, settle_typedefs, unknown_types
-from .sets import derive
+from .sets import SetFindings, derive
 from .suggest import Suggester
 from .validate import (
     RULES,
@@ -46,15 +48,15 @@ class Unit:
 
     item: m.Definition | m.Wiring
     #: Every name the item looks up (types and named values, with their parts).
-    uses: frozenset[str]
+    uses: tuple[str, ...]
     #: Its named types that name nothing, in order.
-    unknown: list[m.NamedType]
+    unknown: Sequence[m.NamedType]
     #: ``unknown-type`` findings of ``unknown``.
-    unresolved: list[Diagnostic]
+    unresolved: Sequence[Diagnostic]
     #: Findings of the item alone (local rules; wiring rules).
-    local: list[Diagnostic]
+    local: Sequence[Diagnostic]
     #: Findings that read what its names resolve to.
-    checked: list[Diagnostic]
+    checked: Sequence[Diagnostic]
     #: For a struct: the structs its fields hold (a local one by name), the edges of the recursion check.
     edges: tuple[object, ...] = ()
 
@@ -79,10 +81,15 @@ class Analysis:
         self.cycle_members: set[int] = set()
         self.recursion: list[Diagnostic] = []
         self.involved: set[int] = set()
+        self.sets = SetFindings()
+        #: The interface of the last compile (its lists are spliced for the next version).
+        self.iface: m.Interface | None = None
 
     def reset(self) -> None:
-        """Forget everything (the next compile is a first one)."""
+        """Forget everything (the next compile is a first one); the last interface stays."""
+        last = self.iface
         self.__init__()  # type: ignore[misc]
+        self.iface = last
 
 
 def _value_names(v: m.Value | None, out: set[str]) -> None:
@@ -118,9 +125,10 @@ def _edges(iface: m.Interface, s: m.Struct) -> tuple[object, ...]:
 
 
 _START = attrgetter("span.start")
+_UNITS = (m.Struct, m.Service, m.Action, m.Enum, m.Senum, m.Typedef, m.Const, m.Wiring)
 
 
-def analyse(iface: m.Interface, an: Analysis | None = None) -> list[Diagnostic]:
+def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | None = None) -> list[Diagnostic]:
     """Resolve ``iface`` and check it; ``an`` keeps what an unchanged item found for the next version.
 
     The findings come in the order of a whole-file pass (duplicates, unknown types, cycles, sets, local
@@ -137,18 +145,26 @@ def analyse(iface: m.Interface, an: Analysis | None = None) -> list[Diagnostic]:
     elif an.context != context:
         an.reset()
     an.context = context
+    an.iface = iface
     defs = iface.definitions
-    items: list[m.Definition | m.Wiring] = [*defs, *iface.wirings]
-    by_id = dict(zip(map(id, items), items))
     units = an.units
-    removed = [units.pop(k) for k in units.keys() - by_id.keys()]
-    added = [by_id[k] for k in by_id.keys() - units.keys()]
+    items: list[m.Definition | m.Wiring]
+    told = change is not None and bool(units)
+    if told:  # the edit says what it changed
+        assert change is not None
+        removed = [units.pop(id(x)) for x in change[1] if id(x) in units]
+        added = [x for x in change[2] if isinstance(x, _UNITS)]
+    else:
+        items = [*defs, *iface.wirings]
+        by_id = dict(zip(map(id, items), items))
+        removed = [units.pop(k) for k in units.keys() - by_id.keys()]
+        added = [by_id[k] for k in by_id.keys() - units.keys()]
     if (_structural(an, removed, added)):
         an.reset()
         an.context = context
         units = an.units
         removed = []
-        added = items
+        added = [*defs, *iface.wirings]
     first = not units
     added.sort(key=_START)
     if an.source is not None and an.source is not src:
@@ -188,23 +204,26 @@ def analyse(iface: m.Interface, an: Analysis | None = None) -> list[Diagnostic]:
         an.duplicates[n] = [make("duplicate-definition", f"'{d.name}' is already defined", src, d.name_span,
                                  related=[Related(src, head.name_span, f"first definition of '{d.name}'")])
                             for d in same[1:]]
-    old_symbols = an.symbols
-    if changed or first:
+    was = {n: an.symbols.get(n) for n in changed}
+    if first or (changed and not (told and _in_place(an, removed, added, changed))):
         symbols: dict[str, m.Definition] = {}
         for d in defs:
             if d.name not in symbols:
                 symbols[d.name] = d
         an.symbols = symbols
+    else:  # definitions replaced by ones of the same names, in the same order: the table keeps its order
+        for n in changed:
+            an.symbols[n] = an.by_name[n][0]
     iface.symbols = dict(an.symbols)
-    rebound = [n for n in changed if an.symbols.get(n) is not old_symbols.get(n)]
-    names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(old_symbols.get(n), m.Const)
-                        or (n in an.symbols) != (n in old_symbols) for n in rebound)
+    rebound = [n for n in changed if an.symbols.get(n) is not was[n]]
+    names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(was[n], m.Const)
+                        or (n in an.symbols) != (was[n] is not None) for n in rebound)
     # ---- resolve what is new, and what uses a name that now means another definition ----------------
     redo: dict[int, m.Definition | m.Wiring] = {id(x): x for x in added}
     for n in rebound:
         for k in an.users.get(n, ()):
             if k not in redo:
-                redo[k] = by_id[k]
+                redo[k] = units[k].item
     todo = added if first else sorted(redo.values(), key=_START)
     fresh: list[Unit] = []
     for x in todo:
@@ -216,11 +235,12 @@ def analyse(iface: m.Interface, an: Analysis | None = None) -> list[Diagnostic]:
         else:
             _named_values(x, uses)
             local = old.local if old is not None else local_findings(src, x, robot)
-        unit = Unit(x, frozenset(uses), unknown, [], local, [], old.edges if old is not None else ())
+        unit = Unit(x, tuple(uses), unknown or (), (), local or (), (), old.edges if old is not None else ())
         if keep:
             if old is not None:
-                for n in old.uses - uses:
-                    an.users[n].discard(id(x))
+                for n in old.uses:
+                    if n not in uses:
+                        an.users[n].discard(id(x))
             for n in uses:
                 an.users.setdefault(n, set()).add(id(x))
         units[id(x)] = unit
@@ -238,11 +258,16 @@ def analyse(iface: m.Interface, an: Analysis | None = None) -> list[Diagnostic]:
         pending = sorted(an.unknown.values(), key=lambda u: u.item.span.start)
         close: list[Suggester] = []
         for u in pending:
-            u.unresolved = list(unknown_types(iface, u.unknown, close))
+            u.unresolved = list(unknown_types(iface, u.unknown, close)) or ()
+    # ---- the seven sets: findings now, the sets themselves when first read ---------------------------
+    new = {id(x) for x in added}
+    an.sets.update(iface, [u.item for u in removed], [u.item for u in fresh if id(u.item) in new],
+                   [u.item for u in fresh if id(u.item) not in new and isinstance(u.item, m.Wiring)])
+    iface.defer_sets(_fill_sets)
     # ---- checks of resolved definitions -----------------------------------------------------------
     for u in fresh:
         if not isinstance(u.item, m.Wiring):
-            u.checked = definition_findings(iface, u.item)
+            u.checked = definition_findings(iface, u.item) or ()
     # ---- recursion over the struct graph ----------------------------------------------------------
     if robot:
         _recursion(iface, an, removed, fresh, first, keep)
@@ -261,7 +286,7 @@ def analyse(iface: m.Interface, an: Analysis | None = None) -> list[Diagnostic]:
     for u in noisy:
         out.extend(u.unresolved)
     out.extend(an.cycles)
-    out.extend(derive(iface))
+    out.extend(an.sets.findings())
     for u in noisy:
         out.extend(u.local)
     for u in noisy:
@@ -278,10 +303,25 @@ def _rehome_all(an: Analysis, src: Source) -> None:
     an.duplicates = {n: [rehome(d, src) for d in found] for n, found in an.duplicates.items()}
     an.cycles = [rehome(d, src) for d in an.cycles]
     an.recursion = [rehome(d, src) for d in an.recursion]
+    an.sets.rehome(lambda d: rehome(d, src))
     for u in an.noisy.values():
         u.unresolved = [rehome(d, src) for d in u.unresolved]
         u.local = [rehome(d, src) for d in u.local]
         u.checked = [rehome(d, src) for d in u.checked]
+
+
+def _in_place(an: Analysis, removed: list[Unit], added: list[m.Definition | m.Wiring], changed: set[str]) -> bool:
+    """True when the edit replaced definitions by as many of the same names in the same order, none of them
+    defined twice: the symbol table then has its keys in the same order."""
+    gone = [u.item.name for u in removed if not isinstance(u.item, m.Wiring)]
+    come = [x.name for x in added if not isinstance(x, m.Wiring)]
+    return gone == come and all(len(an.by_name.get(n, ())) == 1 for n in changed)
+
+
+def _fill_sets(iface: m.Interface) -> None:
+    """Make the seven sets of ``iface`` (their findings were made with the rest)."""
+    for _ in derive(iface):
+        pass
 
 
 def _structural(an: Analysis, removed: list[Unit], added: list[m.Definition | m.Wiring]) -> bool:

@@ -6,7 +6,8 @@ import gc
 import math
 import os
 import re
-from bisect import bisect_right
+from operator import attrgetter
+from bisect import bisect_left, bisect_right
 from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,8 +16,9 @@ from typing import Literal
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, Severity, make
 from ..model.normalize import normalize_action, normalize_service
-from ..model.source import Source, Span
-from ..syntax.parse import ChunkCache, ParseResult, parse_text
+from ..model.source import AnchoredSpan, Source, Span
+from ..syntax.edits import Change, EditCache, parse_edited
+from ..syntax.parse import ParseResult, parse_text
 from .analysis import Analysis, analyse
 
 #: Files larger than this are refused with a message (interface files are small).
@@ -111,7 +113,7 @@ class Workspace:
         self.include_paths = [str(p) for p in include_paths]
         self.overlays: dict[str, str] = {}
         self._cache: dict[str, tuple[object, Compilation]] = {}
-        self._chunks: dict[str, ChunkCache] = {}
+        self._chunks: dict[str, EditCache] = {}
         self._memos: dict[str, Analysis] = {}
 
     # ---- reading ---------------------------------------------------------------
@@ -272,7 +274,7 @@ class Workspace:
             size = len(text.encode("utf-8", errors="surrogatepass"))
             return Compilation(src, m.Interface(src, Path(key).stem), [too_large_diagnostic(key, size)])
         editing = key in self.overlays
-        cache = self._chunks.setdefault(key, ChunkCache()) if editing else None
+        cache = self._chunks.setdefault(key, EditCache()) if editing else None
         memo = self._memos.setdefault(key, Analysis()) if editing else None
         return (yield from compile_steps(Source(key, text), problems, cache=cache, memo=memo,
                                          find=self.find_include))
@@ -293,7 +295,7 @@ CompileSteps = Generator[str, "Compilation | Refused | None", Compilation]
 
 
 def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
-                   cache: ChunkCache | None = None,
+                   cache: EditCache | None = None,
                    memo: Analysis | None = None,
                    includes: Workspace | None = None) -> Compilation:
     """Parse, model, resolve and check one source; ``includes`` finds and compiles the files it includes."""
@@ -310,21 +312,25 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
 
 
 def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
-                  cache: ChunkCache | None = None,
+                  cache: EditCache | None = None,
                   memo: Analysis | None = None,
                   find: Callable[[str, str], str | None] | None = None) -> CompileSteps:
     """``compile_source`` as steps: yields each included file's path and is sent its compilation."""
     diagnostics: list[Diagnostic] = list(problems or [])
     diagnostics.extend(_surrogates(source))
-    parsed = _quietly(parse_text, source.text, cache)
-    iface = build_interface(source, parsed.items)
+    parsed = _quietly(parse_text, source.text) if cache is None else _quietly(parse_edited, source.text, cache)
+    change = cache.change if cache is not None and memo is not None else None
+    before = memo.iface if memo is not None else None
+    if change is None or before is None or before.items is not change[3]:
+        before = change = None
+    iface = build_interface(source, parsed.items, before, change)
     for p in parsed.problems:
         diagnostics.append(make(p.code, p.message, source, p.span, **p.data))
     included = yield from _include(iface, diagnostics, find)
     enabled = gc.isenabled()
     gc.disable()
     try:
-        diagnostics.extend(analyse(iface, memo))
+        diagnostics.extend(analyse(iface, memo, change))
         broken = parsed.broken_ranges() if any(p.code == "syntax-error" for p in parsed.problems) else None
         if broken:
             diagnostics = [d for d in diagnostics if d.code == "syntax-error" or d.source is not source
@@ -354,10 +360,35 @@ def _surrogates(source: Source) -> list[Diagnostic]:
                  "and cannot be written as UTF-8", source, Span(found.start(), found.end()))]
 
 
-def build_interface(source: Source, items: list[m.Item]) -> m.Interface:
-    """Sort parsed items into an Interface (before resolution)."""
+#: The lists of an Interface that sort its items, and the kinds of item each holds (the rest: definitions).
+_LISTS: tuple[tuple[str, type], ...] = (("wirings", m.Wiring), ("includes", m.Include), ("namespaces", m.Namespace),
+                                       ("externals", m.External), ("component_decls", m.ComponentDecl))
+_START = attrgetter("span.start")
+
+
+def _list_of(item: m.Item) -> str:
+    for name, kind in _LISTS:
+        if isinstance(item, kind):
+            return name
+    return "definitions"
+
+
+def build_interface(source: Source, items: list[m.Item], before: m.Interface | None = None,
+                    change: Change | None = None) -> m.Interface:
+    """Sort parsed items into an Interface (before resolution).
+
+    With the interface of the version ``before`` and what the edit ``change``d, its lists are the lists
+    before with the items gone replaced by the new ones, in time that follows the edit.
+    """
     iface = m.Interface(source, Path(source.path).stem)
     iface.items = items
+    # (a model whose spans are not kept relative to their chunk is made again: its services' sections
+    # read from a flat body hold spans no chunk moves)
+    if before is not None and change is not None and items and isinstance(items[0].span, AnchoredSpan) \
+            and _splice(iface, before, change):
+        return iface
+    iface.wirings, iface.includes, iface.namespaces, iface.externals = [], [], [], []
+    iface.component_decls, iface.definitions, iface.component = [], [], None
     for item in items:
         if isinstance(item, m.Wiring):
             iface.wirings.append(item)
@@ -381,6 +412,35 @@ def build_interface(source: Source, items: list[m.Item]) -> m.Interface:
         iface.name = iface.component.name
         iface.version = iface.component.version
     return iface
+
+
+def _splice(iface: m.Interface, before: m.Interface, change: Change) -> bool:
+    """Fill the lists of ``iface`` from those ``before`` and the ``change``; False if they do not fit."""
+    cut, gone, new, _ = change
+    where: dict[str, tuple[int, int, int]] = {}
+    for name in (*(n for n, _ in _LISTS), "definitions"):
+        old: list[m.Item] = getattr(before, name)
+        out = [x for x in gone if _list_of(x) == name]
+        come = [x for x in new if _list_of(x) == name]
+        if not out and not come:
+            setattr(iface, name, list(old))
+            continue
+        at = bisect_left(old, cut, key=_START)
+        if any(a is not b for a, b in zip(old[at:at + len(out)], out)) or len(old) < at + len(out):
+            return False
+        setattr(iface, name, [*old[:at], *come, *old[at + len(out):]])
+        where[name] = (at, len(out), len(come))
+    iface.spliced = (id(before), where)
+    for item in new:
+        if isinstance(item, m.Service):
+            normalize_service(item)
+        elif isinstance(item, m.Action):
+            normalize_action(item)
+    iface.component = iface.component_decls[0] if iface.component_decls else None
+    if iface.component is not None:
+        iface.name = iface.component.name
+        iface.version = iface.component.version
+    return True
 
 
 def _quietly(fn: Callable[..., ParseResult], *args: object) -> ParseResult:

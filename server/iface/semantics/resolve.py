@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
@@ -85,7 +85,7 @@ def resolve_item(iface: m.Interface, item: m.Item, uses: set[str] | None = None)
     return unknown
 
 
-def unknown_types(iface: m.Interface, unknown: list[m.NamedType], close_names: list[Suggester]) -> Iterator[Diagnostic]:
+def unknown_types(iface: m.Interface, unknown: Sequence[m.NamedType], close_names: list[Suggester]) -> Iterator[Diagnostic]:
     """The findings of named types that name nothing, in order; ``close_names`` holds the one Suggester of a
     compile once it is made (at the first name that needs it: made at most once, used in the file's order)."""
     src = iface.source

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
@@ -126,3 +126,248 @@ def _wiring_checks(iface: m.Interface) -> Iterator[Diagnostic]:
                            f"message '{d.name}' is neither published nor subscribed: it is a type "
                            f"definition (add `publishes {d.name} on \"/topic\"` to wire it)",
                            src, d.name_span, name=d.name)
+
+
+# ---------------------------------------------------------------------------
+# the findings of ``derive``, kept per item
+
+
+def _target(w: m.Wiring) -> m.Definition | None:
+    """What a wiring's type stands for, through typedefs (as ``derive`` reads it)."""
+    target = w.type.target
+    if isinstance(target, m.Typedef):
+        real = resolve_typedefs(w.type)
+        target = real.target if isinstance(real, m.NamedType) else target
+    return target
+
+
+def _wrong_kind(src: m.Source, w: m.Wiring, target: m.Definition | None) -> Diagnostic | None:
+    """The ``wrong-kind`` finding of one wiring, if its type is the wrong kind of definition."""
+    if w.direction in ("publishes", "subscribes"):
+        if target is not None and not isinstance(target, m.Struct):
+            done = "published" if w.direction == "publishes" else "subscribed to"
+            return make("wrong-kind", f"'{w.type.name}' is a {target.kind}, not a message: "
+                        f"only messages are {done} on topics", src, w.type.span)
+        return None
+    if target is None or isinstance(target, (m.Service, m.Action)):
+        return None
+    done = "provided" if w.direction == "provides" else "called"
+    return make("wrong-kind", f"'{w.type.name}' is a {getattr(target, 'kind', 'definition')}, "
+                f"not a service or action: only those are {done}", src, w.type.span)
+
+
+def _count(counts: dict[int, int], key: int, by: int, touched: set[int]) -> None:
+    n = counts.get(key, 0) + by
+    if n:
+        counts[key] = n
+    else:
+        counts.pop(key, None)
+    touched.add(key)
+
+
+class SetFindings:
+    """What ``derive`` reports, kept from small per-item facts so that an edit updates it in time that
+    follows the edit (the seven sets themselves are made when first read: ``Interface.published`` …)."""
+
+    def __init__(self) -> None:
+        #: id(wiring) -> (wiring, what it stands for)
+        self.facts: dict[int, tuple[m.Wiring, m.Definition | None]] = {}
+        #: id(wiring) -> its wrong-kind finding
+        self.wrong: dict[int, Diagnostic] = {}
+        self.by_statement: dict[tuple[str, str, str], list[m.Wiring]] = {}
+        self.by_channel: dict[tuple[str, str], list[m.Wiring]] = {}
+        self.statement_found: dict[tuple[str, str, str], list[Diagnostic]] = {}
+        self.channel_found: dict[tuple[str, str], list[Diagnostic]] = {}
+        self.wired: dict[int, int] = {}  # id(message) -> publishes/subscribes naming it
+        self.delta: dict[int, int] = {}  # id(Δ service) -> provides/calls naming it
+        self.calls = 0  # provides and calls statements
+        self.messages: dict[int, m.Struct] = {}
+        self.deltas: dict[int, m.Service] = {}
+        self.implicit_kinds = 0  # services and actions, not Δ
+        self.message_found: dict[int, Diagnostic] = {}
+        self.delta_found: dict[int, Diagnostic] = {}
+        self.implicit: Diagnostic | None = None
+        self.flags: tuple[bool, bool] | None = None
+
+    def update(self, iface: m.Interface, gone: list[m.Item], new: list[m.Item],
+               again: list[m.Wiring]) -> None:
+        """Items ``gone`` and ``new`` (definitions and wirings), and wirings resolved ``again``."""
+        src = iface.source
+        touched: set[int] = set()
+        statements: set[tuple[str, str, str]] = set()
+        channels: set[tuple[str, str]] = set()
+        services_changed = False
+        for x in [*gone, *again]:
+            if isinstance(x, m.Wiring):
+                w, target = self.facts.pop(id(x))
+                self.wrong.pop(id(x), None)
+                self._wiring(w, target, -1, touched)
+                if x in gone:  # noqa: SIM102  (a wiring resolved again keeps its place)
+                    self._place(w, -1, statements, channels)
+                else:
+                    channels.add(_channel(w))
+            else:
+                services_changed |= self._definition(x, -1)
+        for x in [*new, *again]:
+            if isinstance(x, m.Wiring):
+                target = _target(x)
+                self.facts[id(x)] = (x, target)
+                wrong = _wrong_kind(src, x, target)
+                if wrong is not None:
+                    self.wrong[id(x)] = wrong
+                self._wiring(x, target, 1, touched)
+                if x not in again:
+                    self._place(x, 1, statements, channels)
+            else:
+                services_changed |= self._definition(x, 1)
+                touched.add(id(x))
+        for key in statements:
+            self._statement(src, key, channels)
+        for ch in channels:
+            self._channel(src, ch)
+        robot_file = src.path.endswith(".iface")
+        flags = (robot_file and not interface_package(iface), robot_file and not self.calls and iface.component is None)
+        every = flags != self.flags
+        self.flags = flags
+        for k in (self.messages.keys() | self.message_found.keys()) if every else touched:
+            d = self.messages.get(k)
+            if d is not None and flags[0] and not self.wired.get(k):
+                self.message_found[k] = make("message-no-direction",
+                                             f"message '{d.name}' is neither published nor subscribed: it is a type "
+                                             f"definition (add `publishes {d.name} on \"/topic\"` to wire it)",
+                                             src, d.name_span, name=d.name)
+            else:
+                self.message_found.pop(k, None)
+        for k in (self.deltas.keys() | self.delta_found.keys()) if every else touched:
+            s = self.deltas.get(k)
+            if s is not None and not self.delta.get(k):
+                self.delta_found[k] = _unwired_delta(iface, s)
+            else:
+                self.delta_found.pop(k, None)
+        if every or services_changed:
+            self.implicit = None
+            if flags[1] and self.implicit_kinds:
+                implicit = [d for d in iface.definitions if isinstance(d, m.Action) or
+                            (isinstance(d, m.Service) and not d.is_diagnostics)]
+                names = ", ".join(d.name for d in implicit)
+                self.implicit = make("implicit-provides",
+                                     f"nothing is wired with provides/calls, so the component provides {names} "
+                                     "under their own names", src, implicit[0].name_span)
+
+    def findings(self) -> list[Diagnostic]:
+        """Every finding, grouped by kind."""
+        out = list(self.wrong.values())
+        for found in self.statement_found.values():
+            out.extend(found)
+        for found in self.channel_found.values():
+            out.extend(found)
+        out.extend(self.message_found.values())
+        out.extend(self.delta_found.values())
+        if self.implicit is not None:
+            out.append(self.implicit)
+        return out
+
+    def rehome(self, move: Callable[[Diagnostic], Diagnostic]) -> None:
+        """Attach every kept finding to the newest version of the file (``move``)."""
+        self.wrong = {k: move(f) for k, f in self.wrong.items()}
+        self.statement_found = {k: [move(f) for f in v] for k, v in self.statement_found.items()}
+        self.channel_found = {k: [move(f) for f in v] for k, v in self.channel_found.items()}
+        self.message_found = {k: move(f) for k, f in self.message_found.items()}
+        self.delta_found = {k: move(f) for k, f in self.delta_found.items()}
+        self.implicit = move(self.implicit) if self.implicit is not None else None
+
+    def _wiring(self, w: m.Wiring, target: m.Definition | None, by: int, touched: set[int]) -> None:
+        if w.direction in ("publishes", "subscribes"):
+            if target is not None and isinstance(target, m.Struct):
+                _count(self.wired, id(target), by, touched)
+            return
+        self.calls += by
+        if isinstance(target, m.Service) and target.is_diagnostics:
+            _count(self.delta, id(target), by, touched)
+
+    def _definition(self, d: m.Item, by: int) -> bool:
+        """Count a definition in or out; True when it is a service or action that is not Δ."""
+        k = id(d)
+        if isinstance(d, m.Struct) and d.kind == "message":
+            if by > 0:
+                self.messages[k] = d
+            else:
+                self.messages.pop(k, None)
+                self.message_found.pop(k, None)
+        elif isinstance(d, m.Service) and d.is_diagnostics:
+            if by > 0:
+                self.deltas[k] = d
+            else:
+                self.deltas.pop(k, None)
+                self.delta_found.pop(k, None)
+        elif isinstance(d, (m.Service, m.Action)):
+            self.implicit_kinds += by
+            return True
+        return False
+
+    def _place(self, w: m.Wiring, by: int, statements: set[tuple[str, str, str]],
+               channels: set[tuple[str, str]]) -> None:
+        key = (w.direction, w.type.name, w.topic)
+        same = self.by_statement.setdefault(key, [])
+        if by > 0:
+            same.append(w)
+        else:
+            same.remove(w)
+        statements.add(key)
+        ch = _channel(w)
+        on = self.by_channel.setdefault(ch, [])
+        if by > 0:
+            on.append(w)
+        else:
+            on.remove(w)
+        channels.add(ch)
+
+    def _statement(self, src: m.Source, key: tuple[str, str, str], channels: set[tuple[str, str]]) -> None:
+        same = self.by_statement.get(key)
+        if not same:
+            self.by_statement.pop(key, None)
+            self.statement_found.pop(key, None)
+            return
+        same.sort(key=_start)
+        first = same[0]
+        found = [make("duplicate-wiring", f"'{w.direction} {w.type.name} on \"{w.topic}\"' is stated twice",
+                      src, w.span, related=[Related(src, first.span, "first stated here")]) for w in same[1:]]
+        if found:
+            self.statement_found[key] = found
+        else:
+            self.statement_found.pop(key, None)
+        channels.add(_channel(first))
+
+    def _channel(self, src: m.Source, ch: tuple[str, str]) -> None:
+        on = self.by_channel.get(ch)
+        if not on:
+            self.by_channel.pop(ch, None)
+            self.channel_found.pop(ch, None)
+            return
+        on.sort(key=_start)
+        found = []
+        first: m.Wiring | None = None
+        for w in on:
+            if self.by_statement[(w.direction, w.type.name, w.topic)][0] is not w:
+                continue  # stated twice: reported as such
+            if first is None:
+                first = w
+                continue
+            a, b = first.type, w.type
+            if not ((a.target is not None and a.target is b.target) or a.name == b.name):
+                found.append(make("topic-type-conflict",
+                                  f"{ch[0]} '{w.topic}' is used with '{b.name}' here and with '{a.name}' elsewhere",
+                                  src, w.topic_span,
+                                  related=[Related(src, first.topic_span, f"'{w.topic}' used with '{a.name}'")]))
+        if found:
+            self.channel_found[ch] = found
+        else:
+            self.channel_found.pop(ch, None)
+
+
+def _channel(w: m.Wiring) -> tuple[str, str]:
+    return ("topic" if w.direction in ("publishes", "subscribes") else "service", w.topic)
+
+
+def _start(w: m.Wiring) -> int:
+    return w.span.start

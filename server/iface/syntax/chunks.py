@@ -59,13 +59,16 @@ def clean_doc(comment: str) -> str:
     return "\n".join(out)
 
 
-def split(text: str, previous: tuple[str, list[Chunk]] | None = None) -> list[Chunk]:
+def split(text: str, previous: tuple[str, list[Chunk]] | None = None,
+          kept: list[int] | None = None) -> list[Chunk]:
     """Cut ``text`` into chunks covering it without gaps.
 
     With ``previous`` (an earlier version of the text and its chunks) only the
     text around what changed is scanned again: the chunks before it are kept,
     and once the scan reaches, past the change, a cut the earlier version had
     at the same place, the rest is the earlier chunks moved by the change.
+    ``kept`` then gets (k, m): the first k chunks are the earlier ones, and
+    those from m on are the earlier version's last ones, moved.
     """
     if previous is None or not previous[1]:
         return _split(text, 0)
@@ -73,6 +76,8 @@ def split(text: str, previous: tuple[str, list[Chunk]] | None = None) -> list[Ch
     head = _common_prefix(old, text)
     tail = _common_suffix(old, text, head)
     if head == len(old) == len(text):
+        if kept is not None:
+            kept.extend((len(old_chunks), len(old_chunks)))
         return old_chunks
     delta = len(text) - len(old)
     new_end = len(text) - tail
@@ -88,6 +93,8 @@ def split(text: str, previous: tuple[str, list[Chunk]] | None = None) -> list[Ch
         return j < len(starts) and starts[j] == cut - delta
 
     middle = _split(text, begin, resumes)
+    if kept is not None:
+        kept.extend((k, k + len(middle)))
     last = middle[-1]
     if last.end >= len(text):
         return old_chunks[:k] + middle
