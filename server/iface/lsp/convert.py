@@ -9,14 +9,15 @@ astral characters included; every builder below takes one.
 from __future__ import annotations
 
 import re
+from array import array
 from bisect import bisect_right
 
 UTF8, UTF16, UTF32 = "utf-8", "utf-16", "utf-32"
 _BREAK = re.compile(r"\r\n|\r|\n")
 
 
-#: Line starts are kept in blocks of about this many lines, each with an offset still to add to its starts,
-#: so that an edit copies one block and moves the later ones by their offsets alone.
+#: Line starts are kept in blocks of about this many lines (arrays of machine integers), each with an offset
+#: still to add to its starts, so that an edit copies one block and moves the later ones by their offsets alone.
 _BLOCK = 1024
 
 
@@ -46,7 +47,7 @@ class LineIndex:
         self.encoding = encoding
         self.ascii = text.isascii()
         starts = _line_starts(text)
-        self._blocks = [starts[i:i + _BLOCK] for i in range(0, len(starts), _BLOCK)]
+        self._blocks = [array("q", starts[i:i + _BLOCK]) for i in range(0, len(starts), _BLOCK)]
         self._shift = [0] * len(self._blocks)
         self._heads = [b[0] for b in self._blocks]
         self._lines = list(range(0, len(starts), _BLOCK))
@@ -98,7 +99,7 @@ class LineIndex:
             i = new.find("\n", i + 1)
         merged[lo:hi] = added
         merged[lo + len(added):] = [x + delta for x in merged[lo + len(added):]]
-        pieces = [merged[i:i + _BLOCK] for i in range(0, len(merged), _BLOCK)] or [[0]]
+        pieces = [array("q", merged[i:i + _BLOCK]) for i in range(0, len(merged), _BLOCK)] or [array("q", [0])]
         out._blocks = [*self._blocks[:k1], *pieces, *self._blocks[k2 + 1:]]
         out._shift = [*self._shift[:k1], *([0] * len(pieces)), *(d + delta for d in self._shift[k2 + 1:])]
         out._heads = [*self._heads[:k1], *(p[0] for p in pieces), *(h + delta for h in self._heads[k2 + 1:])]

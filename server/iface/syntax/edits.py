@@ -90,8 +90,13 @@ def _reuse(text: str, cache: EditCache) -> ParseResult | None:
     for r in middle:
         cache.keep(r)
     suffix = old[len(old) - after:]
-    for r, ch in zip(suffix, chunks[end:]):
-        r.move_to(ch.start)
+    delta = len(text) - len(cache.split[0])
+    if delta:  # every chunk after the change moves by as much (``ChunkResult.move_to``, one loop)
+        for r in suffix:
+            for s in r.spans:  # a chunk records one span, its anchor (see ``ModelBuilder.reset``)
+                s.start += delta
+                s.end += delta
+            r.base += delta
     cut = chunks[k].start if k < len(chunks) else len(text)
     # the items before the change start before it (the others are further on, moved or gone): a binary search
     before = bisect_left(prev.items, cut, key=_START)
