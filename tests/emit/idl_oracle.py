@@ -1,4 +1,4 @@
-"""IDL's escaped identifiers as independent readers see them: rosbags after the lexical rule, idlc's C."""
+"""IDL as independent readers see it: escaped identifiers after the lexical rule, idlc's C, Fast-DDS-Gen."""
 
 from __future__ import annotations
 
@@ -10,6 +10,9 @@ from pathlib import Path
 IDLC = shutil.which("idlc")
 NO_IDLC = "idlc (Cyclone DDS's IDL compiler, Debian package cyclonedds-tools) is not installed: scripts/test.sh " \
           "installs it where it runs as root"
+FASTDDSGEN = shutil.which("fastddsgen")
+NO_FASTDDSGEN = "fastddsgen (eProsima Fast-DDS-Gen, Debian package fastddsgen; ArduPilot builds its IDL with its " \
+                "fork Micro-XRCE-DDS-Gen) is not installed: scripts/test.sh installs it where it runs as root"
 _TEXT = r'"(?:\\.|[^"\\])*"|//[^\n]*'
 #: A string, a comment, or a leading underscore that starts an identifier (not one inside a name).
 _ESCAPE = re.compile(_TEXT + r"|(?<!\w)_(?=[A-Za-z])")
@@ -37,3 +40,17 @@ def idlc_header(root: Path, idl: Path, out: Path) -> tuple[subprocess.CompletedP
                           timeout=120)
     header = out / idl.with_suffix(".h").name
     return proc, header.read_text() if header.is_file() else ""
+
+
+def fastddsgen(root: Path, files: list[Path], out: Path) -> subprocess.CompletedProcess[str]:
+    """Fast-DDS-Gen with the options ArduPilot's libraries/AP_DDS/wscript gives microxrceddsgen.
+
+    Its preprocessed copies go to a folder of this call's own (``-t``): by default they go to /tmp
+    under the input file's name, and two test runs side by side then read each other's half-written
+    copy ("mismatched input '<EOF>'").
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    temp = out.parent / f"{out.name}-fastddsgen-tmp"
+    temp.mkdir(exist_ok=True)
+    return subprocess.run([str(FASTDDSGEN), "-cs", "-replace", "-t", str(temp), "-d", str(out), "-I", str(root),
+                           *(str(f) for f in files)], capture_output=True, text=True, timeout=600)

@@ -19,15 +19,13 @@ from iface.emit.base import Result
 from iface.semantics.compile import Workspace
 
 from .golden_util import check_golden
+from .idl_oracle import FASTDDSGEN, NO_FASTDDSGEN, fastddsgen
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).parent / "data" / "ardupilot"
 ROBOT_ARM = ROOT / "examples" / "robot_arm.iface"
 SHARED = DATA / "shared"
 IDLC = shutil.which("idlc")
-FASTDDSGEN = shutil.which("fastddsgen")
-NO_FASTDDSGEN = "fastddsgen (eProsima Fast-DDS-Gen, Debian package fastddsgen; ArduPilot builds its IDL with its " \
-                "fork Micro-XRCE-DDS-Gen) is not installed: scripts/test.sh installs it where it runs as root"
 IDL_CASES = ["listing1", "rover_v1", "injection_docs", "dds"]
 NO_IDLC = "idlc (Cyclone DDS's IDL compiler, Debian package cyclonedds-tools) is not installed: scripts/test.sh " \
           "installs it where it runs as root"
@@ -213,13 +211,6 @@ def write_idl(case: str, tmp: Path) -> tuple[Path, list[str]]:
     parts = sorted(p.relative_to(root).as_posix() for p in root.rglob("*.idl"))
     assert parts
     return root, parts
-
-
-def fastddsgen(root: Path, files: list[Path], out: Path) -> subprocess.CompletedProcess[str]:
-    """Fast-DDS-Gen with the options ArduPilot's libraries/AP_DDS/wscript gives microxrceddsgen."""
-    out.mkdir(parents=True, exist_ok=True)
-    return subprocess.run([str(FASTDDSGEN), "-cs", "-replace", "-d", str(out), "-I", str(root),
-                           *(str(f) for f in files)], capture_output=True, text=True, timeout=300)
 
 
 #: Debian's Fast-DDS-Gen 2.3.0 does not lex the \" escape in a string (IDL 4.2 7.2.6.3 allows it, rosidl writes

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import keyword
 import re
-import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -15,11 +13,9 @@ from iface.emit.idl.reserved import keyword_of
 from iface.emit.keywords import C_FAMILY_KEYWORDS, CPP_KEYWORDS, PYTHON_KEYWORDS, c_family_keyword
 
 from .helpers import compile_text
-from .idl_oracle import IDLC, NO_IDLC, code_of, escaped_names, idlc_header, unescaped
+from .idl_oracle import FASTDDSGEN, IDLC, NO_FASTDDSGEN, NO_IDLC, code_of, escaped_names, fastddsgen, idlc_header, \
+    unescaped
 
-FASTDDSGEN = shutil.which("fastddsgen")
-NO_FASTDDSGEN = "fastddsgen (eProsima Fast-DDS-Gen, Debian package fastddsgen) is not installed: scripts/test.sh " \
-                "installs it where it runs as root"
 KW = "component kw\nmessage Kw { u64 timestamp, i32 class, i32 sequence, float32 delete }\npublishes Kw on \"/kw\"\n"
 
 
@@ -235,9 +231,7 @@ def test_every_keyword_name_builds_with_fastddsgen_as_ardupilot_builds_it(role: 
     assert len(parts) >= 100, len(parts)
     top = tmp_path / "together.idl"  # one file including all: one run of the generator reads every one
     top.write_text("".join(f'#include "{p}"\n' for p in parts))
-    (tmp_path / "gen").mkdir()
-    proc = subprocess.run([str(FASTDDSGEN), "-cs", "-replace", "-d", str(tmp_path / "gen"), "-I", str(root),
-                           str(top)], capture_output=True, text=True, timeout=600)
+    proc = fastddsgen(root, [top], tmp_path / "gen")
     assert proc.returncode == 0 and "error" not in proc.stdout.lower(), proc.stdout + proc.stderr
     header = (tmp_path / "gen" / "together.h").read_text()
     assert all(f'#include "{Path(p).with_suffix(".h").as_posix()}"' in header for p in parts), header[:2000]
@@ -256,9 +250,7 @@ def test_fastddsgen_resolves_no_escaped_type_reference(tmp_path: Path) -> None:
     if IDLC is not None:  # the spec's form: idlc resolves it
         proc, header = idlc_header(tmp_path, holder, tmp_path / "c")
         assert proc.returncode == 0 and "struct kw_msg_Object o;" in header, proc.stderr + header
-    (tmp_path / "gen").mkdir()
-    proc = subprocess.run([str(FASTDDSGEN), "-cs", "-replace", "-d", str(tmp_path / "gen"), "-I", str(tmp_path),
-                           str(holder)], capture_output=True, text=True, timeout=300)
+    proc = fastddsgen(tmp_path, [holder], tmp_path / "gen")
     assert "was not defined previously" in proc.stdout + proc.stderr, proc.stdout + proc.stderr
 
 
