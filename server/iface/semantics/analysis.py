@@ -150,7 +150,10 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     units = an.units
     items: list[m.Definition | m.Wiring]
     told = change is not None and bool(units)
-    if told:  # the edit says what it changed
+    if not units:  # a first compile
+        removed = []
+        added = [*defs, *iface.wirings]
+    elif told:  # the edit says what it changed
         assert change is not None
         removed = [units.pop(id(x)) for x in change[1] if id(x) in units]
         added = [x for x in change[2] if isinstance(x, _UNITS)]
@@ -228,12 +231,13 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     fresh: list[Unit] = []
     for x in todo:
         uses: set[str] = set()
-        unknown = resolve_item(iface, x, uses)
+        unknown = resolve_item(iface, x, uses if keep else None)
         old = units.get(id(x))
         if isinstance(x, m.Wiring):
             local = old.local if old is not None else (wiring_findings(src, x) if robot else [])
         else:
-            _named_values(x, uses)
+            if keep:
+                _named_values(x, uses)
             local = old.local if old is not None else local_findings(src, x, robot)
         unit = Unit(x, tuple(uses), unknown or (), (), local or (), (), old.edges if old is not None else ())
         if keep:
@@ -260,9 +264,12 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         for u in pending:
             u.unresolved = list(unknown_types(iface, u.unknown, close)) or ()
     # ---- the seven sets: findings now, the sets themselves when first read ---------------------------
-    new = {id(x) for x in added}
-    an.sets.update(iface, [u.item for u in removed], [u.item for u in fresh if id(u.item) in new],
-                   [u.item for u in fresh if id(u.item) not in new and isinstance(u.item, m.Wiring)])
+    if first and not removed:
+        an.sets.update(iface, [], added, [])
+    else:
+        new = {id(x) for x in added}
+        an.sets.update(iface, [u.item for u in removed], [u.item for u in fresh if id(u.item) in new],
+                       [u.item for u in fresh if id(u.item) not in new and isinstance(u.item, m.Wiring)])
     iface.defer_sets(_fill_sets)
     # ---- checks of resolved definitions -----------------------------------------------------------
     for u in fresh:
