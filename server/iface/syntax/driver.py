@@ -52,7 +52,16 @@ def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Redu
     else:
         build = "Tree(name, k)"
     body: list[str] = []
-    if size > 1:
+    whole = not spliced and len(keep) == size > 1 and not expand1
+    if whole:
+        body.append(f"k = values[-{size}:]")  # every child kept as it is: the popped slice is the list
+        body.append(f"del values[-{size - 1}:]")
+        body.append(f"del states[-{size - 1}:]")
+    elif size == 2:
+        body.append("c1 = values.pop()")
+        body.append("c0 = values[-1]")
+        body.append("states.pop()")
+    elif size > 1:
         body.append(f"{', '.join(f'c{i}' for i in range(size))}, = values[-{size}:]")
         body.append(f"del values[-{size - 1}:]")
         body.append(f"del states[-{size - 1}:]")
@@ -61,7 +70,9 @@ def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Redu
     if expand1 and len(keep) == 1 and not spliced:
         value = f"c{keep[0][0]}"  # a ``?rule`` of one child: the child itself
     else:
-        if not spliced:
+        if whole:
+            pass
+        elif not spliced:
             body.append(f"k = [{', '.join(f'c{i}' for i, _ in keep)}]")
         else:
             first = True
