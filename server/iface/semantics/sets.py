@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
@@ -189,8 +189,8 @@ class SetFindings:
         self.implicit: Diagnostic | None = None
         self.flags: tuple[bool, bool] | None = None
 
-    def update(self, iface: m.Interface, gone: list[m.Item], new: list[m.Item],
-               again: list[m.Wiring]) -> None:
+    def update(self, iface: m.Interface, gone: Sequence[m.Item], new: Sequence[m.Item],
+               again: Sequence[m.Wiring]) -> None:
         """Items ``gone`` and ``new`` (definitions and wirings), and wirings resolved ``again``."""
         src = iface.source
         touched: set[int] = set()
