@@ -12,7 +12,6 @@ snapshot and map offsets through the edits made since (``EditLog``).
 from __future__ import annotations
 
 import asyncio
-import gc
 import logging
 import os
 from collections.abc import Callable
@@ -37,17 +36,6 @@ T = TypeVar("T")
 def _log_failure(done: Future[object]) -> None:
     if not done.cancelled() and (error := done.exception()) is not None:
         log.error("work on the model thread failed", exc_info=error)
-
-
-def _settle_heap() -> None:
-    """After a compile: collect what it left young, then keep the heap out of the collector's full passes.
-
-    A big document's model is millions of objects that live until the next edit replaces them (freed
-    by reference counting, as they hold no cycles); without ``gc.freeze`` every full pass of the
-    collector, which any request's allocations can set off, walks all of them.
-    """
-    gc.collect(1)
-    gc.freeze()
 
 
 class Project:
@@ -126,7 +114,6 @@ class Project:
             snap = Snapshot(uri, path, state.version, state.seq, state.text, index, None)
             self._install(doc, snap)
             return snap, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
-        _settle_heap()
         names, topics = names_of(comp, self._name_cache, self.snapshots.get(uri))
         deps = frozenset(c.path for c in comp.closure()[1:])
         snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
