@@ -145,7 +145,7 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     elif an.context != context:
         an.reset()
     an.context = context
-    an.iface = iface
+    last, an.iface = an.iface, iface
     defs = iface.definitions
     units = an.units
     items: list[m.Definition | m.Wiring]
@@ -162,6 +162,12 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         by_id = dict(zip(map(id, items), items))
         removed = [units.pop(k) for k in units.keys() - by_id.keys()]
         added = [by_id[k] for k in by_id.keys() - units.keys()]
+        if last is not None and _reordered(last, iface, units):
+            removed, added = [], [*defs, *iface.wirings]
+            an.reset()  # an item moved past another (a chunk found by its text): every unit again
+            an.context = context
+            an.iface = iface
+            units = an.units
     if (_structural(an, removed, added)):
         an.reset()
         an.context = context
@@ -315,6 +321,16 @@ def _rehome_all(an: Analysis, src: Source) -> None:
         u.unresolved = [rehome(d, src) for d in u.unresolved]
         u.local = [rehome(d, src) for d in u.local]
         u.checked = [rehome(d, src) for d in u.checked]
+
+
+def _reordered(last: m.Interface, iface: m.Interface, kept: dict[int, Unit]) -> bool:
+    """True when the items kept from the ``last`` version are not in the order they had there."""
+    for before, now in ((last.definitions, iface.definitions), (last.wirings, iface.wirings)):
+        old = [x for x in before if id(x) in kept and kept[id(x)].item is x]
+        new = [x for x in now if id(x) in kept]
+        if len(old) != len(new) or any(a is not b for a, b in zip(old, new)):
+            return True
+    return False
 
 
 def _in_place(an: Analysis, removed: list[Unit], added: list[m.Definition | m.Wiring], changed: set[str]) -> bool:

@@ -221,6 +221,9 @@ class SetFindings:
             else:
                 services_changed |= self._definition(x, 1)
                 touched.add(id(x))
+        for key in self.statement_found:  # a statement made twice: its wirings in order again
+            if key not in statements and self.by_statement[key] != sorted(self.by_statement[key], key=_start):
+                statements.add(key)
         for key in statements:
             self._statement(src, key, channels)
         for ch in channels:
