@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import random
 
 from iface.forms.dump import dump_interface
@@ -63,3 +64,84 @@ def test_cutting_again_only_around_an_edit_gives_the_chunks_of_cutting_it_all() 
             again = split(new, (text, chunks))
             assert shape(again) == shape(split(new)), f"trial {trial} step {step}: {new[max(0, a - 40):a + 60]!r}"
             text, chunks = new, again
+
+
+#: A file whose findings come from every part of the per-definition edit path: typedef chains, an
+#: ``extends`` cycle, a recursive message, duplicate definitions and wirings, Δ, the seven sets.
+RICH = '''namespace ros2 demo
+/** Doc. */
+message A {
+    B b
+    u8 x = 3
+    Mode m = Mode.RUN
+}
+message B {
+    A[] back
+    T t
+}
+typedef C T
+typedef list<C> TL
+struct C {
+    1: i32 v = LIMIT
+}
+const i32 LIMIT = 7
+const i32 LIMIT = 8
+enum Mode {
+    IDLE = 0,
+    RUN = 1,
+}
+service diagnostics {
+    request { u8 q }
+    response { bool ok }
+}
+service S extends R {
+    request { A a }
+    response { B b }
+}
+service R extends S {
+}
+action Go {
+    goal { A a }
+    result { bool ok }
+    feedback { float64 d }
+}
+configuration Params {
+    float64 speed = 1.5 (range = "0..3")
+    u32 n
+}
+publishes A on "/a"
+publishes A on "/a"
+subscribes B on "/a"
+provides S on "/s"
+calls diagnostics on "/d"
+publishes Mode on "/m"
+'''
+LINES = ["message D {\n    A a\n}", "typedef A T", "struct C {\n    1: i32 w\n}", "    D d", "    Q q",
+         "publishes D on \"/d\"", "provides Go on \"/go\"", "const u8 LIMIT = 300", "enum Mode {\n    X = 1,\n}",
+         "}", "message A {", "    u8 y = 1.5", "service diagnostics {\n}", "component demo version \"1\"",
+         "message E {\n    E e\n}", "typedef T C2", "    T2 z", "typedef C2 T2"]
+
+
+def test_line_edits_of_a_file_with_cycles_and_duplicates_match_fresh_compiles() -> None:
+    rng = random.Random(5)  # a seed that meets, within 600 edits, chunks that swap their objects
+    editor = Workspace()
+    path = "/virtual/rich.iface"
+    text = RICH
+    for step in range(int(os.environ.get("IFACE_SOAK_EDITS", "600"))):
+        lines = text.split("\n")
+        roll = rng.random()
+        at = rng.randrange(len(lines) + 1)
+        if roll < 0.4 and len(lines) > 3:
+            del lines[min(at, len(lines) - 1)]
+        elif roll < 0.8:
+            lines.insert(at, rng.choice(LINES))
+        elif roll < 0.9:
+            lines = RICH.split("\n")
+        else:  # two lines swap places: chunks found again by their text, in another order
+            i, j = rng.randrange(len(lines)), rng.randrange(len(lines))
+            lines[i], lines[j] = lines[j], lines[i]
+        text = "\n".join(lines)
+        got = editor.compile_text(path, text)
+        fresh = compile_source(Source(path, text))
+        assert _fingerprint(got) == _fingerprint(fresh), f"step {step}:\n{text}"
+        assert list(got.interface.symbols) == list(fresh.interface.symbols), f"step {step}"
