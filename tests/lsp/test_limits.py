@@ -88,3 +88,29 @@ async def test_closing_documents_releases_what_was_cached_for_them(tmp_path: Pat
     finally:
         project.model.shutdown(wait=True)
         await asyncio.sleep(0)
+
+
+async def test_notifications_leave_no_future_behind(tmp_path: Path) -> None:
+    """Every didOpen/didChange/didClose used to leave its future in pygls' table of pending requests."""
+    from iface.lsp.server import build
+
+    server = build()
+    protocol = server.protocol
+    protocol.set_writer(type("Sink", (), {"write": lambda self, data: None, "close": lambda self: None})())
+    protocol.initialized = True
+    uri = path_to_uri(str(tmp_path / "a.iface"))
+
+    def notify(method: str, params: dict[str, Any]) -> None:
+        protocol.handle_message(protocol.structure_message({"jsonrpc": "2.0", "method": method, "params": params}))
+
+    try:
+        notify("textDocument/didOpen", {"textDocument": {"uri": uri, "languageId": "iface", "version": 1,
+                                                         "text": "struct S { 1: i32 a }\n"}})
+        for version in range(2, 202):
+            notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": version}, "contentChanges": [
+                {"range": {"start": {"line": 1, "character": 0}, "end": {"line": 1, "character": 0}}, "text": "x"}]})
+        notify("textDocument/didClose", {"textDocument": {"uri": uri}})
+        await server.project.run(lambda: None)
+        assert len(protocol._request_futures) <= 1, len(protocol._request_futures)
+    finally:
+        server.project.model.shutdown(wait=True)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 import sys
 from collections.abc import Generator
+from functools import partial
 from typing import Any
 
 from lsprotocol import types as lsp
@@ -93,6 +94,22 @@ class IfaceProtocol(LanguageServerProtocol):
                     f"'{method}' before 'initialize': send 'initialize' first").to_response_error())
             return
         super().handle_message(message)
+
+    def _execute_handler(self, msg_id: Any, *args: Any, **kwargs: Any) -> None:
+        """Run a handler as pygls does, then forget its future once done.
+
+        pygls keeps the future of a generator, coroutine or threaded handler in ``_request_futures``
+        until it sends the response; a notification (its id a fresh uuid) has none, so every
+        didOpen, didChange and didClose left one future behind: memory grew with every keystroke.
+        """
+        super()._execute_handler(msg_id, *args, **kwargs)
+        future = self._request_futures.get(msg_id)
+        if future is not None:
+            future.add_done_callback(partial(self._forget_future, msg_id))
+
+    def _forget_future(self, msg_id: Any, done: Any) -> None:
+        if self._request_futures.get(msg_id) is done:
+            self._request_futures.pop(msg_id, None)
 
     def structure_message(self, data: dict[str, Any]) -> Any:
         """Read a message; a request whose parameters cannot be read is answered with an error."""
