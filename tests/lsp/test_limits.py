@@ -114,3 +114,29 @@ async def test_notifications_leave_no_future_behind(tmp_path: Path) -> None:
         assert len(protocol._request_futures) <= 1, len(protocol._request_futures)
     finally:
         server.project.model.shutdown(wait=True)
+
+
+async def test_ended_progress_leaves_no_token_behind() -> None:
+    """pygls keeps every work-done token it registered (its issue #607); ours are dropped at the end."""
+    from types import SimpleNamespace
+
+    from pygls.progress import Progress as PyglsProgress
+
+    from iface.lsp.progress import Progress
+
+    sent: list[Any] = []
+
+    async def answer(method: str, params: Any) -> None:
+        sent.append(method)
+
+    protocol = SimpleNamespace(send_request_async=answer, notify=lambda method, params: sent.append(method))
+    server = SimpleNamespace(work_done_progress=PyglsProgress(protocol),  # type: ignore[arg-type]
+                             client_capabilities=lsp.ClientCapabilities(
+                                 window=lsp.WindowClientCapabilities(work_done_progress=True)))
+    for _ in range(3):
+        progress = Progress(server, "Indexing interface files")  # type: ignore[arg-type]
+        await progress.begin(10)
+        progress.report(5, 10)
+        progress.end("done")
+    assert sent.count("$/progress") == 9
+    assert server.work_done_progress.tokens == {}

@@ -66,4 +66,5 @@ class Progress:
         if self.token is None:
             return
         self.server.work_done_progress.end(self.token, lsp.WorkDoneProgressEnd(message=message))
+        self.server.work_done_progress.tokens.pop(self.token, None)  # pygls keeps every token (its issue #607)
         self.token = None
