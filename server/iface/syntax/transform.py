@@ -2,19 +2,20 @@
 
 Each method receives the children of one grammar rule (tokens and the model
 objects made for sub-rules) and returns a model object. Offsets come straight
-from the tokens; every Span made is recorded so that a cached chunk can be
-moved later.
+from the tokens; every Span made is relative to its chunk's anchor, so that a
+cached chunk can be moved later by moving the anchor.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 from lark import Token
 
 from ..model import nodes as m
-from ..model.source import Span
+from ..model.source import AnchoredSpan, Span
 
 #: Containers nested deeper than this are refused (and not modelled).
 MAX_TYPE_DEPTH = 64
@@ -82,6 +83,8 @@ def _has_surrogate(text: str) -> bool:
 
 def parse_int(text: str) -> int | None:
     """An INT token's value (decimal or hex, optionally signed); None beyond 64 bits (see ``m.INT_LITERAL``)."""
+    if len(text) < 19 and text.isdigit():  # plain decimal (the INT pattern's digits are ASCII): within 64 bits
+        return int(text)
     negative = text.startswith("-")
     digits = text.lstrip("+-")
     hexa = digits[:2].lower() == "0x"
@@ -116,6 +119,11 @@ def _end(x: Any) -> int:
     return x.end_pos if isinstance(x, Token) else x.span.end
 
 
+def _token_span(tok: Token) -> Span:
+    """The span of one token (not recorded)."""
+    return Span(tok.start_pos, tok.end_pos)
+
+
 class _Tagged(tuple):
     """A (tag, payload, span) triple passed up from helper rules."""
 
@@ -124,34 +132,36 @@ class ModelBuilder:
     """Callbacks for every rule of grammar.lark; see ``parse.ChunkParser``."""
 
     def __init__(self) -> None:
-        self.spans: list[Span] = []
+        self.anchor = Span(0, 0)
+        self.spans: list[Span] = [self.anchor]
         self.docs: dict[int, str] = {}
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
+        #: ``span(start, end)``: a new span, recorded when the chunk may be moved later
+        self.span: Callable[[int, int], Span] = self._recorded_span
+        #: ``tok_span(tok)``: the span of one token, recorded likewise
+        self.tok_span: Callable[[Token], Span] = self._recorded_tok_span
 
     def reset(self, docs: dict[int, str], record: bool = True) -> None:
-        """Start a new chunk whose doc comments are ``docs`` (by the offset they document)."""
-        self.spans = []
-        self._record = record
+        """Start a new chunk whose doc comments are ``docs`` (by the offset they document).
+
+        With ``record`` every span is made relative to one anchor, the chunk's only recorded span:
+        moving the chunk moves the anchor.
+        """
+        self.anchor = Span(0, 0)
+        self.spans = [self.anchor]
         self.docs = docs
         self.problems = []
         self._depth = {}
+        # without recording, a span is only made (the whole-file path makes some 27,000 at 10k lines)
+        self.span = self._recorded_span if record else Span
+        self.tok_span = self._recorded_tok_span if record else _token_span
 
-    _record = True
+    def _recorded_span(self, start: int, end: int) -> Span:
+        return AnchoredSpan(start, end, self.anchor)
 
-    def span(self, start: int, end: int) -> Span:
-        """A new span, recorded when the chunk may be moved later."""
-        s = Span(start, end)
-        if self._record:
-            self.spans.append(s)
-        return s
-
-    def tok_span(self, tok: Token) -> Span:
-        """The span of one token."""
-        s = Span(tok.start_pos, tok.end_pos)
-        if self._record:
-            self.spans.append(s)
-        return s
+    def _recorded_tok_span(self, tok: Token) -> Span:
+        return AnchoredSpan(tok.start_pos, tok.end_pos, self.anchor)
 
     # ---- document ----------------------------------------------------------
     def start(self, children: list[Any]) -> list[Any]:
