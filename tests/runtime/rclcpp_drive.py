@@ -80,7 +80,7 @@ def main() -> int:
         return p
 
     def up(node: str) -> None:
-        probe.wait_until(lambda: f"/{node}/get_state" in probe.services_of(node), 30, f"{node}'s lifecycle services")
+        probe.wait_ready(node, 30)
 
     def status(node: str) -> Any:
         request = ComponentControl.Request(command=ComponentControl.Request.STATUS, timeout_sec=5.0)
@@ -109,9 +109,8 @@ def main() -> int:
             check(probe.lifecycle_state(node) == "unconfigured", "not unconfigured at start")
             moved = [probe.transition(node, "configure"), probe.transition(node, "activate")]
             check(moved == ["unconfigured -> inactive", "inactive -> active"], str(moved))
-            services = probe.services_of(node)
-            for s in ("/counter/reset", f"/{node}/save_state", f"/{node}/restore_state", f"/{node}/control"):
-                check(s in services, f"{s} not served once active: {sorted(services)}")
+            probe.wait_services(node, ("/counter/reset", f"/{node}/save_state", f"/{node}/restore_state",
+                                       f"/{node}/control"))
             return ", ".join(moved)
 
         report.step("lifecycle: configure and activate through the standard services", lifecycle)

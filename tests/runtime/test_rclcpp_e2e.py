@@ -184,7 +184,7 @@ proto = Protocol(probe, "every_member_msgs")
 out = {}
 try:
     for name in ("em_cpp", "em_py"):
-        probe.wait_until(lambda: f"/{name}/get_state" in probe.services_of(name), 30, name)
+        probe.wait_ready(name, 30)
     for name, value in (("start_mode", 7), ("label", "much too long"), ("offsets", [1.0]), ("ids", [1, 2, 3, 4, 5]),
                         ("gain", 11.0), ("retries", 4), ("serial", "SN-2")):
         out[name] = [probe.set_param(node, name, value) for node in ("em_cpp", "em_py")]
