@@ -36,6 +36,7 @@ from ..model.naming import ros_field_name, ros_type_name, words
 from ..model.source import Source, Span
 from ..model.walk import resolve_typedefs
 from ..semantics.compile import Compilation
+from ..semantics.sets import wiring_target
 from . import protocol
 from .codes import diag
 
@@ -322,7 +323,7 @@ class _Builder:
             ref = self.ref(d, "srv")
             if ref is None:
                 continue
-            w = next((w for w in iface.wirings if w.direction == "provides" and _target(w) is d), None)
+            w = next((w for w in iface.wirings if w.direction == "provides" and wiring_target(w) is d), None)
             name = w.topic if w is not None else "~/" + slug_of(d.name)[0]
             span = w.span if w is not None else d.name_span
             out.append(Member("diagnostics", name, ref, _qos(w), f"diagnostics {d.name} on {name}",
@@ -475,14 +476,6 @@ def _enum(t: m.TypeRef) -> m.Enum | None:
     if isinstance(r, m.ArrayType):
         r = resolve_typedefs(r.element)
     return r.target if isinstance(r, m.NamedType) and isinstance(r.target, m.Enum) else None
-
-
-def _target(w: m.Wiring) -> m.Definition | None:
-    target = w.type.target
-    if isinstance(target, m.Typedef):
-        real = resolve_typedefs(w.type)
-        target = real.target if isinstance(real, m.NamedType) else target
-    return target
 
 
 _HZ = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*hz\s*$", re.IGNORECASE)

@@ -132,7 +132,7 @@ def _wiring_checks(iface: m.Interface) -> Iterator[Diagnostic]:
 # the findings of ``derive``, kept per item
 
 
-def _target(w: m.Wiring) -> m.Definition | None:
+def wiring_target(w: m.Wiring) -> m.Definition | None:
     """What a wiring's type stands for, through typedefs (as ``derive`` reads it)."""
     target = w.type.target
     if isinstance(target, m.Typedef):
@@ -210,7 +210,7 @@ class SetFindings:
                 services_changed |= self._definition(x, -1)
         for x in [*new, *again]:
             if isinstance(x, m.Wiring):
-                target = _target(x)
+                target = wiring_target(x)
                 self.facts[id(x)] = (x, target)
                 wrong = _wrong_kind(src, x, target)
                 if wrong is not None:
