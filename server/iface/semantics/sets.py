@@ -311,18 +311,13 @@ class SetFindings:
     def _place(self, w: m.Wiring, by: int, statements: set[tuple[str, str, str]],
                channels: set[tuple[str, str]]) -> None:
         key = (w.direction, w.type.name, w.topic)
-        same = self.by_statement.setdefault(key, [])
-        if by > 0:
-            same.append(w)
-        else:
-            same.remove(w)
-        statements.add(key)
         ch = _channel(w)
-        on = self.by_channel.setdefault(ch, [])
-        if by > 0:
-            on.append(w)
-        else:
-            on.remove(w)
+        for group in (self.by_statement.setdefault(key, []), self.by_channel.setdefault(ch, [])):
+            if by > 0:
+                group.append(w)
+            else:
+                group.remove(w)
+        statements.add(key)
         channels.add(ch)
 
     def _statement(self, src: m.Source, key: tuple[str, str, str], channels: set[tuple[str, str]]) -> None:
