@@ -67,7 +67,7 @@ def _node(node: Any, src: Source) -> Any:
         value = getattr(node, f.name)
         if isinstance(node, m.Include) and f.name == "resolved" and value:
             value = os.path.relpath(value, os.path.dirname(src.path))  # stable wherever the tree lives
-        if value is None or value == [] or value is False or (f.name == "implicit" and not value):
+        if value is None or value == [] or value == () or value is False or (f.name == "implicit" and not value):
             continue
         out[f.name] = _node(value, src)
     if isinstance(node, m.NamedType):

@@ -13,6 +13,7 @@ The schema of the form is ``forms/iface.schema.json`` (draft 2020-12).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from importlib.resources import files
 from pathlib import Path
 from typing import Any
@@ -92,7 +93,7 @@ def _component(c: m.ComponentDecl) -> dict[str, Any]:
     return {"name": c.name, "version": c.version, "annotations": _anns(c.annotations), "doc": c.doc}
 
 
-def _anns(anns: list[m.Annotation]) -> list[dict[str, Any]]:
+def _anns(anns: Iterable[m.Annotation]) -> list[dict[str, Any]]:
     return [{"key": a.key, "value": None if a.value is None else _value(a.value)} for a in anns]
 
 

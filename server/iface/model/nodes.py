@@ -8,6 +8,7 @@ Cross references (``NamedType.target``) are filled in by ``resolve``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal, Union
 
@@ -59,7 +60,7 @@ class BaseType:
     span: Span
     spelling: str = ""
     bound: int | None = None
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
 
     kind: Literal["base"] = "base"
 
@@ -70,7 +71,7 @@ class NamedType:
 
     name: str
     span: Span
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     #: The definition this resolves to, or None (unknown or external).
     target: Definition | None = None
     #: For a type from an external package: the package name.
@@ -101,7 +102,7 @@ class ArrayType:
     array: ArrayKind = "unbounded"
     size: int | None = None
     spelled_list: bool = False
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
 
     kind: Literal["array"] = "array"
 
@@ -112,7 +113,7 @@ class SetType:
 
     element: TypeRef
     span: Span
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
 
     kind: Literal["set"] = "set"
 
@@ -124,7 +125,7 @@ class MapType:
     key: TypeRef
     element: TypeRef
     span: Span
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
 
     kind: Literal["map"] = "map"
 
@@ -170,7 +171,7 @@ class Annotation:
         return v if isinstance(v, str) else self.value.text
 
 
-def annotation(annotations: list[Annotation], key: str) -> Annotation | None:
+def annotation(annotations: Sequence[Annotation], key: str) -> Annotation | None:
     """The last annotation with ``key``, if any."""
     for a in reversed(annotations):
         if a.key == key:
@@ -196,7 +197,7 @@ class Field:
     id_span: Span | None = None
     requiredness: Requiredness | None = None
     default: Value | None = None
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
     reference: bool = False
 
@@ -245,7 +246,7 @@ class Const:
     value: Value
     span: Span
     name_span: Span
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
     kind: Literal["const"] = "const"
@@ -276,7 +277,7 @@ class Function:
     params: list[Field] = field(default_factory=list)
     throws: list[Field] = field(default_factory=list)
     oneway: bool = False
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
 
@@ -297,7 +298,7 @@ class Struct:
     name_span: Span
     fields: list[Field] = field(default_factory=list)
     consts: list[Const] = field(default_factory=list)
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
 
@@ -318,7 +319,7 @@ class Service:
     #: Fields as written in a flat body.
     flat_fields: list[Field] = field(default_factory=list)
     consts: list[Const] = field(default_factory=list)
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
     kind: Literal["service"] = "service"
@@ -344,7 +345,7 @@ class Action:
     sections: list[Section] = field(default_factory=list)
     flat_fields: list[Field] = field(default_factory=list)
     consts: list[Const] = field(default_factory=list)
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
     kind: Literal["action"] = "action"
@@ -359,7 +360,7 @@ class EnumValue:
     span: Span
     name_span: Span
     explicit: bool = False
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
 
@@ -371,7 +372,7 @@ class Enum:
     span: Span
     name_span: Span
     values: list[EnumValue] = field(default_factory=list)
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
     kind: Literal["enum"] = "enum"
@@ -404,7 +405,7 @@ class Senum:
     span: Span
     name_span: Span
     values: list[Value] = field(default_factory=list)
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
     kind: Literal["senum"] = "senum"
@@ -418,7 +419,7 @@ class Typedef:
     type: TypeRef
     span: Span
     name_span: Span
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
     kind: Literal["typedef"] = "typedef"
@@ -452,7 +453,7 @@ class Namespace:
     scope: str
     name: str
     span: Span
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
 
 
 @dataclass(slots=True, eq=False)
@@ -463,7 +464,7 @@ class ComponentDecl:
     span: Span
     name_span: Span
     version: str | None = None
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
 
@@ -487,7 +488,7 @@ class Wiring:
     topic: str
     span: Span
     topic_span: Span
-    annotations: list[Annotation] = field(default_factory=list)
+    annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
     @property

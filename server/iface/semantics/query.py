@@ -180,7 +180,7 @@ def _in_value(iface: m.Interface, v: m.Value, offset: int, owner: m.Definition) 
     return None
 
 
-def _annotations(annotations: list[m.Annotation], offset: int, node: object,
+def _annotations(annotations: Iterable[m.Annotation], offset: int, node: object,
                  owner: m.Definition | None) -> Hit | None:
     for a in annotations:
         if _touches(a.span, offset):

@@ -9,7 +9,7 @@ cached chunk can be moved later by moving the anchor.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from lark import Token
@@ -179,7 +179,7 @@ class ModelBuilder:
 
     def namespace(self, c: list[Any]) -> m.Namespace:
         scope, name = c[1], c[2]
-        ann = c[3] if len(c) > 3 else []
+        ann = c[3] if len(c) > 3 else ()
         value = self._decode(name) if name.type == "LITERAL" else str(name)
         end = ann[-1].span.end if ann else name.end_pos
         return m.Namespace(str(scope), value, self.span(c[0].start_pos, end), ann)
@@ -187,7 +187,7 @@ class ModelBuilder:
     def component(self, c: list[Any]) -> m.ComponentDecl:
         name = c[1]
         version = None
-        ann: list[m.Annotation] = []
+        ann: Sequence[m.Annotation] = ()
         end = name.end_pos
         for x in c[2:]:
             if isinstance(x, Token) and x.type == "LITERAL":
@@ -204,7 +204,7 @@ class ModelBuilder:
 
     def wiring(self, c: list[Any]) -> m.Wiring:
         d, name, topic = c[0], c[1], c[2]
-        ann = c[3] if len(c) > 3 else []
+        ann = c[3] if len(c) > 3 else ()
         end = self._ann_end if ann else topic.end_pos
         return m.Wiring(str(d), m.NamedType(str(name), self.tok_span(name)), self._decode(topic),
                         self.span(d.start_pos, end), self.tok_span(topic), ann,
@@ -215,13 +215,13 @@ class ModelBuilder:
         kw, ftype, name = c[0], self._type(c[1]), c[2]
         value = c[4]
         return m.Const(str(name), ftype, value, self.span(kw.start_pos, value.span.end),
-                       self.tok_span(name), [], self.docs.get(kw.start_pos))
+                       self.tok_span(name), (), self.docs.get(kw.start_pos))
 
     member_const = const
 
     def typedef(self, c: list[Any]) -> m.Typedef:
         kw, ftype, name = c[0], self._type(c[1]), c[2]
-        ann = c[3] if len(c) > 3 and isinstance(c[3], list) else []
+        ann = c[3] if len(c) > 3 and isinstance(c[3], list) else ()
         end = self._ann_end if ann else name.end_pos
         return m.Typedef(str(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
                          self.docs.get(kw.start_pos))
@@ -229,7 +229,7 @@ class ModelBuilder:
     def enum_value(self, c: list[Any]) -> m.EnumValue:
         name = c[0]
         value = None
-        ann: list[m.Annotation] = []
+        ann: Sequence[m.Annotation] = ()
         end = name.end_pos
         for x in c[1:]:
             if isinstance(x, Token) and x.type == "INT":
@@ -325,7 +325,7 @@ class ModelBuilder:
         name = c[i + 1]
         params: list[m.Field] = []
         throws: list[m.Field] = []
-        ann: list[m.Annotation] = []
+        ann: Sequence[m.Annotation] = ()
         end = name.end_pos
         for x in c[i + 2:]:
             if isinstance(x, m.Field):
@@ -366,7 +366,7 @@ class ModelBuilder:
         name = c[i]
         end = name.end_pos
         default = None
-        ann: list[m.Annotation] = []
+        ann: Sequence[m.Annotation] = ()
         for x in c[i + 1:]:
             if type(x) is list:
                 ann = x
@@ -541,9 +541,9 @@ class ModelBuilder:
         return -m.FLOAT64_MAX if str(tok).startswith("-") else m.FLOAT64_MAX
 
     # ---- helpers ---------------------------------------------------------------------
-    def _body_tail(self, c: list[Any]) -> tuple[list[m.Annotation], int]:
+    def _body_tail(self, c: list[Any]) -> tuple[Sequence[m.Annotation], int]:
         """Annotations after a closing brace, and where the definition ends."""
         last = c[-1]
         if isinstance(last, list):
             return last, self._ann_end
-        return [], _end(last)
+        return (), _end(last)

@@ -211,7 +211,7 @@ def _members(fields: list[m.Field], consts: list[m.Const], indent: str,
     return out
 
 
-def _body(head: str, lines: list[str], tail_annotations: list[m.Annotation], indent: str) -> list[str]:
+def _body(head: str, lines: list[str], tail_annotations: Iterable[m.Annotation], indent: str) -> list[str]:
     ann = annotations_text(tail_annotations)
     close = "}" + (f" {ann}" if ann else "")
     if not lines:
