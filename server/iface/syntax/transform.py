@@ -9,6 +9,7 @@ cached chunk can be moved later by moving the anchor.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -111,6 +112,11 @@ def shorten(text: str, limit: int = 24) -> str:
     return f"{text[:limit // 2]}…{text[-limit // 2:]} ({len(text)} characters)"
 
 
+def _text(tok: Token) -> str:
+    """A token's text as a plain string, one object for every equal one (names and keywords repeat a lot)."""
+    return sys.intern(str(tok))
+
+
 def _start(x: Any) -> int:
     return x.start_pos if isinstance(x, Token) else x.span.start
 
@@ -180,9 +186,9 @@ class ModelBuilder:
     def namespace(self, c: list[Any]) -> m.Namespace:
         scope, name = c[1], c[2]
         ann = c[3] if len(c) > 3 else ()
-        value = self._decode(name) if name.type == "LITERAL" else str(name)
+        value = self._decode(name) if name.type == "LITERAL" else _text(name)
         end = ann[-1].span.end if ann else name.end_pos
-        return m.Namespace(str(scope), value, self.span(c[0].start_pos, end), ann)
+        return m.Namespace(_text(scope), value, self.span(c[0].start_pos, end), ann)
 
     def component(self, c: list[Any]) -> m.ComponentDecl:
         name = c[1]
@@ -196,17 +202,17 @@ class ModelBuilder:
             elif isinstance(x, list):
                 ann = x
                 end = self._ann_end
-        return m.ComponentDecl(str(name), self.span(c[0].start_pos, end), self.tok_span(name),
+        return m.ComponentDecl(_text(name), self.span(c[0].start_pos, end), self.tok_span(name),
                                version, ann, self.docs.get(c[0].start_pos))
 
     def external(self, c: list[Any]) -> m.External:
-        return m.External(str(c[1]), self.span(c[0].start_pos, c[1].end_pos))
+        return m.External(_text(c[1]), self.span(c[0].start_pos, c[1].end_pos))
 
     def wiring(self, c: list[Any]) -> m.Wiring:
         d, name, topic = c[0], c[1], c[2]
         ann = c[3] if len(c) > 3 else ()
         end = self._ann_end if ann else topic.end_pos
-        return m.Wiring(str(d), m.NamedType(str(name), self.tok_span(name)), self._decode(topic),
+        return m.Wiring(_text(d), m.NamedType(_text(name), self.tok_span(name)), self._decode(topic),
                         self.span(d.start_pos, end), self.tok_span(topic), ann,
                         self.docs.get(d.start_pos))
 
@@ -214,7 +220,7 @@ class ModelBuilder:
     def const(self, c: list[Any]) -> m.Const:
         kw, ftype, name = c[0], self._type(c[1]), c[2]
         value = c[4]
-        return m.Const(str(name), ftype, value, self.span(kw.start_pos, value.span.end),
+        return m.Const(_text(name), ftype, value, self.span(kw.start_pos, value.span.end),
                        self.tok_span(name), (), self.docs.get(kw.start_pos))
 
     member_const = const
@@ -223,7 +229,7 @@ class ModelBuilder:
         kw, ftype, name = c[0], self._type(c[1]), c[2]
         ann = c[3] if len(c) > 3 and isinstance(c[3], list) else ()
         end = self._ann_end if ann else name.end_pos
-        return m.Typedef(str(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
+        return m.Typedef(_text(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
                          self.docs.get(kw.start_pos))
 
     def enum_value(self, c: list[Any]) -> m.EnumValue:
@@ -238,7 +244,7 @@ class ModelBuilder:
             elif isinstance(x, list):
                 ann = x
                 end = self._ann_end
-        ev = m.EnumValue(str(name), value if value is not None else 0, self.span(name.start_pos, end),
+        ev = m.EnumValue(_text(name), value if value is not None else 0, self.span(name.start_pos, end),
                          self.tok_span(name), value is not None, ann, self.docs.get(name.start_pos))
         return ev
 
@@ -251,7 +257,7 @@ class ModelBuilder:
                 v.value = nxt
             nxt = v.value + 1
         ann, end = self._body_tail(c)
-        return m.Enum(str(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
+        return m.Enum(_text(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
                       self.docs.get(kw.start_pos))
 
     def senum(self, c: list[Any]) -> m.Senum:
@@ -259,7 +265,7 @@ class ModelBuilder:
         values = [m.Value("string", self._decode(t), self.tok_span(t), str(t))
                   for t in c[3:] if isinstance(t, Token) and t.type == "LITERAL"]
         ann, end = self._body_tail(c)
-        return m.Senum(str(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
+        return m.Senum(_text(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
                        self.docs.get(kw.start_pos))
 
     def struct(self, c: list[Any]) -> m.Struct:
@@ -267,7 +273,7 @@ class ModelBuilder:
         fields = [x for x in c if isinstance(x, m.Field)]
         consts = [x for x in c if isinstance(x, m.Const)]
         ann, end = self._body_tail(c)
-        return m.Struct(str(kw), str(name), self.span(kw.start_pos, end), self.tok_span(name),
+        return m.Struct(_text(kw), _text(name), self.span(kw.start_pos, end), self.tok_span(name),
                         fields, consts, ann, self.docs.get(kw.start_pos))
 
     def section(self, c: list[Any]) -> m.Section:
@@ -275,14 +281,14 @@ class ModelBuilder:
         fields = [x for x in c if isinstance(x, m.Field)]
         consts = [x for x in c if isinstance(x, m.Const)]
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "RBRACE")
-        return m.Section(str(name), self.span(name.start_pos, end), self.tok_span(name), fields, consts,
+        return m.Section(_text(name), self.span(name.start_pos, end), self.tok_span(name), fields, consts,
                          False, self.docs.get(name.start_pos))
 
     def service(self, c: list[Any]) -> m.Service:
         kw, name = c[0], c[1]
-        svc = m.Service(str(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
+        svc = m.Service(_text(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
         if len(c) > 3 and isinstance(c[2], Token) and c[2].type == "EXTENDS":
-            svc.extends = m.NamedType(str(c[3]), self.tok_span(c[3]))
+            svc.extends = m.NamedType(_text(c[3]), self.tok_span(c[3]))
         for x in c:
             if isinstance(x, m.Function):
                 svc.functions.append(x)
@@ -298,7 +304,7 @@ class ModelBuilder:
 
     def action(self, c: list[Any]) -> m.Action:
         kw, name = c[0], c[1]
-        act = m.Action(str(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
+        act = m.Action(_text(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
         for x in c:
             if isinstance(x, m.Field):
                 act.flat_fields.append(x)
@@ -338,7 +344,7 @@ class ModelBuilder:
                 ann = x
                 end = self._ann_end
         start = _start(first)
-        return m.Function(str(name), returns, self.span(start, end), self.tok_span(name), params,
+        return m.Function(_text(name), returns, self.span(start, end), self.tok_span(name), params,
                           throws, oneway, ann, self.docs.get(start))
 
     # ---- fields --------------------------------------------------------------------
@@ -355,7 +361,7 @@ class ModelBuilder:
         req = None
         x = c[i]
         if type(x) is Token and (x.type == "REQUIRED" or x.type == "OPTIONAL"):
-            req = str(x)
+            req = _text(x)
             i += 1
         ftype = self._type(c[i])
         i += 1
@@ -374,7 +380,7 @@ class ModelBuilder:
             else:
                 default = x
                 end = x.span.end
-        return m.Field(str(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
+        return m.Field(_text(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
                        req, default, ann, self.docs.get(start), reference)
 
     flat_field = field
@@ -385,12 +391,12 @@ class ModelBuilder:
         if type(x) is not Token:
             return x
         if x.type == "BASE_TYPE":
-            return m.BaseType(m.BASE_ALIASES[str(x)], self.tok_span(x), str(x))
-        return m.NamedType(str(x), self.tok_span(x))
+            return m.BaseType(m.BASE_ALIASES[str(x)], self.tok_span(x), _text(x))
+        return m.NamedType(_text(x), self.tok_span(x))
 
     def bounded_string(self, c: list[Any]) -> m.BaseType:
         kw, bound = c[0], c[1]
-        t = m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), str(kw),
+        t = m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), _text(kw),
                        self._int(bound))
         if t.name not in m.STRING_TYPES:
             self.problems.append(("bounds-misuse", f"only string and wstring take a bound, not {kw}", t.span))
@@ -463,11 +469,11 @@ class ModelBuilder:
     # ---- values --------------------------------------------------------------------
     def int_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("int", self._int(tok), self.tok_span(tok), str(tok))
+        return m.Value("int", self._int(tok), self.tok_span(tok), _text(tok))
 
     def double_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("double", self._double(tok), self.tok_span(tok), str(tok))
+        return m.Value("double", self._double(tok), self.tok_span(tok), _text(tok))
 
     def string_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
@@ -475,7 +481,7 @@ class ModelBuilder:
 
     def name_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("name", str(tok), self.tok_span(tok), str(tok))
+        return m.Value("name", _text(tok), self.tok_span(tok), _text(tok))
 
     def list_value(self, c: list[Any]) -> m.Value:
         items = [x for x in c if isinstance(x, m.Value)]
@@ -504,7 +510,7 @@ class ModelBuilder:
         key = c[0]
         value = c[1] if len(c) > 1 else None
         end = value.span.end if value is not None else key.end_pos
-        return m.Annotation(str(key), value, self.span(key.start_pos, end))
+        return m.Annotation(_text(key), value, self.span(key.start_pos, end))
 
     def annotations(self, c: list[Any]) -> list[m.Annotation]:
         # the end of the last annotation list seen, read by the enclosing rule
