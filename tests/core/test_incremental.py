@@ -145,3 +145,49 @@ def test_line_edits_of_a_file_with_cycles_and_duplicates_match_fresh_compiles() 
         fresh = compile_source(Source(path, text))
         assert _fingerprint(got) == _fingerprint(fresh), f"step {step}:\n{text}"
         assert list(got.interface.symbols) == list(fresh.interface.symbols), f"step {step}"
+
+
+def _spans(node: object, out: list[tuple[str, int, int]], path: str = "", depth: int = 0) -> list:
+    """Every span under a model node (name spans too), by where it is; cross references are not followed."""
+    from dataclasses import fields, is_dataclass
+
+    from iface.model.source import Span
+
+    if isinstance(node, Span):
+        out.append((path, node.start, node.end))
+    elif isinstance(node, (list, tuple)):
+        for i, x in enumerate(node):
+            _spans(x, out, f"{path}[{i}]", depth + 1)
+    elif is_dataclass(node) and depth < 40:
+        for f in fields(node):
+            if f.name not in ("target", "source", "included", "spliced"):
+                _spans(getattr(node, f.name), out, f"{path}.{f.name}", depth + 1)
+    return out
+
+
+def test_edits_of_a_long_file_move_every_span_as_a_fresh_parse_places_it() -> None:
+    """Chunks after an edit move by blocks (``EditCache``): over 150 edits of a file of 240 chunks,
+    near each other and far apart, every span of the model (names, types, members) is where a fresh
+    parse puts it, also across the re-blocking that happens every few dozen edits."""
+    rng = random.Random(23)
+    lines: list[str] = []
+    for i in range(120):
+        lines += [f"/** Reading {i}. */", f"message Reading{i} {{", "    u8 count", f"    Mode{i} mode",
+                  "    string<=8 label (unit = \"m\")", "}", f"enum Mode{i} {{", "    IDLE = 0,", "}", ""]
+    editor = Workspace()
+    path = "/virtual/long.iface"
+    at = len(lines) // 2
+    for step in range(150):
+        at = rng.randrange(len(lines)) if rng.random() < 0.3 else max(0, min(len(lines) - 1, at + rng.randint(-5, 5)))
+        roll = rng.random()
+        if roll < 0.45:
+            lines.insert(at, rng.choice(["    u8 extra", "/** doc */", "message X {", "}", "", "const u8 K = 1"]))
+        elif roll < 0.9 and len(lines) > 10:
+            del lines[at]
+        else:
+            lines[at] = lines[at] + " "
+        text = "\n".join(lines)
+        got = editor.compile_text(path, text)
+        fresh = compile_source(Source(path, text))
+        assert _spans(got.interface.definitions, []) == _spans(fresh.interface.definitions, []), f"step {step}"
+        assert _fingerprint(got) == _fingerprint(fresh), f"step {step}"

@@ -36,8 +36,9 @@ class Span:
 class AnchoredSpan(Span):
     """A span of a chunk that may move: offsets kept relative to the chunk's ``anchor``.
 
-    The anchor is a plain ``Span`` whose ``start`` is where the chunk begins, the one span the chunk
-    records (``ChunkResult.move_to`` moves it); moving a chunk is then one addition, not one per span.
+    The anchor is the one span the chunk records, where the chunk begins (``ChunkResult.anchor``); it
+    is itself relative to the base of a block of chunks (``syntax.edits.EditCache``). Moving a chunk
+    is one addition to its anchor, and moving every chunk after an edit one addition per block.
     """
 
     __slots__ = ("_start", "_end", "anchor")
@@ -64,6 +65,16 @@ class AnchoredSpan(Span):
     @end.setter
     def end(self, value: int) -> None:
         self._end = value - self.anchor.start
+
+    def rebase(self, anchor: Span) -> None:
+        """Keep the same offsets, relative to ``anchor`` from now on."""
+        start, end = self.start, self.end
+        self.anchor = anchor
+        self.start, self.end = start, end
+
+
+#: The anchor of spans not (yet) placed relative to anything else; never moved.
+ORIGIN = Span(0, 0)
 
 
 @dataclass(eq=False)

@@ -13,7 +13,9 @@ from __future__ import annotations
 import re
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
-from dataclasses import dataclass
+from operator import attrgetter
+
+from ..model.source import ORIGIN, Span
 
 TOP_KEYWORDS = (
     "include", "cpp_include", "namespace", "component", "external",
@@ -27,17 +29,44 @@ _SCAN = re.compile(
     re.M | re.S,
 )
 _SPACE = re.compile(r"\s*")
+_START = attrgetter("start")
 
 
-@dataclass(slots=True)
 class Chunk:
-    """A piece of the text: ``text[start:end]``, with its doc comments (relative offsets)."""
+    """A piece of the text: ``text[start:end]``, with its doc comments (relative offsets).
 
-    start: int
-    end: int
-    docs: dict[int, str]
-    #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
-    unterminated: bool = False
+    The bounds are kept relative to ``block``: the base of a block of chunks that an edit moves as one
+    (``syntax.edits.EditCache``), ``ORIGIN`` for a chunk in no block.
+    """
+
+    __slots__ = ("_start", "_end", "docs", "unterminated", "block")
+
+    def __init__(self, start: int, end: int, docs: dict[int, str], unterminated: bool = False) -> None:
+        self._start = start
+        self._end = end
+        self.docs = docs
+        #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
+        self.unterminated = unterminated
+        self.block: Span = ORIGIN
+
+    @property
+    def start(self) -> int:
+        """Where the chunk starts in the text."""
+        return self._start + self.block.start
+
+    @property
+    def end(self) -> int:
+        """Where the chunk ends in the text."""
+        return self._end + self.block.start
+
+    def rebase(self, block: Span) -> None:
+        """Keep the same bounds, relative to ``block`` from now on."""
+        start, end = self.start, self.end
+        self.block = block
+        self._start, self._end = start - block.start, end - block.start
+
+    def __repr__(self) -> str:
+        return f"Chunk({self.start}, {self.end}, {self.docs!r}, {self.unterminated})"
 
 
 def clean_doc(comment: str) -> str:
@@ -59,57 +88,65 @@ def clean_doc(comment: str) -> str:
     return "\n".join(out)
 
 
-def split(text: str, previous: tuple[str, list[Chunk]] | None = None,
-          kept: list[int] | None = None) -> list[Chunk]:
+def split(text: str, previous: tuple[str, list[Chunk]] | None = None) -> list[Chunk]:
     """Cut ``text`` into chunks covering it without gaps.
 
     With ``previous`` (an earlier version of the text and its chunks) only the
-    text around what changed is scanned again: the chunks before it are kept,
-    and once the scan reaches, past the change, a cut the earlier version had
-    at the same place, the rest is the earlier chunks moved by the change.
-    ``kept`` then gets (k, m): the first k chunks are the earlier ones, and
-    those from m on are the earlier version's last ones, moved.
+    text around what changed is scanned again (``resplit``); the chunks after
+    it are copies of the earlier ones, moved.
     """
     if previous is None or not previous[1]:
         return _split(text, 0)
     old, old_chunks = previous
+    k, middle, i = resplit(text, old, old_chunks)
+    delta = len(text) - len(old)
+    moved = [Chunk(c.start + delta, c.end + delta, c.docs, c.unterminated) for c in old_chunks[i:]]
+    return [*old_chunks[:k], *middle, *moved]
+
+
+def resplit(text: str, old: str, old_chunks: list[Chunk]) -> tuple[int, list[Chunk], int]:
+    """Cut ``text``, an edited version of ``old`` whose chunks were ``old_chunks``, again where it changed.
+
+    Returns ``(k, middle, i)``: the chunks of ``text`` are ``old_chunks[:k]``, then ``middle``, then
+    ``old_chunks[i:]`` moved by ``len(text) - len(old)`` (which the caller does). Only the text
+    around the change is scanned: once the scan reaches, past the change, a cut the earlier version
+    had at the same place, the rest is as it was. Time follows the change, not the text.
+    """
     head = _common_prefix(old, text)
-    tail = _common_suffix(old, text, head)
     if head == len(old) == len(text):
-        if kept is not None:
-            kept.extend((len(old_chunks), len(old_chunks)))
-        return old_chunks
+        return len(old_chunks), [], len(old_chunks)
+    tail = _common_suffix(old, text, head)
     delta = len(text) - len(old)
     new_end = len(text) - tail
-    starts = [c.start for c in old_chunks]
-    k = max(bisect_right(starts, head) - 2, 0)  # one chunk of margin before the change
-    begin = old_chunks[k].start
+    k = max(bisect_right(old_chunks, head, key=_START) - 2, 0)  # one chunk of margin before the change
 
     def resumes(cut: int) -> bool:
         """True for a cut past the change that the earlier version had too (the rest is the same)."""
         if cut < new_end:
             return False
-        j = bisect_left(starts, cut - delta)
-        return j < len(starts) and starts[j] == cut - delta
+        j = bisect_left(old_chunks, cut - delta, key=_START)
+        return j < len(old_chunks) and old_chunks[j].start == cut - delta
 
-    middle = _split(text, begin, resumes)
-    if kept is not None:
-        kept.extend((k, k + len(middle)))
+    middle = _split(text, old_chunks[k].start, resumes)
     last = middle[-1]
     if last.end >= len(text):
-        return old_chunks[:k] + middle
-    i = bisect_left(starts, last.end - delta)
-    moved = [Chunk(c.start + delta, c.end + delta, c.docs, c.unterminated) for c in old_chunks[i:]]
-    return old_chunks[:k] + middle + moved
+        return k, middle, len(old_chunks)
+    return k, middle, bisect_left(old_chunks, last.end - delta, key=_START)
 
 
-def _common_prefix(a: str, b: str, block: int = 4096) -> int:
-    """The length of the longest common prefix of ``a`` and ``b`` (compared a block at a time in C)."""
+def _common_prefix(a: str, b: str, block: int = 1 << 15) -> int:
+    """The length of the longest common prefix of ``a`` and ``b``, compared a block at a time in C."""
     n = min(len(a), len(b))
     i = 0
     while i < n:
         j = min(i + block, n)
         if a[i:j] != b[i:j]:
+            while j - i > 32:  # halve the block that differs
+                mid = (i + j) // 2
+                if a[i:mid] == b[i:mid]:
+                    i = mid
+                else:
+                    j = mid
             while a[i] == b[i]:
                 i += 1
             return i
@@ -117,14 +154,20 @@ def _common_prefix(a: str, b: str, block: int = 4096) -> int:
     return n
 
 
-def _common_suffix(a: str, b: str, head: int, block: int = 4096) -> int:
+def _common_suffix(a: str, b: str, head: int, block: int = 1 << 15) -> int:
     """The length of the longest common suffix of ``a`` and ``b`` that leaves ``head`` characters of each."""
     n = min(len(a), len(b)) - head
-    i = 0
     la, lb = len(a), len(b)
+    i = 0
     while i < n:
         j = min(i + block, n)
         if a[la - j:la - i] != b[lb - j:lb - i]:
+            while j - i > 32:  # halve the block that differs, keeping the half nearest the end
+                mid = (i + j) // 2
+                if a[la - mid:la - i] == b[lb - mid:lb - i]:
+                    i = mid
+                else:
+                    j = mid
             while a[la - i - 1] == b[lb - i - 1]:
                 i += 1
             return i

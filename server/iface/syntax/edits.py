@@ -1,21 +1,27 @@
 """An edited document's parse made from its last one, in time that follows the edit.
 
-``parse_edited`` gives what ``parse_text`` gives with a cache: ``split`` says
+``parse_edited`` gives what ``parse_text`` gives with a cache: ``resplit`` says
 which chunks are the last version's (kept at the front, moved at the back), so
 only those between are parsed, and the kept chunks' results are taken by their
 place, without looking at each one. What this does not handle the simple way
 (a chunk left open, a comment that never closes, a last version whose chunks
 were merged) goes to ``parse_text``, which looks at every chunk.
+
+Moving the chunks after an edit costs one addition per block of chunks, not one
+per chunk: each chunk (its bounds and its results' anchor) is kept relative to
+the base of its block, about sqrt(n) consecutive chunks (``EditCache.blocks``).
 """
 
 from __future__ import annotations
 
 from bisect import bisect_left
+from math import isqrt
 from itertools import chain
 from operator import attrgetter
 from typing import Any
 
-from .chunks import split
+from ..model.source import Span
+from .chunks import Chunk, resplit
 from .parse import ChunkCache, ChunkResult, ParseResult, chunk_parser, parse_text
 
 _ITEMS = attrgetter("items")
@@ -26,13 +32,15 @@ Change = tuple[int, list[Any], list[Any], list[Any]]
 
 
 class EditCache(ChunkCache):
-    """A ``ChunkCache`` that also keeps the last version's parse."""
+    """A ``ChunkCache`` that also keeps the last version's parse, its chunks in blocks."""
 
     def __init__(self) -> None:
         super().__init__()
         self.last: ParseResult | None = None
         #: What the last parse changed, when it kept the chunks around the edit.
         self.change: Change | None = None
+        #: The bases of the blocks of chunks, in text order (empty: the chunks are in no block).
+        self.blocks: list[Span] = []
 
     def forget(self, r: ChunkResult) -> None:
         """``r`` is no longer a chunk of the document."""
@@ -50,6 +58,47 @@ class EditCache(ChunkCache):
         """``r`` is a chunk of the document now."""
         self._by_text.setdefault(r.text, []).append(r)
 
+    def block_up(self, chunks: list[Chunk], results: list[ChunkResult]) -> None:
+        """Put the chunks and their results, one result per chunk, in blocks of about sqrt(n)."""
+        self.blocks = []
+        if len(chunks) != len(results):
+            return  # merged chunks: the next edit is parsed by ``parse_text``
+        size = max(16, isqrt(len(chunks)))
+        for a in range(0, len(chunks), size):
+            base = Span(chunks[a].start, 0)
+            self.blocks.append(base)
+            for ch, r in zip(chunks[a:a + size], results[a:a + size]):
+                ch.rebase(base)
+                r.anchor.rebase(base)
+
+    def place(self, chunks: list[Chunk], results: list[ChunkResult], i: int, delta: int,
+              middle: list[Chunk], placed: list[ChunkResult]) -> None:
+        """Move ``chunks[i:]`` and their results by ``delta``, and put ``middle`` (parsed to ``placed``,
+        at their offsets in the new text) in a block before them."""
+        blocks = self.blocks
+        at = len(blocks)
+        if i < len(chunks):
+            block = chunks[i].block
+            at = next(j for j, b in enumerate(blocks) if b is block)
+            if i > 0 and chunks[i - 1].block is block:  # the moved chunks start a block of their own
+                base = Span(chunks[i].start, 0)
+                t = i
+                while t < len(chunks) and chunks[t].block is block:
+                    chunks[t].rebase(base)
+                    results[t].anchor.rebase(base)
+                    t += 1
+                at += 1
+                blocks.insert(at, base)
+            if delta:
+                for b in blocks[at:]:
+                    b.start += delta
+        if middle:
+            base = Span(middle[0].start, 0)
+            for ch, r in zip(middle, placed):
+                ch.rebase(base)
+                r.anchor.rebase(base)
+            blocks.insert(at, base)
+
 
 def parse_edited(text: str, cache: EditCache) -> ParseResult:
     """``parse_text(text, cache)``, re-parsing only the chunks between those the edit left as they were."""
@@ -57,27 +106,27 @@ def parse_edited(text: str, cache: EditCache) -> ParseResult:
     result = _reuse(text, cache)
     if result is None:
         result = parse_text(text, cache)
+        assert cache.split is not None
+        cache.block_up(cache.split[1], result.chunks)
+    elif len(cache.blocks) > 3 * isqrt(len(result.chunks)) + 16:
+        assert cache.split is not None
+        cache.block_up(cache.split[1], result.chunks)  # each edit adds a block or two: about every sqrt(n) edits
     cache.last = result
     return result
 
 
 def _reuse(text: str, cache: EditCache) -> ParseResult | None:
     prev = cache.last
-    if prev is None or cache.split is None:
+    if prev is None or cache.split is None or not cache.blocks:
         return None
-    old_chunks = cache.split[1]
+    old_text, old_chunks = cache.split
     old = prev.chunks
     if len(old) != len(old_chunks) or (prev.problems and any(r.open_at_end for r in old)):
         return None  # merged chunks, or one left open that what follows may close now
-    kept: list[int] = []
-    chunks = split(text, cache.split, kept)
-    if not kept:
-        return None
-    k, end = kept
-    after = len(chunks) - end
+    k, fresh, i = resplit(text, old_text, old_chunks)
     parser = chunk_parser()
     middle: list[ChunkResult] = []
-    for ch in chunks[k:end]:
+    for ch in fresh:
         if ch.unterminated:
             return None
         r = parser.parse(text[ch.start:ch.end], ch.docs)
@@ -85,29 +134,22 @@ def _reuse(text: str, cache: EditCache) -> ParseResult | None:
             return None
         r.move_to(ch.start)
         middle.append(r)
-    for r in old[k:len(old) - after]:
+    for r in old[k:i]:
         cache.forget(r)
     for r in middle:
         cache.keep(r)
-    suffix = old[len(old) - after:]
-    delta = len(text) - len(cache.split[0])
-    if delta:  # every chunk after the change moves by as much (``ChunkResult.move_to``, one loop)
-        for r in suffix:
-            for s in r.spans:  # a chunk records one span, its anchor (see ``ModelBuilder.reset``)
-                s.start += delta
-                s.end += delta
-            r.base += delta
-    cut = chunks[k].start if k < len(chunks) else len(text)
+    cut = old_chunks[k].start if k < len(old_chunks) else len(text)
+    cache.place(old_chunks, old, i, len(text) - len(old_text), fresh, middle)
     # the items before the change start before it (the others are further on, moved or gone): a binary search
     before = bisect_left(prev.items, cut, key=_START)
-    behind = len(prev.items) - before - sum(len(r.items) for r in old[k:len(old) - after])
+    behind = len(prev.items) - before - sum(len(r.items) for r in old[k:i])
     new = list(chain.from_iterable(map(_ITEMS, middle)))
     items: list[Any] = [*prev.items[:before], *new, *prev.items[len(prev.items) - behind:]]
     cache.change = (cut, prev.items[before:len(prev.items) - behind], new, prev.items)
-    results = [*old[:k], *middle, *suffix]
+    results = [*old[:k], *middle, *old[i:]]
     if prev.problems:
         problems = [p for r in results if r.problems for p in r.problems]
     else:
         problems = [p for r in middle for p in r.problems]
-    cache.split = (text, chunks)
+    cache.split = (text, [*old_chunks[:k], *fresh, *old_chunks[i:]])
     return ParseResult(items, problems, results)

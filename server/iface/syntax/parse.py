@@ -19,7 +19,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 from lark.parsers.lalr_analysis import Shift
 
 from ..model import nodes as m
-from ..model.source import Span
+from ..model.source import ORIGIN, AnchoredSpan, Span
 from .chunks import Chunk, split
 from .grammar import build_parser, terminal_descriptions
 from .driver import Driver
@@ -46,23 +46,26 @@ class Problem:
 
 @dataclass(slots=True, eq=False)
 class ChunkResult:
-    """What one chunk of text parsed to; spans are absolute once placed at ``base``."""
+    """What one chunk of text parsed to; its spans are relative to ``anchor``, where it starts."""
 
     text: str
     items: list[Any]
-    spans: list[Span]
+    #: The chunk's one recorded span (``ModelBuilder.reset``): moving it moves every span of the chunk.
+    anchor: AnchoredSpan
     problems: list[Problem]
-    base: int = 0
     open_at_end: bool = False
+
+    @property
+    def base(self) -> int:
+        """Where the chunk starts in the text."""
+        return self.anchor.start
 
     def move_to(self, base: int) -> None:
         """Shift every span of the chunk so that it starts at ``base``."""
-        delta = base - self.base
+        delta = base - self.anchor.start
         if delta:
-            for s in self.spans:
-                s.start += delta
-                s.end += delta
-            self.base = base
+            self.anchor.start += delta
+            self.anchor.end += delta
 
 
 @dataclass(slots=True, eq=False)
@@ -161,7 +164,7 @@ class _ChunkParser:
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
         items: list[Any] = parsed if isinstance(parsed, list) else []
-        return ChunkResult(text, items, b.spans, problems, 0, open_at_end)
+        return ChunkResult(text, items, b.anchor, problems, open_at_end)
 
 
 def _unwind_to_body(ip: Any) -> bool:
@@ -372,7 +375,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         clean = parser.parse_clean(text, docs)
         if clean is not None:
             file_as_old()  # the model outlives the young collections that would traverse it
-            return ParseResult(clean, [], [ChunkResult(text, clean, [], [])])
+            return ParseResult(clean, [], [ChunkResult(text, clean, AnchoredSpan(0, 0, ORIGIN), [])])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)
@@ -381,10 +384,10 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         ctext = text[ch.start:ch.end]
         r = cache.take(ctext) if cache is not None else None
         if r is None and ch.unterminated:
-            opening = Span(0, 2)  # recorded, so that placing the chunk moves it
-            r = ChunkResult(ctext, [], [opening], [Problem("syntax-error", "unterminated comment: '/*' has no "
-                                                           "closing '*/', so the rest of the file is comment",
-                                                           opening)])
+            anchor = AnchoredSpan(0, 0, ORIGIN)
+            r = ChunkResult(ctext, [], anchor, [Problem("syntax-error", "unterminated comment: '/*' has no "
+                                                        "closing '*/', so the rest of the file is comment",
+                                                        AnchoredSpan(0, 2, anchor))])
         if r is None:
             r = parser.parse(ctext, ch.docs)
         # a chunk left open is joined with what follows it now, whether it was parsed now or in an

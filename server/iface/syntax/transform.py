@@ -16,7 +16,7 @@ from typing import Any
 from lark import Token
 
 from ..model import nodes as m
-from ..model.source import AnchoredSpan, Span
+from ..model.source import ORIGIN, AnchoredSpan, Span
 
 #: Containers nested deeper than this are refused (and not modelled).
 MAX_TYPE_DEPTH = 64
@@ -138,8 +138,7 @@ class ModelBuilder:
     """Callbacks for every rule of grammar.lark; see ``parse.ChunkParser``."""
 
     def __init__(self) -> None:
-        self.anchor = Span(0, 0)
-        self.spans: list[Span] = [self.anchor]
+        self.anchor = AnchoredSpan(0, 0, ORIGIN)
         self.docs: dict[int, str] = {}
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
@@ -154,8 +153,7 @@ class ModelBuilder:
         With ``record`` every span is made relative to one anchor, the chunk's only recorded span:
         moving the chunk moves the anchor.
         """
-        self.anchor = Span(0, 0)
-        self.spans = [self.anchor]
+        self.anchor = AnchoredSpan(0, 0, ORIGIN)
         self.docs = docs
         self.problems = []
         self._depth = {}
