@@ -17,7 +17,7 @@ as a first compile.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from operator import attrgetter
 
@@ -67,8 +67,10 @@ class Analysis:
     def __init__(self) -> None:
         self.context: object = None
         self.units: dict[int, Unit] = {}
-        self.users: dict[str, set[int]] = {}
-        self.by_name: dict[str, list[m.Definition]] = {}
+        #: The items that use a name, by id: one as its bare id, more as a set (see ``_use``).
+        self.users: dict[str, int | set[int]] = {}
+        #: Definitions by name, in the order of the text (more than one: a duplicate).
+        self.by_name: dict[str, tuple[m.Definition, ...]] = {}
         self.duplicates: dict[str, list[Diagnostic]] = {}
         self.symbols: dict[str, m.Definition] = {}
         #: Units with a finding, by id of their item.
@@ -90,6 +92,36 @@ class Analysis:
         last = self.iface
         self.__init__()  # type: ignore[misc]
         self.iface = last
+
+
+def _use(users: dict[str, int | set[int]], name: str, k: int) -> None:
+    """Record that the item of id ``k`` uses ``name`` (most names have one user: kept without a set)."""
+    had = users.get(name)
+    if had is None:
+        users[name] = k
+    elif isinstance(had, int):
+        if had != k:
+            users[name] = {had, k}
+    else:
+        had.add(k)
+
+
+def _unuse(users: dict[str, int | set[int]], name: str, k: int) -> None:
+    """Forget that the item of id ``k`` uses ``name``."""
+    had = users.get(name)
+    if isinstance(had, int):
+        if had == k:
+            del users[name]
+    elif had is not None:
+        had.discard(k)
+
+
+def _users(users: dict[str, int | set[int]], name: str) -> Collection[int]:
+    """The ids of the items that use ``name``."""
+    had = users.get(name)
+    if had is None:
+        return ()
+    return (had,) if isinstance(had, int) else had
 
 
 def _value_names(v: m.Value | None, out: set[str]) -> None:
@@ -182,26 +214,25 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     # ---- definitions by name: duplicates and the symbol table -------------------------------------
     changed: set[str] = set()
     for u in removed:
+        k = id(u.item)
         for n in u.uses:
-            users = an.users.get(n)
-            if users is not None:
-                users.discard(id(u.item))
+            _unuse(an.users, n, k)
         an.noisy.pop(id(u.item), None)
         an.unknown.pop(id(u.item), None)
         if not isinstance(u.item, m.Wiring):
-            an.by_name[u.item.name].remove(u.item)
+            an.by_name[u.item.name] = tuple(d for d in an.by_name[u.item.name] if d is not u.item)
             changed.add(u.item.name)
     for x in added:
         if not isinstance(x, m.Wiring):
-            an.by_name.setdefault(x.name, []).append(x)
+            an.by_name[x.name] = (*an.by_name.get(x.name, ()), x)
             changed.add(x.name)
     for n in an.duplicates:  # two chunks of one text may swap their model objects between versions
-        if n not in changed and an.by_name[n] != sorted(an.by_name[n], key=_START):
+        if n not in changed and an.by_name[n] != tuple(sorted(an.by_name[n], key=_START)):
             changed.add(n)
     for n in changed:
-        same = an.by_name.get(n) or []
+        same = an.by_name.get(n) or ()
         if len(same) > 1:
-            same.sort(key=_START)
+            same = an.by_name[n] = tuple(sorted(same, key=_START))
         if not same:
             an.by_name.pop(n, None)
             an.duplicates.pop(n, None)
@@ -230,7 +261,7 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     # ---- resolve what is new, and what uses a name that now means another definition ----------------
     redo: dict[int, m.Definition | m.Wiring] = {id(x): x for x in added}
     for n in rebound:
-        for k in an.users.get(n, ()):
+        for k in _users(an.users, n):
             if k not in redo:
                 redo[k] = units[k].item
     todo = added if first else sorted(redo.values(), key=_START)
@@ -238,7 +269,8 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     for x in todo:
         uses: set[str] = set()
         unknown = resolve_item(iface, x, uses if keep else None)
-        old = units.get(id(x))
+        k = id(x)  # one int object for the item's every entry below
+        old = units.get(k)
         if isinstance(x, m.Wiring):
             local = old.local if old is not None else (wiring_findings(src, x) if robot else [])
         else:
@@ -250,14 +282,14 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
             if old is not None:
                 for n in old.uses:
                     if n not in uses:
-                        an.users[n].discard(id(x))
+                        _unuse(an.users, n, k)
             for n in uses:
-                an.users.setdefault(n, set()).add(id(x))
-        units[id(x)] = unit
+                _use(an.users, n, k)
+        units[k] = unit
         if unknown:
-            an.unknown[id(x)] = unit
+            an.unknown[k] = unit
         else:
-            an.unknown.pop(id(x), None)
+            an.unknown.pop(k, None)
         fresh.append(unit)
     if first:
         an.cycle_members = set()
@@ -359,8 +391,7 @@ def _structural(an: Analysis, removed: list[Unit], added: list[m.Definition | m.
             return True
     names = {x.name for x in [*(u.item for u in removed), *added] if not isinstance(x, m.Wiring)}
     for n in names:
-        users = an.users.get(n, ())
-        for k in users:
+        for k in _users(an.users, n):
             u = an.units.get(k)
             if u is not None and (isinstance(u.item, m.Typedef) or (isinstance(u.item, m.Service) and
                                                                     u.item.extends is not None)

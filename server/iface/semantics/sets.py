@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
+from typing import TypeVar
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
 from ..model.walk import resolve_typedefs
+
+K = TypeVar("K")
 
 
 def derive(iface: m.Interface) -> Iterator[Diagnostic]:
@@ -312,11 +315,8 @@ class SetFindings:
                channels: set[tuple[str, str]]) -> None:
         key = (w.direction, w.type.name, w.topic)
         ch = _channel(w)
-        for group in (self.by_statement.setdefault(key, []), self.by_channel.setdefault(ch, [])):
-            if by > 0:
-                group.append(w)
-            else:
-                group.remove(w)
+        _regroup(self.by_statement, key, w, by)
+        _regroup(self.by_channel, ch, w, by)
         statements.add(key)
         channels.add(ch)
 
@@ -361,6 +361,16 @@ class SetFindings:
             self.channel_found[ch] = found
         else:
             self.channel_found.pop(ch, None)
+
+
+def _regroup(groups: dict[K, list[m.Wiring]], k: K, w: m.Wiring, by: int) -> None:
+    """Put ``w`` in the group ``k`` (``by`` > 0) or take it out; a new group is a list of exactly one (most stay so)."""
+    if by < 0:
+        groups[k].remove(w)
+    elif (group := groups.get(k)) is None:
+        groups[k] = [w]
+    else:
+        group.append(w)
 
 
 def _channel(w: m.Wiring) -> tuple[str, str]:
