@@ -67,8 +67,8 @@ class Analysis:
     def __init__(self) -> None:
         self.context: object = None
         self.units: dict[int, Unit] = {}
-        #: The items that use a name, by id: one as its bare id, more as a set (see ``_use``).
-        self.users: dict[str, int | set[int]] = {}
+        #: The items that use a name, by id (see ``_use``).
+        self.users: Users = {}
         #: Definitions by name, in the order of the text (more than one: a duplicate).
         self.by_name: dict[str, tuple[m.Definition, ...]] = {}
         self.duplicates: dict[str, list[Diagnostic]] = {}
@@ -94,29 +94,41 @@ class Analysis:
         self.iface = last
 
 
-def _use(users: dict[str, int | set[int]], name: str, k: int) -> None:
-    """Record that the item of id ``k`` uses ``name`` (most names have one user: kept without a set)."""
+#: The items that use a name: a bare id, a tuple of a few, or a set of more (most names have one or two users,
+#: and a set is some 200 bytes).
+Users = dict[str, int | tuple[int, ...] | set[int]]
+_FEW = 8
+
+
+def _use(users: Users, name: str, k: int) -> None:
+    """Record that the item of id ``k`` uses ``name``."""
     had = users.get(name)
     if had is None:
         users[name] = k
     elif isinstance(had, int):
         if had != k:
-            users[name] = {had, k}
+            users[name] = (had, k)
+    elif isinstance(had, tuple):
+        if k not in had:
+            users[name] = (*had, k) if len(had) < _FEW else {*had, k}
     else:
         had.add(k)
 
 
-def _unuse(users: dict[str, int | set[int]], name: str, k: int) -> None:
+def _unuse(users: Users, name: str, k: int) -> None:
     """Forget that the item of id ``k`` uses ``name``."""
     had = users.get(name)
     if isinstance(had, int):
         if had == k:
             del users[name]
+    elif isinstance(had, tuple):
+        if k in had:
+            users[name] = tuple(x for x in had if x != k)
     elif had is not None:
         had.discard(k)
 
 
-def _users(users: dict[str, int | set[int]], name: str) -> Collection[int]:
+def _users(users: Users, name: str) -> Collection[int]:
     """The ids of the items that use ``name``."""
     had = users.get(name)
     if had is None:
