@@ -30,6 +30,8 @@ _SCAN = re.compile(
 )
 _SPACE = re.compile(r"\s*")
 _START = attrgetter("start")
+#: The doc comments of the many chunks that have none (one dict, never changed).
+NO_DOCS: dict[int, str] = {}
 
 
 class Chunk:
@@ -215,12 +217,14 @@ def _split(text: str, begin: int, resumes: Callable[[int], bool] | None = None) 
     chunks: list[Chunk] = []
     di = 0
     for a, b in zip(cuts, cuts[1:]):
-        cd: dict[int, str] = {}
+        cd = NO_DOCS
         while di < len(docs) and docs[di][0] < b:
             _, target, doc = docs[di]
+            if cd is NO_DOCS:
+                cd = {}
             cd[target - a] = doc
             di += 1
         chunks.append(Chunk(a, b, cd, a == open_comment and stop < 0))
     if not chunks:
-        chunks.append(Chunk(begin, begin, {}))
+        chunks.append(Chunk(begin, begin, NO_DOCS))
     return chunks

@@ -44,7 +44,7 @@ class EditCache(ChunkCache):
 
     def forget(self, r: ChunkResult) -> None:
         """``r`` is no longer a chunk of the document."""
-        same = self._by_text.get(r.text)
+        same = self._by_key.get(r.key)
         if same is None:
             return
         for i, x in enumerate(same):
@@ -52,11 +52,11 @@ class EditCache(ChunkCache):
                 del same[i]
                 break
         if not same:
-            del self._by_text[r.text]
+            del self._by_key[r.key]
 
     def keep(self, r: ChunkResult) -> None:
         """``r`` is a chunk of the document now."""
-        self._by_text.setdefault(r.text, []).append(r)
+        self._by_key.setdefault(r.key, []).append(r)
 
     def block_up(self, chunks: list[Chunk], results: list[ChunkResult]) -> None:
         """Put the chunks and their results, one result per chunk, in blocks of about sqrt(n)."""

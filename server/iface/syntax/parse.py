@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 import threading
 from dataclasses import dataclass, field
+from collections.abc import Sequence
 from typing import Any, cast
 
 from lark import Token, Tree
@@ -46,13 +47,18 @@ class Problem:
 
 @dataclass(slots=True, eq=False)
 class ChunkResult:
-    """What one chunk of text parsed to; its spans are relative to ``anchor``, where it starts."""
+    """What one chunk of text parsed to; its spans are relative to ``anchor``, where it starts.
 
-    text: str
+    The chunk's text is not kept: its ``length`` and ``key`` (the text's hash) find it again in
+    the text the chunk is placed in (``ChunkCache.take``).
+    """
+
     items: list[Any]
     #: The chunk's one recorded span (``ModelBuilder.reset``): moving it moves every span of the chunk.
     anchor: AnchoredSpan
-    problems: list[Problem]
+    problems: Sequence[Problem]
+    length: int
+    key: int
     open_at_end: bool = False
 
     @property
@@ -78,7 +84,7 @@ class ParseResult:
 
     def broken_ranges(self) -> list[tuple[int, int]]:
         """(start, end) offsets of the chunks that have a syntax error."""
-        return [(c.base, c.base + len(c.text)) for c in self.chunks
+        return [(c.base, c.base + c.length) for c in self.chunks
                 if any(p.code == "syntax-error" for p in c.problems)]
 
 
@@ -164,7 +170,7 @@ class _ChunkParser:
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
         items: list[Any] = parsed if isinstance(parsed, list) else []
-        return ChunkResult(text, items, b.anchor, problems, open_at_end)
+        return ChunkResult(items, b.anchor, problems or (), len(text), hash(text), open_at_end)
 
 
 def _unwind_to_body(ip: Any) -> bool:
@@ -339,21 +345,30 @@ class ChunkCache:
     """Parsed chunks of one document, reused across its versions by their text."""
 
     def __init__(self) -> None:
-        self._by_text: dict[str, list[ChunkResult]] = {}
+        #: The newest version's chunk results by the hash of their text.
+        self._by_key: dict[int, list[ChunkResult]] = {}
         #: The last text and its chunks: the next version's text is cut again only around what changed.
         self.split: tuple[str, list[Chunk]] | None = None
 
-    def take(self, text: str) -> ChunkResult | None:
-        """A cached result for ``text``, removed so it is used once per version."""
-        found = self._by_text.get(text)
-        return found.pop() if found else None
+    def take(self, text: str, placed_in: str) -> ChunkResult | None:
+        """A cached result for ``text``, removed so it is used once per version; the cached results are
+        placed in ``placed_in`` (the last version's text), where their text is compared."""
+        found = self._by_key.get(hash(text))
+        if not found:
+            return None
+        for i in range(len(found) - 1, -1, -1):
+            r = found[i]
+            if r.length == len(text) and placed_in.startswith(text, r.base):
+                del found[i]
+                return r
+        return None
 
     def replace(self, results: list[ChunkResult]) -> None:
         """Keep exactly the chunks of the newest version."""
-        fresh: dict[str, list[ChunkResult]] = {}
+        fresh: dict[int, list[ChunkResult]] = {}
         for r in results:
-            fresh.setdefault(r.text, []).append(r)
-        self._by_text = fresh
+            fresh.setdefault(r.key, []).append(r)
+        self._by_key = fresh
 
 
 def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
@@ -365,6 +380,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
     error and models the rest.
     """
     parser = chunk_parser()
+    last = cache.split[0] if cache is not None and cache.split is not None else ""
     chunks = split(text, cache.split if cache is not None else None)
     if cache is not None:
         cache.split = (text, chunks)
@@ -375,19 +391,19 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         clean = parser.parse_clean(text, docs)
         if clean is not None:
             file_as_old()  # the model outlives the young collections that would traverse it
-            return ParseResult(clean, [], [ChunkResult(text, clean, AnchoredSpan(0, 0, ORIGIN), [])])
+            return ParseResult(clean, [], [ChunkResult(clean, AnchoredSpan(0, 0, ORIGIN), (), len(text), 0)])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)
     while i < n:
         ch = chunks[i]
         ctext = text[ch.start:ch.end]
-        r = cache.take(ctext) if cache is not None else None
+        r = cache.take(ctext, last) if cache is not None else None
         if r is None and ch.unterminated:
             anchor = AnchoredSpan(0, 0, ORIGIN)
-            r = ChunkResult(ctext, [], anchor, [Problem("syntax-error", "unterminated comment: '/*' has no "
-                                                        "closing '*/', so the rest of the file is comment",
-                                                        AnchoredSpan(0, 2, anchor))])
+            r = ChunkResult([], anchor, [Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', "
+                                                 "so the rest of the file is comment", AnchoredSpan(0, 2, anchor))],
+                            len(ctext), hash(ctext))
         if r is None:
             r = parser.parse(ctext, ch.docs)
         # a chunk left open is joined with what follows it now, whether it was parsed now or in an
