@@ -260,7 +260,7 @@ class ModelBuilder:
 
     def senum(self, c: list[Any]) -> m.Senum:
         kw, name = c[0], c[1]
-        values = [m.Value("string", self._decode(t), self.tok_span(t), str(t))
+        values = [m.Value("string", sys.intern(self._decode(t)), self.tok_span(t), _text(t))
                   for t in c[3:] if isinstance(t, Token) and t.type == "LITERAL"]
         ann, end = self._body_tail(c)
         return m.Senum(_text(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
@@ -475,7 +475,8 @@ class ModelBuilder:
 
     def string_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("string", self._decode(tok), self.tok_span(tok), str(tok))
+        # annotation values repeat (units, ranges, qos settings): one string for each distinct value and spelling
+        return m.Value("string", sys.intern(self._decode(tok)), self.tok_span(tok), _text(tok))
 
     def name_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
