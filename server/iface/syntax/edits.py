@@ -42,22 +42,6 @@ class EditCache(ChunkCache):
         #: The bases of the blocks of chunks, in text order (empty: the chunks are in no block).
         self.blocks: list[Span] = []
 
-    def forget(self, r: ChunkResult) -> None:
-        """``r`` is no longer a chunk of the document."""
-        same = self._by_key.get(r.key)
-        if same is None:
-            return
-        for i, x in enumerate(same):
-            if x is r:
-                del same[i]
-                break
-        if not same:
-            del self._by_key[r.key]
-
-    def keep(self, r: ChunkResult) -> None:
-        """``r`` is a chunk of the document now."""
-        self._by_key.setdefault(r.key, []).append(r)
-
     def block_up(self, chunks: list[Chunk], results: list[ChunkResult]) -> None:
         """Put the chunks and their results, one result per chunk, in blocks of about sqrt(n)."""
         self.blocks = []
@@ -134,10 +118,6 @@ def _reuse(text: str, cache: EditCache) -> ParseResult | None:
             return None
         r.move_to(ch.start)
         middle.append(r)
-    for r in old[k:i]:
-        cache.forget(r)
-    for r in middle:
-        cache.keep(r)
     cut = old_chunks[k].start if k < len(old_chunks) else len(text)
     cache.place(old_chunks, old, i, len(text) - len(old_text), fresh, middle)
     # the items before the change start before it (the others are further on, moved or gone): a binary search
@@ -152,4 +132,5 @@ def _reuse(text: str, cache: EditCache) -> ParseResult | None:
     else:
         problems = [p for r in middle for p in r.problems]
     cache.split = (text, [*old_chunks[:k], *fresh, *old_chunks[i:]])
+    cache.results = results
     return ParseResult(items, problems, results)

@@ -49,8 +49,7 @@ class Problem:
 class ChunkResult:
     """What one chunk of text parsed to; its spans are relative to ``anchor``, where it starts.
 
-    The chunk's text is not kept: its ``length`` and ``key`` (the text's hash) find it again in
-    the text the chunk is placed in (``ChunkCache.take``).
+    The chunk's text is not kept: it is the ``length`` characters at ``base`` of the text it is placed in.
     """
 
     items: list[Any]
@@ -58,7 +57,6 @@ class ChunkResult:
     anchor: AnchoredSpan
     problems: Sequence[Problem]
     length: int
-    key: int
     open_at_end: bool = False
 
     @property
@@ -170,7 +168,7 @@ class _ChunkParser:
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
         items: list[Any] = parsed if isinstance(parsed, list) else []
-        return ChunkResult(items, b.anchor, problems or (), len(text), hash(text), open_at_end)
+        return ChunkResult(items, b.anchor, problems or (), len(text), open_at_end)
 
 
 def _unwind_to_body(ip: Any) -> bool:
@@ -345,30 +343,19 @@ class ChunkCache:
     """Parsed chunks of one document, reused across its versions by their text."""
 
     def __init__(self) -> None:
-        #: The newest version's chunk results by the hash of their text.
-        self._by_key: dict[int, list[ChunkResult]] = {}
         #: The last text and its chunks: the next version's text is cut again only around what changed.
         self.split: tuple[str, list[Chunk]] | None = None
+        #: The last version's chunk results, placed in ``split``'s text.
+        self.results: list[ChunkResult] = []
 
-    def take(self, text: str, placed_in: str) -> ChunkResult | None:
-        """A cached result for ``text``, removed so it is used once per version; the cached results are
-        placed in ``placed_in`` (the last version's text), where their text is compared."""
-        found = self._by_key.get(hash(text))
-        if not found:
-            return None
-        for i in range(len(found) - 1, -1, -1):
-            r = found[i]
-            if r.length == len(text) and placed_in.startswith(text, r.base):
-                del found[i]
-                return r
-        return None
-
-    def replace(self, results: list[ChunkResult]) -> None:
-        """Keep exactly the chunks of the newest version."""
-        fresh: dict[int, list[ChunkResult]] = {}
-        for r in results:
-            fresh.setdefault(r.key, []).append(r)
-        self._by_key = fresh
+    def pool(self) -> dict[str, list[ChunkResult]]:
+        """The last version's chunk results by their text (made when a whole text is parsed again)."""
+        pool: dict[str, list[ChunkResult]] = {}
+        if self.split is not None:
+            last = self.split[0]
+            for r in self.results:
+                pool.setdefault(last[r.base:r.base + r.length], []).append(r)
+        return pool
 
 
 def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
@@ -380,7 +367,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
     error and models the rest.
     """
     parser = chunk_parser()
-    last = cache.split[0] if cache is not None and cache.split is not None else ""
+    pool = cache.pool() if cache is not None else {}
     chunks = split(text, cache.split if cache is not None else None)
     if cache is not None:
         cache.split = (text, chunks)
@@ -391,19 +378,20 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         clean = parser.parse_clean(text, docs)
         if clean is not None:
             file_as_old()  # the model outlives the young collections that would traverse it
-            return ParseResult(clean, [], [ChunkResult(clean, AnchoredSpan(0, 0, ORIGIN), (), len(text), 0)])
+            return ParseResult(clean, [], [ChunkResult(clean, AnchoredSpan(0, 0, ORIGIN), (), len(text))])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)
     while i < n:
         ch = chunks[i]
         ctext = text[ch.start:ch.end]
-        r = cache.take(ctext, last) if cache is not None else None
+        same = pool.get(ctext)
+        r = same.pop() if same else None
         if r is None and ch.unterminated:
             anchor = AnchoredSpan(0, 0, ORIGIN)
             r = ChunkResult([], anchor, [Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', "
                                                  "so the rest of the file is comment", AnchoredSpan(0, 2, anchor))],
-                            len(ctext), hash(ctext))
+                            len(ctext))
         if r is None:
             r = parser.parse(ctext, ch.docs)
         # a chunk left open is joined with what follows it now, whether it was parsed now or in an
@@ -416,7 +404,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         results.append(r)
         i += 1
     if cache is not None:
-        cache.replace(results)
+        cache.results = results
     items: list[Any] = []
     problems: list[Problem] = []
     for r in results:
