@@ -40,6 +40,29 @@ def test_random_edits_match_fresh_compiles() -> None:
         assert _fingerprint(incremental) == _fingerprint(fresh) == _fingerprint(whole), f"step {step}"
 
 
+def test_common_prefix_and_suffix_of_long_texts_are_found_across_blocks() -> None:
+    """The common prefix and suffix of an edit are found a block at a time, then by halving the block
+    that differs: the same lengths as comparing character by character, for edits anywhere in texts
+    longer than several blocks (at block edges too)."""
+    import os.path
+
+    from iface.syntax.chunks import _common_prefix, _common_suffix
+
+    rng = random.Random(3)
+    base = "".join(rng.choice("ab\n") for _ in range(70_000))
+    places = [0, 1, 31, 32, 33, 1 << 15, (1 << 15) - 1, (1 << 15) + 1, 1 << 16, 69_999, 70_000]
+    places += [rng.randrange(70_001) for _ in range(40)]
+    for at in places:
+        for new in ("", "c", "ab", "x" * 40_000):
+            cut = min(len(base), at + rng.choice((0, 1, 5, 3000)))
+            edited = base[:at] + new + base[cut:]
+            head = _common_prefix(base, edited)
+            assert head == len(os.path.commonprefix([base, edited])), (at, len(new))
+            tail = _common_suffix(base, edited, head)
+            naive = len(os.path.commonprefix([base[head:][::-1], edited[head:][::-1]]))
+            assert tail == naive, (at, len(new))
+
+
 def test_cutting_again_only_around_an_edit_gives_the_chunks_of_cutting_it_all() -> None:
     """``split(text, previous)`` keeps the chunks before an edit and moves those after it: the same chunks
     (bounds, doc comments, an unclosed comment) as cutting the whole new text, over 3,000 random edits."""
