@@ -15,7 +15,7 @@ from bisect import bisect_left, bisect_right
 from collections.abc import Callable
 from operator import attrgetter
 
-from ..model.source import ORIGIN, Span
+from ..model.source import ORIGIN, AnchoredSpan
 
 TOP_KEYWORDS = (
     "include", "cpp_include", "namespace", "component", "external",
@@ -34,38 +34,20 @@ _START = attrgetter("start")
 NO_DOCS: dict[int, str] = {}
 
 
-class Chunk:
-    """A piece of the text: ``text[start:end]``, with its doc comments (relative offsets).
+class Chunk(AnchoredSpan):
+    """A piece of the text, ``text[start:end]``, with its doc comments (relative offsets).
 
-    The bounds are kept relative to ``block``: the base of a block of chunks that an edit moves as one
-    (``syntax.edits.EditCache``), ``ORIGIN`` for a chunk in no block.
+    Its bounds are relative to its ``anchor``: the base of a block of chunks that an edit moves as
+    one (``syntax.edits.EditCache``), ``ORIGIN`` for a chunk in no block.
     """
 
-    __slots__ = ("_start", "_end", "docs", "unterminated", "block")
+    __slots__ = ("docs", "unterminated")
 
     def __init__(self, start: int, end: int, docs: dict[int, str], unterminated: bool = False) -> None:
-        self._start = start
-        self._end = end
+        super().__init__(start, end, ORIGIN)
         self.docs = docs
         #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
         self.unterminated = unterminated
-        self.block: Span = ORIGIN
-
-    @property
-    def start(self) -> int:
-        """Where the chunk starts in the text."""
-        return self._start + self.block.start
-
-    @property
-    def end(self) -> int:
-        """Where the chunk ends in the text."""
-        return self._end + self.block.start
-
-    def rebase(self, block: Span) -> None:
-        """Keep the same bounds, relative to ``block`` from now on."""
-        start, end = self.start, self.end
-        self.block = block
-        self._start, self._end = start - block.start, end - block.start
 
     def __repr__(self) -> str:
         return f"Chunk({self.start}, {self.end}, {self.docs!r}, {self.unterminated})"

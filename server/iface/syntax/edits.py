@@ -15,8 +15,8 @@ the base of its block, about sqrt(n) consecutive chunks (``EditCache.blocks``).
 from __future__ import annotations
 
 from bisect import bisect_left
-from math import isqrt
 from itertools import chain
+from math import isqrt
 from operator import attrgetter
 from typing import Any
 
@@ -42,9 +42,11 @@ class EditCache(ChunkCache):
         #: The bases of the blocks of chunks, in text order (empty: the chunks are in no block).
         self.blocks: list[Span] = []
 
-    def block_up(self, chunks: list[Chunk], results: list[ChunkResult]) -> None:
+    def block_up(self) -> None:
         """Put the chunks and their results, one result per chunk, in blocks of about sqrt(n)."""
         self.blocks = []
+        chunks = self.split[1] if self.split is not None else []
+        results = self.results
         if len(chunks) != len(results):
             return  # merged chunks: the next edit is parsed by ``parse_text``
         size = max(16, isqrt(len(chunks)))
@@ -62,12 +64,12 @@ class EditCache(ChunkCache):
         blocks = self.blocks
         at = len(blocks)
         if i < len(chunks):
-            block = chunks[i].block
+            block = chunks[i].anchor
             at = next(j for j, b in enumerate(blocks) if b is block)
-            if i > 0 and chunks[i - 1].block is block:  # the moved chunks start a block of their own
+            if i > 0 and chunks[i - 1].anchor is block:  # the moved chunks start a block of their own
                 base = Span(chunks[i].start, 0)
                 t = i
-                while t < len(chunks) and chunks[t].block is block:
+                while t < len(chunks) and chunks[t].anchor is block:
                     chunks[t].rebase(base)
                     results[t].anchor.rebase(base)
                     t += 1
@@ -87,14 +89,11 @@ class EditCache(ChunkCache):
 def parse_edited(text: str, cache: EditCache) -> ParseResult:
     """``parse_text(text, cache)``, re-parsing only the chunks between those the edit left as they were."""
     cache.change = None
-    result = _reuse(text, cache)
-    if result is None:
-        result = parse_text(text, cache)
-        assert cache.split is not None
-        cache.block_up(cache.split[1], result.chunks)
-    elif len(cache.blocks) > 3 * isqrt(len(result.chunks)) + 16:
-        assert cache.split is not None
-        cache.block_up(cache.split[1], result.chunks)  # each edit adds a block or two: about every sqrt(n) edits
+    reused = _reuse(text, cache)
+    result = reused if reused is not None else parse_text(text, cache)
+    # each edit adds a block or two: they are made again after a whole parse and about every sqrt(n) edits
+    if reused is None or len(cache.blocks) > 3 * isqrt(len(result.chunks)) + 16:
+        cache.block_up()
     cache.last = result
     return result
 

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import re
 import threading
-from dataclasses import dataclass, field
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import Any, cast
 
 from lark import Token, Tree
