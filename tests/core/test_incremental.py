@@ -183,7 +183,8 @@ def _spans(node: object, out: list[tuple[str, int, int]], path: str = "", depth:
             _spans(x, out, f"{path}[{i}]", depth + 1)
     elif is_dataclass(node) and depth < 40:
         for f in fields(node):
-            if f.name not in ("target", "source", "included", "spliced"):
+            # the table a parsed node keeps its spans in is where its chunk starts, not a span of the node
+            if f.name not in ("target", "source", "included", "spliced", "_t"):
                 _spans(getattr(node, f.name), out, f"{path}.{f.name}", depth + 1)
     return out
 

@@ -10,9 +10,66 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal, Union
+from typing import Any, Callable, Literal, TypeVar, Union
 
-from .source import Source, Span
+from .source import Source, Span, SpanTable
+
+# ---------------------------------------------------------------------------
+# Spans kept in a table
+
+
+@dataclass(slots=True, eq=False)
+class Node:
+    """What every node with spans shares: the table its spans are kept in, when the parser made it.
+
+    A node made by the parser keeps the index of its first span in its ``span`` slot and its chunk's
+    ``SpanTable`` here; its other spans (``name_span`` and the like) follow at the next indices. Reading
+    ``node.span`` then makes a span relative to the table, which moves with its chunk. A node made any other
+    way holds its spans itself and ``_t`` is None; so does a parsed node once one of its spans is set.
+    """
+
+    _t: SpanTable | None = field(default=None, kw_only=True, repr=False, metadata={"derived": True})
+
+
+_T = TypeVar("_T")
+_TABLE: Any = Node.__dict__["_t"]
+
+
+def spanned(*names: str) -> Callable[[type[_T]], type[_T]]:
+    """Make the span fields ``names`` (``span`` first) of a node class read from its table when it has one."""
+
+    def wrap(cls: type[_T]) -> type[_T]:
+        raws = [cls.__dict__[n] for n in names]
+        first = raws[0]
+        get_table, get_first = _TABLE.__get__, first.__get__
+
+        def detach(node: Any) -> None:
+            spans = [getattr(node, n) for n in names]
+            _TABLE.__set__(node, None)
+            for raw, span in zip(raws, spans):
+                raw.__set__(node, span)
+
+        def make(i: int, raw: Any) -> property:
+            get_raw, set_raw = raw.__get__, raw.__set__
+
+            def fget(node: Any) -> Span:
+                table = get_table(node)
+                if table is None:
+                    return get_raw(node)
+                return table.at(get_first(node) + i)
+
+            def fset(node: Any, value: Any) -> None:
+                if value.__class__ is not int and get_table(node) is not None:
+                    detach(node)
+                set_raw(node, value)
+
+            return property(fget, fset, doc=f"The node's {names[i]}.")
+
+        for i, (n, raw) in enumerate(zip(names, raws)):
+            setattr(cls, n, make(i, raw))
+        return cls
+
+    return wrap
 
 # ---------------------------------------------------------------------------
 # Types
@@ -52,8 +109,9 @@ FLOAT32_MAX = 3.4028234663852886e38
 STRING_TYPES = frozenset({"string", "wstring"})
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class BaseType:
+class BaseType(Node):
     """A builtin type; ``bound`` is the maximum length of a bounded string."""
 
     name: str
@@ -65,8 +123,9 @@ class BaseType:
     kind: Literal["base"] = "base"
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class NamedType:
+class NamedType(Node):
     """A reference to a definition by name, possibly qualified (``pkg.Type``)."""
 
     name: str
@@ -93,8 +152,9 @@ class NamedType:
 ArrayKind = Literal["fixed", "bounded", "unbounded"]
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class ArrayType:
+class ArrayType(Node):
     """A sequence: ``T[]``, ``T[N]`` (fixed), ``T[<=N]`` (bounded) or Thrift ``list<T>``."""
 
     element: TypeRef
@@ -107,8 +167,9 @@ class ArrayType:
     kind: Literal["array"] = "array"
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class SetType:
+class SetType(Node):
     """Thrift ``set<T>``."""
 
     element: TypeRef
@@ -118,8 +179,9 @@ class SetType:
     kind: Literal["set"] = "set"
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class MapType:
+class MapType(Node):
     """Thrift ``map<K, V>``."""
 
     key: TypeRef
@@ -139,8 +201,9 @@ TypeRef = Union[BaseType, NamedType, ArrayType, SetType, MapType]
 ValueKind = Literal["int", "double", "string", "name", "list", "map"]
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class Value:
+class Value(Node):
     """A constant value as written: int, double, string, name, list or map.
 
     ``value`` holds an int, a float, the decoded str, the name, a list of
@@ -154,8 +217,9 @@ class Value:
     text: str = ""
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class Annotation:
+class Annotation(Node):
     """A Thrift annotation ``key = value`` (value None for a bare flag)."""
 
     key: str
@@ -185,8 +249,9 @@ def annotation(annotations: Sequence[Annotation], key: str) -> Annotation | None
 Requiredness = Literal["required", "optional"]
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Field:
+class Field(Node):
     """A field of a struct-like body, a section, a function's argument list or throws."""
 
     name: str
@@ -237,8 +302,9 @@ class Field:
         return lo, hi
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Const:
+class Const(Node):
     """A constant, at top level or inside a body (ROS 2 message constants)."""
 
     name: str
@@ -252,8 +318,9 @@ class Const:
     kind: Literal["const"] = "const"
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Section:
+class Section(Node):
     """A part of a service or action: request/response, goal/result/feedback."""
 
     name: str
@@ -266,8 +333,9 @@ class Section:
     doc: str | None = None
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Function:
+class Function(Node):
     """A Thrift service function: one request/response pair."""
 
     name: str
@@ -288,8 +356,9 @@ StructKind = Literal["struct", "union", "exception", "message", "configuration",
 BodyForm = Literal["explicit", "flat", "functions", "empty"]
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Struct:
+class Struct(Node):
     """struct, union, exception (Thrift); message, configuration, state (iface)."""
 
     kind: StructKind
@@ -302,8 +371,9 @@ class Struct:
     doc: str | None = None
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Service:
+class Service(Node):
     """A service: Thrift functions, or one request/response pair (flat or explicit)."""
 
     name: str
@@ -331,8 +401,9 @@ class Service:
             (a := annotation(self.annotations, "role")) is not None and a.text == "diagnostics")
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Action:
+class Action(Node):
     """An action: goal, result and feedback."""
 
     name: str
@@ -351,8 +422,9 @@ class Action:
     kind: Literal["action"] = "action"
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class EnumValue:
+class EnumValue(Node):
     """One enumerator; ``value`` is explicit or counted on from the previous one."""
 
     name: str
@@ -364,8 +436,9 @@ class EnumValue:
     doc: str | None = None
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Enum:
+class Enum(Node):
     """A Thrift enum."""
 
     name: str
@@ -397,8 +470,9 @@ class Enum:
         return number in self._indexed()[2]
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Senum:
+class Senum(Node):
     """A Thrift senum (deprecated string enum)."""
 
     name: str
@@ -411,8 +485,9 @@ class Senum:
     kind: Literal["senum"] = "senum"
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class Typedef:
+class Typedef(Node):
     """``typedef T Name``."""
 
     name: str
@@ -435,8 +510,9 @@ Definition = Union[Struct, Service, Action, Enum, Senum, Typedef, Const]
 # Headers and wiring
 
 
+@spanned("span", "path_span")
 @dataclass(slots=True, eq=False)
-class Include:
+class Include(Node):
     """``include "file"``; ``resolved`` is the absolute path once found."""
 
     path: str
@@ -446,8 +522,9 @@ class Include:
     resolved: str | None = None
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class Namespace:
+class Namespace(Node):
     """``namespace scope name`` (scope ``ros2``, ``px4``, ``cpp``, ``*`` …)."""
 
     scope: str
@@ -456,8 +533,9 @@ class Namespace:
     annotations: Sequence[Annotation] = ()
 
 
+@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
-class ComponentDecl:
+class ComponentDecl(Node):
     """``component name version "x.y"``."""
 
     name: str
@@ -468,8 +546,9 @@ class ComponentDecl:
     doc: str | None = None
 
 
+@spanned("span")
 @dataclass(slots=True, eq=False)
-class External:
+class External(Node):
     """``external pkg`` or ``external pkg.Type``: types that live outside iface."""
 
     name: str
@@ -479,8 +558,9 @@ class External:
 Direction = Literal["publishes", "subscribes", "provides", "calls"]
 
 
+@spanned("span", "topic_span")
 @dataclass(slots=True, eq=False)
-class Wiring:
+class Wiring(Node):
     """A direction statement: ``publishes T on "/topic"`` and the like."""
 
     direction: Direction

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from array import array
 from bisect import bisect_right
 from dataclasses import dataclass, field
 from typing import Any
@@ -77,6 +78,62 @@ class AnchoredSpan(Span):
         start, end = self.start, self.end
         self.anchor = anchor
         self.start, self.end = start, end
+
+
+_REL_START = AnchoredSpan.__dict__["_start"]
+_REL_END = AnchoredSpan.__dict__["_end"]
+_ANCHOR = AnchoredSpan.__dict__["anchor"]
+_new = object.__new__
+
+
+class SpanTable(AnchoredSpan):
+    """The spans of one chunk's model, kept as offsets in an array rather than as an object each.
+
+    The table is the chunk's anchor (``ChunkResult.anchor``): its entries are relative to where it starts,
+    so moving the table moves them all. A node made by the parser keeps the table and the index of its
+    first span (``model.nodes.spanned``) and makes a span object only when one is asked for: some 23,000
+    span objects of 56 bytes at 10k lines become 8 bytes each.
+    """
+
+    __slots__ = ("offsets",)
+
+    def __init__(self) -> None:  # noqa: D107
+        super().__init__(0, 0, ORIGIN)
+        self.offsets = array("i")
+
+    def add(self, start: int, end: int) -> int:
+        """Record the span [start, end); its index. Spans are added while the table is at offset 0."""
+        offsets = self.offsets
+        offsets.append(start)
+        offsets.append(end)
+        return (len(offsets) >> 1) - 1
+
+    def put(self, k: int, start: int, end: int) -> None:
+        """Set the span at index ``k`` (while the table is at offset 0)."""
+        self.offsets[2 * k] = start
+        self.offsets[2 * k + 1] = end
+
+    def seal(self) -> None:
+        """Keep the offsets in as little memory as they fit: 2 bytes each in most chunks, no spare room."""
+        offsets = self.offsets
+        small = not offsets or (min(offsets) >= -32768 and max(offsets) < 32768)
+        self.offsets = array("h" if small else "i", offsets)
+
+    def at(self, k: int) -> AnchoredSpan:
+        """The span at index ``k``, relative to this table: it moves when the table does."""
+        span = _new(AnchoredSpan)
+        _ANCHOR.__set__(span, self)
+        _REL_START.__set__(span, self.offsets[2 * k])
+        _REL_END.__set__(span, self.offsets[2 * k + 1])
+        return span
+
+    def end_of(self, k: int) -> int:
+        """Where the span at index ``k`` ends (without making it)."""
+        return self.offsets[2 * k + 1] + self.start
+
+    def start_of(self, k: int) -> int:
+        """Where the span at index ``k`` starts (without making it)."""
+        return self.offsets[2 * k] + self.start
 
 
 #: The anchor of spans not (yet) placed relative to anything else; never moved.

@@ -101,23 +101,24 @@ class _ChunkParser:
             if self.driver is None:
                 self.driver = Driver(self.parser, self.builder, FastScanner(self.parser))
             b = self.builder
-            b.reset(docs, False)
+            b.reset(docs)
             try:
                 items = self.driver.parse(text)
             except (ScanError, UnexpectedInput, RecursionError):
                 return None
             if b.problems or not isinstance(items, list):
                 return None
+            b.table.seal()
             return items
 
-    def parse(self, text: str, docs: dict[int, str], keep_spans: bool = True) -> ChunkResult:
-        """Parse one chunk; ``keep_spans`` records its spans so that it can be moved later."""
+    def parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
+        """Parse one chunk; its spans are kept relative to its table, so that it can be moved later."""
         with self.lock:
-            return self._parse(text, docs, keep_spans)
+            return self._parse(text, docs)
 
-    def _parse(self, text: str, docs: dict[int, str], keep_spans: bool) -> ChunkResult:
+    def _parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
         b = self.builder
-        b.reset(docs, keep_spans)
+        b.reset(docs)
         problems: list[Problem] = []
         open_at_end = False
         errors = 0
@@ -126,7 +127,7 @@ class _ChunkParser:
             nonlocal errors
             # one report per chunk: what follows inside it is usually an echo of the first
             if not problems:
-                problems.append(Problem("syntax-error", message, b.span(start, max(end, start)), data or {}))
+                problems.append(Problem("syntax-error", message, b.anchored(start, max(end, start)), data or {}))
             errors += 1
 
         def on_error(e: UnexpectedInput) -> bool:
@@ -161,13 +162,14 @@ class _ChunkParser:
             parsed = []
             if not problems:
                 pos = getattr(e, "pos_in_stream", None) or len(text)
-                problems.append(Problem("syntax-error", "cannot parse this definition", b.span(pos, pos)))
+                problems.append(Problem("syntax-error", "cannot parse this definition", b.anchored(pos, pos)))
         except RecursionError:
             parsed = []
-            problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.span(0, 0)))
+            problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.anchored(0, 0)))
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
         items: list[Any] = parsed if isinstance(parsed, list) else []
+        b.table.seal()
         return ChunkResult(items, b.anchor, problems or (), len(text), open_at_end)
 
 

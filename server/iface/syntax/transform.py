@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 from lark import Token
 
 from ..model import nodes as m
-from ..model.source import ORIGIN, AnchoredSpan, Span
+from ..model.source import AnchoredSpan, Span, SpanTable
 
 #: Containers nested deeper than this are refused (and not modelled).
 MAX_TYPE_DEPTH = 64
@@ -125,11 +125,6 @@ def _end(x: Any) -> int:
     return x.end_pos if isinstance(x, Token) else x.span.end
 
 
-def _token_span(tok: Token) -> Span:
-    """The span of one token (not recorded)."""
-    return Span(tok.start_pos, tok.end_pos)
-
-
 class _Tagged(tuple):
     """A (tag, payload, span) triple passed up from helper rules."""
 
@@ -138,34 +133,40 @@ class ModelBuilder:
     """Callbacks for every rule of grammar.lark; see ``parse.ChunkParser``."""
 
     def __init__(self) -> None:
-        self.anchor = AnchoredSpan(0, 0, ORIGIN)
+        self.table = SpanTable()
         self.docs: dict[int, str] = {}
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
-        #: ``span(start, end)``: a new span, recorded when the chunk may be moved later
-        self.span: Callable[[int, int], Span] = self._recorded_span
-        #: ``tok_span(tok)``: the span of one token, recorded likewise
-        self.tok_span: Callable[[Token], Span] = self._recorded_tok_span
 
-    def reset(self, docs: dict[int, str], record: bool = True) -> None:
+    @property
+    def anchor(self) -> SpanTable:
+        """The chunk's one recorded span, its table: moving it moves every span of the chunk."""
+        return self.table
+
+    def reset(self, docs: dict[int, str]) -> None:
         """Start a new chunk whose doc comments are ``docs`` (by the offset they document).
 
-        With ``record`` every span is made relative to one anchor, the chunk's only recorded span:
-        moving the chunk moves the anchor.
+        Every node's spans go to one new table (``SpanTable``), relative to where the chunk starts.
         """
-        self.anchor = AnchoredSpan(0, 0, ORIGIN)
+        self.table = SpanTable()
         self.docs = docs
         self.problems = []
         self._depth = {}
-        # without recording, a span is only made (the whole-file path makes some 27,000 at 10k lines)
-        self.span = self._recorded_span if record else Span
-        self.tok_span = self._recorded_tok_span if record else _token_span
 
-    def _recorded_span(self, start: int, end: int) -> Span:
-        return AnchoredSpan(start, end, self.anchor)
+    def span(self, start: int, end: int) -> Any:
+        """Record a node's span [start, end) in the chunk's table; its index, which the node keeps."""
+        return self.table.add(start, end)
 
-    def _recorded_tok_span(self, tok: Token) -> Span:
-        return AnchoredSpan(tok.start_pos, tok.end_pos, self.anchor)
+    def tok_span(self, tok: Token) -> Any:
+        """Record the span of one token of a node; its index."""
+        offsets = self.table.offsets
+        offsets.append(tok.start_pos)
+        offsets.append(tok.end_pos)
+        return (len(offsets) >> 1) - 1
+
+    def anchored(self, start: int, end: int) -> AnchoredSpan:
+        """A span object of its own (a problem's, a field id's), relative to the chunk likewise."""
+        return AnchoredSpan(start, end, self.table)
 
     # ---- document ----------------------------------------------------------
     def start(self, children: list[Any]) -> list[Any]:
@@ -174,7 +175,7 @@ class ModelBuilder:
     # ---- headers ---------------------------------------------------------------
     def include(self, c: list[Any]) -> m.Include:
         lit = c[1]
-        return m.Include(self._decode(lit), self.span(c[0].start_pos, lit.end_pos), self.tok_span(lit))
+        return m.Include(self._decode(lit), self.span(c[0].start_pos, lit.end_pos), self.tok_span(lit), _t=self.table)
 
     def cpp_include(self, c: list[Any]) -> m.Include:
         inc = self.include(c)
@@ -186,7 +187,7 @@ class ModelBuilder:
         ann = c[3] if len(c) > 3 else ()
         value = self._decode(name) if name.type == "LITERAL" else _text(name)
         end = ann[-1].span.end if ann else name.end_pos
-        return m.Namespace(_text(scope), value, self.span(c[0].start_pos, end), ann)
+        return m.Namespace(_text(scope), value, self.span(c[0].start_pos, end), ann, _t=self.table)
 
     def component(self, c: list[Any]) -> m.ComponentDecl:
         name = c[1]
@@ -201,25 +202,25 @@ class ModelBuilder:
                 ann = x
                 end = self._ann_end
         return m.ComponentDecl(_text(name), self.span(c[0].start_pos, end), self.tok_span(name),
-                               version, ann, self.docs.get(c[0].start_pos))
+                               version, ann, self.docs.get(c[0].start_pos), _t=self.table)
 
     def external(self, c: list[Any]) -> m.External:
-        return m.External(_text(c[1]), self.span(c[0].start_pos, c[1].end_pos))
+        return m.External(_text(c[1]), self.span(c[0].start_pos, c[1].end_pos), _t=self.table)
 
     def wiring(self, c: list[Any]) -> m.Wiring:
         d, name, topic = c[0], c[1], c[2]
         ann = c[3] if len(c) > 3 else ()
         end = self._ann_end if ann else topic.end_pos
-        return m.Wiring(_text(d), m.NamedType(_text(name), self.tok_span(name)), self._decode(topic),
+        return m.Wiring(_text(d), m.NamedType(_text(name), self.tok_span(name), _t=self.table), self._decode(topic),
                         self.span(d.start_pos, end), self.tok_span(topic), ann,
-                        self.docs.get(d.start_pos))
+                        self.docs.get(d.start_pos), _t=self.table)
 
     # ---- definitions -------------------------------------------------------------
     def const(self, c: list[Any]) -> m.Const:
         kw, ftype, name = c[0], self._type(c[1]), c[2]
         value = c[4]
         return m.Const(_text(name), ftype, value, self.span(kw.start_pos, value.span.end),
-                       self.tok_span(name), (), self.docs.get(kw.start_pos))
+                       self.tok_span(name), (), self.docs.get(kw.start_pos), _t=self.table)
 
     member_const = const
 
@@ -228,7 +229,7 @@ class ModelBuilder:
         ann = c[3] if len(c) > 3 and isinstance(c[3], list) else ()
         end = self._ann_end if ann else name.end_pos
         return m.Typedef(_text(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
-                         self.docs.get(kw.start_pos))
+                         self.docs.get(kw.start_pos), _t=self.table)
 
     def enum_value(self, c: list[Any]) -> m.EnumValue:
         name = c[0]
@@ -243,7 +244,7 @@ class ModelBuilder:
                 ann = x
                 end = self._ann_end
         ev = m.EnumValue(_text(name), value if value is not None else 0, self.span(name.start_pos, end),
-                         self.tok_span(name), value is not None, ann, self.docs.get(name.start_pos))
+                         self.tok_span(name), value is not None, ann, self.docs.get(name.start_pos), _t=self.table)
         return ev
 
     def enum(self, c: list[Any]) -> m.Enum:
@@ -256,15 +257,15 @@ class ModelBuilder:
             nxt = v.value + 1
         ann, end = self._body_tail(c)
         return m.Enum(_text(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
-                      self.docs.get(kw.start_pos))
+                      self.docs.get(kw.start_pos), _t=self.table)
 
     def senum(self, c: list[Any]) -> m.Senum:
         kw, name = c[0], c[1]
-        values = [m.Value("string", sys.intern(self._decode(t)), self.tok_span(t), _text(t))
+        values = [m.Value("string", sys.intern(self._decode(t)), self.tok_span(t), _text(t), _t=self.table)
                   for t in c[3:] if isinstance(t, Token) and t.type == "LITERAL"]
         ann, end = self._body_tail(c)
         return m.Senum(_text(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
-                       self.docs.get(kw.start_pos))
+                       self.docs.get(kw.start_pos), _t=self.table)
 
     def struct(self, c: list[Any]) -> m.Struct:
         kw, name = c[0], c[1]
@@ -272,7 +273,7 @@ class ModelBuilder:
         consts = [x for x in c if isinstance(x, m.Const)]
         ann, end = self._body_tail(c)
         return m.Struct(_text(kw), _text(name), self.span(kw.start_pos, end), self.tok_span(name),
-                        fields, consts, ann, self.docs.get(kw.start_pos))
+                        fields, consts, ann, self.docs.get(kw.start_pos), _t=self.table)
 
     def section(self, c: list[Any]) -> m.Section:
         name = c[0]
@@ -280,13 +281,14 @@ class ModelBuilder:
         consts = [x for x in c if isinstance(x, m.Const)]
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "RBRACE")
         return m.Section(_text(name), self.span(name.start_pos, end), self.tok_span(name), fields, consts,
-                         False, self.docs.get(name.start_pos))
+                         False, self.docs.get(name.start_pos), _t=self.table)
 
     def service(self, c: list[Any]) -> m.Service:
         kw, name = c[0], c[1]
-        svc = m.Service(_text(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
+        at = self.span(0, 0)
+        svc = m.Service(_text(name), at, self.tok_span(name), doc=self.docs.get(kw.start_pos), _t=self.table)
         if len(c) > 3 and isinstance(c[2], Token) and c[2].type == "EXTENDS":
-            svc.extends = m.NamedType(_text(c[3]), self.tok_span(c[3]))
+            svc.extends = m.NamedType(_text(c[3]), self.tok_span(c[3]), _t=self.table)
         for x in c:
             if isinstance(x, m.Function):
                 svc.functions.append(x)
@@ -297,12 +299,13 @@ class ModelBuilder:
             elif isinstance(x, m.Const):
                 svc.consts.append(x)
         svc.annotations, end = self._body_tail(c)
-        svc.span.start, svc.span.end = kw.start_pos, end
+        self.table.put(at, kw.start_pos, end)
         return svc
 
     def action(self, c: list[Any]) -> m.Action:
         kw, name = c[0], c[1]
-        act = m.Action(_text(name), self.span(0, 0), self.tok_span(name), doc=self.docs.get(kw.start_pos))
+        at = self.span(0, 0)
+        act = m.Action(_text(name), at, self.tok_span(name), doc=self.docs.get(kw.start_pos), _t=self.table)
         for x in c:
             if isinstance(x, m.Field):
                 act.flat_fields.append(x)
@@ -311,7 +314,7 @@ class ModelBuilder:
             elif isinstance(x, m.Const):
                 act.consts.append(x)
         act.annotations, end = self._body_tail(c)
-        act.span.start, act.span.end = kw.start_pos, end
+        self.table.put(at, kw.start_pos, end)
         return act
 
     def throws(self, c: list[Any]) -> _Tagged:
@@ -343,7 +346,7 @@ class ModelBuilder:
                 end = self._ann_end
         start = _start(first)
         return m.Function(_text(name), returns, self.span(start, end), self.tok_span(name), params,
-                          throws, oneway, ann, self.docs.get(start))
+                          throws, oneway, ann, self.docs.get(start), _t=self.table)
 
     # ---- fields --------------------------------------------------------------------
     def field(self, c: list[Any]) -> m.Field:
@@ -353,7 +356,7 @@ class ModelBuilder:
         fid = fid_span = None
         if type(first) is Token and first.type == "INT":
             fid = self._int(first)
-            fid_span = self.tok_span(first)
+            fid_span = self.anchored(first.start_pos, first.end_pos)
             i = 1
         start = _start(first)
         req = None
@@ -379,7 +382,7 @@ class ModelBuilder:
                 default = x
                 end = x.span.end
         return m.Field(_text(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
-                       req, default, ann, self.docs.get(start), reference)
+                       req, default, ann, self.docs.get(start), reference, _t=self.table)
 
     flat_field = field
 
@@ -389,13 +392,13 @@ class ModelBuilder:
         if type(x) is not Token:
             return x
         if x.type == "BASE_TYPE":
-            return m.BaseType(m.BASE_ALIASES[str(x)], self.tok_span(x), _text(x))
-        return m.NamedType(_text(x), self.tok_span(x))
+            return m.BaseType(m.BASE_ALIASES[str(x)], self.tok_span(x), _text(x), _t=self.table)
+        return m.NamedType(_text(x), self.tok_span(x), _t=self.table)
 
     def bounded_string(self, c: list[Any]) -> m.BaseType:
         kw, bound = c[0], c[1]
         t = m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), _text(kw),
-                       self._int(bound))
+                       self._int(bound), _t=self.table)
         if t.name not in m.STRING_TYPES:
             self.problems.append(("bounds-misuse", f"only string and wstring take a bound, not {kw}", t.span))
         return t
@@ -427,19 +430,19 @@ class ModelBuilder:
     def map_type(self, c: list[Any]) -> Any:
         types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
-        t = m.MapType(types[0], types[1], self.span(c[0].start_pos, end))
+        t = m.MapType(types[0], types[1], self.span(c[0].start_pos, end), _t=self.table)
         return self._container(t, types[0], types[1])
 
     def set_type(self, c: list[Any]) -> Any:
         types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
-        t = m.SetType(types[0], self.span(c[0].start_pos, end))
+        t = m.SetType(types[0], self.span(c[0].start_pos, end), _t=self.table)
         return self._container(t, types[0])
 
     def list_type(self, c: list[Any]) -> Any:
         types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
-        t = m.ArrayType(types[0], self.span(c[0].start_pos, end), "unbounded", None, True)
+        t = m.ArrayType(types[0], self.span(c[0].start_pos, end), "unbounded", None, True, _t=self.table)
         return self._container(t, types[0])
 
     def unbounded_array(self, c: list[Any]) -> _Tagged:
@@ -460,36 +463,36 @@ class ModelBuilder:
                 t.annotations = x
             else:
                 kind, size, end = x
-                arr = m.ArrayType(t, self.span(t.span.start, end), kind, size)
+                arr = m.ArrayType(t, self.span(t.span.start, end), kind, size, _t=self.table)
                 t = self._container(arr, t)
         return t
 
     # ---- values --------------------------------------------------------------------
     def int_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("int", self._int(tok), self.tok_span(tok), _text(tok))
+        return m.Value("int", self._int(tok), self.tok_span(tok), _text(tok), _t=self.table)
 
     def double_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("double", self._double(tok), self.tok_span(tok), _text(tok))
+        return m.Value("double", self._double(tok), self.tok_span(tok), _text(tok), _t=self.table)
 
     def string_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
         # annotation values repeat (units, ranges, qos settings): one string for each distinct value and spelling
-        return m.Value("string", sys.intern(self._decode(tok)), self.tok_span(tok), _text(tok))
+        return m.Value("string", sys.intern(self._decode(tok)), self.tok_span(tok), _text(tok), _t=self.table)
 
     def name_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("name", _text(tok), self.tok_span(tok), _text(tok))
+        return m.Value("name", _text(tok), self.tok_span(tok), _text(tok), _t=self.table)
 
     def list_value(self, c: list[Any]) -> m.Value:
         items = [x for x in c if isinstance(x, m.Value)]
-        return self._nested(m.Value("list", items, self.span(c[0].start_pos, c[-1].end_pos)), items)
+        return self._nested(m.Value("list", items, self.span(c[0].start_pos, c[-1].end_pos), _t=self.table), items)
 
     def map_value(self, c: list[Any]) -> m.Value:
         items = [x for x in c if isinstance(x, m.Value)]
         pairs = list(zip(items[0::2], items[1::2]))
-        return self._nested(m.Value("map", pairs, self.span(c[0].start_pos, c[-1].end_pos)), items)
+        return self._nested(m.Value("map", pairs, self.span(c[0].start_pos, c[-1].end_pos), _t=self.table), items)
 
     def _nested(self, v: m.Value, items: list[m.Value]) -> m.Value:
         """A list or map value; nested deeper than types may be, it is refused and kept empty."""
@@ -509,7 +512,7 @@ class ModelBuilder:
         key = c[0]
         value = c[1] if len(c) > 1 else None
         end = value.span.end if value is not None else key.end_pos
-        return m.Annotation(_text(key), value, self.span(key.start_pos, end))
+        return m.Annotation(_text(key), value, self.span(key.start_pos, end), _t=self.table)
 
     def annotations(self, c: list[Any]) -> list[m.Annotation]:
         # the end of the last annotation list seen, read by the enclosing rule
@@ -523,7 +526,7 @@ class ModelBuilder:
         value = decode_literal(str(tok), found)
         for offset, length, message in found:
             start = (tok.start_pos or 0) + offset
-            self.problems.append(("invalid-escape", message, self.span(start, start + length)))
+            self.problems.append(("invalid-escape", message, self.anchored(start, start + length)))
         return value
 
     def _int(self, tok: Token) -> int:
@@ -533,7 +536,7 @@ class ModelBuilder:
             return value
         lo, hi = m.INT_LITERAL
         self.problems.append(("number-out-of-range", f"the integer {shorten(str(tok))} is beyond every integer type "
-                              f"(the widest, i64 and u64, span {lo}..{hi})", self.tok_span(tok)))
+                              f"(the widest, i64 and u64, span {lo}..{hi})", self.anchored(tok.start_pos, tok.end_pos)))
         return lo - 1 if str(tok).startswith("-") else hi + 1
 
     def _double(self, tok: Token) -> float:
@@ -542,7 +545,7 @@ class ModelBuilder:
         if value is not None:
             return value
         self.problems.append(("number-out-of-range", f"the number {shorten(str(tok))} is beyond float64 "
-                              f"(at most ±{m.FLOAT64_MAX:.6g}): it would be infinity", self.tok_span(tok)))
+                              f"(at most ±{m.FLOAT64_MAX:.6g}): it would be infinity", self.anchored(tok.start_pos, tok.end_pos)))
         return -m.FLOAT64_MAX if str(tok).startswith("-") else m.FLOAT64_MAX
 
     # ---- helpers ---------------------------------------------------------------------
