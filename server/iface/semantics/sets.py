@@ -177,8 +177,9 @@ class SetFindings:
         self.facts: dict[int, tuple[m.Wiring, m.Definition | None]] = {}
         #: id(wiring) -> its wrong-kind finding
         self.wrong: dict[int, Diagnostic] = {}
-        self.by_statement: dict[tuple[str, str, str], list[m.Wiring]] = {}
-        self.by_channel: dict[tuple[str, str], list[m.Wiring]] = {}
+        #: The wirings of one statement, of one channel: a group of one is the wiring itself (most are).
+        self.by_statement: dict[tuple[str, str, str], Group] = {}
+        self.by_channel: dict[tuple[str, str], Group] = {}
         self.statement_found: dict[tuple[str, str, str], list[Diagnostic]] = {}
         self.channel_found: dict[tuple[str, str], list[Diagnostic]] = {}
         self.wired: dict[int, int] = {}  # id(message) -> publishes/subscribes naming it
@@ -225,8 +226,10 @@ class SetFindings:
                 services_changed |= self._definition(x, 1)
                 touched.add(id(x))
         for key in self.statement_found:  # a statement made twice: its wirings in order again
-            if key not in statements and self.by_statement[key] != sorted(self.by_statement[key], key=_start):
-                statements.add(key)
+            if key not in statements:
+                same = self.by_statement[key]
+                if isinstance(same, list) and same != sorted(same, key=_start):
+                    statements.add(key)
         for key in statements:
             self._statement(src, key, channels)
         for ch in channels:
@@ -322,31 +325,31 @@ class SetFindings:
 
     def _statement(self, src: m.Source, key: tuple[str, str, str], channels: set[tuple[str, str]]) -> None:
         same = self.by_statement.get(key)
-        if not same:
-            self.by_statement.pop(key, None)
+        if same is None:
             self.statement_found.pop(key, None)
+            return
+        if isinstance(same, m.Wiring):
+            self.statement_found.pop(key, None)
+            channels.add(_channel(same))
             return
         same.sort(key=_start)
         first = same[0]
-        found = [make("duplicate-wiring", f"'{w.direction} {w.type.name} on \"{w.topic}\"' is stated twice",
-                      src, w.span, related=[Related(src, first.span, "first stated here")]) for w in same[1:]]
-        if found:
-            self.statement_found[key] = found
-        else:
-            self.statement_found.pop(key, None)
+        self.statement_found[key] = [
+            make("duplicate-wiring", f"'{w.direction} {w.type.name} on \"{w.topic}\"' is stated twice",
+                 src, w.span, related=[Related(src, first.span, "first stated here")]) for w in same[1:]]
         channels.add(_channel(first))
 
     def _channel(self, src: m.Source, ch: tuple[str, str]) -> None:
         on = self.by_channel.get(ch)
-        if not on:
-            self.by_channel.pop(ch, None)
+        if not isinstance(on, list):  # none, or one wiring: nothing to compare
             self.channel_found.pop(ch, None)
             return
         on.sort(key=_start)
         found = []
         first: m.Wiring | None = None
         for w in on:
-            if self.by_statement[(w.direction, w.type.name, w.topic)][0] is not w:
+            same = self.by_statement[(w.direction, w.type.name, w.topic)]
+            if isinstance(same, list) and same[0] is not w:
                 continue  # stated twice: reported as such
             if first is None:
                 first = w
@@ -363,14 +366,28 @@ class SetFindings:
             self.channel_found.pop(ch, None)
 
 
-def _regroup(groups: dict[K, list[m.Wiring]], k: K, w: m.Wiring, by: int) -> None:
-    """Put ``w`` in the group ``k`` (``by`` > 0) or take it out; a new group is a list of exactly one (most stay so)."""
+#: Wirings grouped under one key: the wiring itself while it is alone, else a list (in the order of the text
+#: once its statement or channel is checked).
+Group = m.Wiring | list[m.Wiring]
+
+
+def _regroup(groups: dict[K, Group], k: K, w: m.Wiring, by: int) -> None:
+    """Put ``w`` in the group ``k`` (``by`` > 0) or take it out; a group of one is the wiring itself (most are)."""
+    group = groups.get(k)
     if by < 0:
-        groups[k].remove(w)
-    elif (group := groups.get(k)) is None:
-        groups[k] = [w]
-    else:
+        if group is w:
+            del groups[k]
+        else:
+            assert isinstance(group, list)
+            group.remove(w)
+            if len(group) == 1:
+                groups[k] = group[0]
+    elif group is None:
+        groups[k] = w
+    elif isinstance(group, list):
         group.append(w)
+    else:
+        groups[k] = [group, w]
 
 
 def _channel(w: m.Wiring) -> tuple[str, str]:
