@@ -173,10 +173,10 @@ class SetFindings:
     follows the edit (the seven sets themselves are made when first read: ``Interface.published`` …)."""
 
     def __init__(self) -> None:
-        #: id(wiring) -> (wiring, what it stands for)
-        self.facts: dict[int, tuple[m.Wiring, m.Definition | None]] = {}
-        #: id(wiring) -> its wrong-kind finding
-        self.wrong: dict[int, Diagnostic] = {}
+        #: wiring -> what it stands for (model nodes hash by identity)
+        self.facts: dict[m.Wiring, m.Definition | None] = {}
+        #: wiring -> its wrong-kind finding
+        self.wrong: dict[m.Wiring, Diagnostic] = {}
         #: The wirings of one statement, of one channel: a group of one is the wiring itself (most are).
         self.by_statement: dict[tuple[str, str, str], Group] = {}
         self.by_channel: dict[tuple[str, str], Group] = {}
@@ -203,22 +203,22 @@ class SetFindings:
         services_changed = False
         for x in [*gone, *again]:
             if isinstance(x, m.Wiring):
-                w, target = self.facts.pop(id(x))
-                self.wrong.pop(id(x), None)
-                self._wiring(w, target, -1, touched)
+                target = self.facts.pop(x)
+                self.wrong.pop(x, None)
+                self._wiring(x, target, -1, touched)
                 if x in gone:  # noqa: SIM102  (a wiring resolved again keeps its place)
-                    self._place(w, -1, statements, channels)
+                    self._place(x, -1, statements, channels)
                 else:
-                    channels.add(_channel(w))
+                    channels.add(_channel(x))
             else:
                 services_changed |= self._definition(x, -1)
         for x in [*new, *again]:
             if isinstance(x, m.Wiring):
                 target = wiring_target(x)
-                self.facts[id(x)] = (x, target)
+                self.facts[x] = target
                 wrong = _wrong_kind(src, x, target)
                 if wrong is not None:
-                    self.wrong[id(x)] = wrong
+                    self.wrong[x] = wrong
                 self._wiring(x, target, 1, touched)
                 if x not in again:
                     self._place(x, 1, statements, channels)
