@@ -33,7 +33,7 @@ def test_both_lexers_give_the_same_model(path: Path) -> None:
     chunked = parse_text(text, ChunkCache())  # lark's lexer, chunk by chunk
     docs: dict[int, str] = {}
     for ch in split(text):
-        docs.update({k + ch.start: v for k, v in ch.docs.items()})
+        docs.update(ch.doc_map(ch.start))
     fast = chunk_parser().parse_clean(text, docs)
     if chunked.problems:
         assert fast is None, "the fast scanner read a file that has syntax problems"

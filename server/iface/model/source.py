@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import struct
 from array import array
 from bisect import bisect_right
 from dataclasses import dataclass, field
@@ -79,11 +80,18 @@ class AnchoredSpan(Span):
         self.anchor = anchor
         self.start, self.end = start, end
 
+    def pin(self, anchor: Span) -> None:
+        """Put this span, empty, where ``anchor`` starts, and move it with ``anchor`` from now on."""
+        self.anchor = anchor
+        self._start = self._end = 0
+
 
 _REL_START = AnchoredSpan.__dict__["_start"]
 _REL_END = AnchoredSpan.__dict__["_end"]
 _ANCHOR = AnchoredSpan.__dict__["anchor"]
 _new = object.__new__
+#: Two sealed 2-byte offsets (``SpanTable.seal``), in the machine's order as ``array`` writes them.
+_PAIR16 = struct.Struct("=hh").unpack_from
 
 
 class SpanTable(AnchoredSpan):
@@ -96,6 +104,7 @@ class SpanTable(AnchoredSpan):
     """
 
     __slots__ = ("offsets",)
+    offsets: Any  # an array("i") while the chunk is parsed, then bytes or array (``seal``)
 
     def __init__(self) -> None:  # noqa: D107
         super().__init__(0, 0, ORIGIN)
@@ -114,26 +123,25 @@ class SpanTable(AnchoredSpan):
         self.offsets[2 * k + 1] = end
 
     def seal(self) -> None:
-        """Keep the offsets in as little memory as they fit: 2 bytes each in most chunks, no spare room."""
+        """Keep the offsets in as little memory as they fit: in most chunks 2 bytes each, in one bytes object."""
         offsets = self.offsets
-        small = not offsets or (min(offsets) >= -32768 and max(offsets) < 32768)
-        self.offsets = array("h" if small else "i", offsets)
+        if not offsets or (min(offsets) >= -32768 and max(offsets) < 32768):
+            self.offsets = array("h", offsets).tobytes()
+        else:
+            self.offsets = array("i", offsets)
 
     def at(self, k: int) -> AnchoredSpan:
         """The span at index ``k``, relative to this table: it moves when the table does."""
+        offsets = self.offsets
+        if offsets.__class__ is bytes:
+            start, end = _PAIR16(offsets, k << 2)
+        else:
+            start, end = offsets[2 * k], offsets[2 * k + 1]
         span = _new(AnchoredSpan)
         _ANCHOR.__set__(span, self)
-        _REL_START.__set__(span, self.offsets[2 * k])
-        _REL_END.__set__(span, self.offsets[2 * k + 1])
+        _REL_START.__set__(span, start)
+        _REL_END.__set__(span, end)
         return span
-
-    def end_of(self, k: int) -> int:
-        """Where the span at index ``k`` ends (without making it)."""
-        return self.offsets[2 * k + 1] + self.start
-
-    def start_of(self, k: int) -> int:
-        """Where the span at index ``k`` starts (without making it)."""
-        return self.offsets[2 * k] + self.start
 
 
 #: The anchor of spans not (yet) placed relative to anything else; never moved.

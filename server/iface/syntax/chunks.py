@@ -43,11 +43,19 @@ class Chunk(AnchoredSpan):
 
     __slots__ = ("docs", "unterminated")
 
-    def __init__(self, start: int, end: int, docs: dict[int, str], unterminated: bool = False) -> None:
+    def __init__(self, start: int, end: int, docs: tuple[int | str, ...] = (), unterminated: bool = False) -> None:
         super().__init__(start, end, ORIGIN)
+        #: The doc comments, flat: (offset documented, text, offset, text …); a tuple is a quarter of a dict.
         self.docs = docs
         #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
         self.unterminated = unterminated
+
+    def doc_map(self, shift: int = 0) -> dict[int, str]:
+        """The doc comments by the offset they document, plus ``shift``."""
+        docs = self.docs
+        if not docs:
+            return NO_DOCS
+        return {k + shift: v for k, v in zip(docs[::2], docs[1::2])}  # type: ignore[operator, misc]
 
     def __repr__(self) -> str:
         return f"Chunk({self.start}, {self.end}, {self.docs!r}, {self.unterminated})"
@@ -199,14 +207,12 @@ def _split(text: str, begin: int, resumes: Callable[[int], bool] | None = None) 
     chunks: list[Chunk] = []
     di = 0
     for a, b in zip(cuts, cuts[1:]):
-        cd = NO_DOCS
+        cd: tuple[int | str, ...] = ()
         while di < len(docs) and docs[di][0] < b:
             _, target, doc = docs[di]
-            if cd is NO_DOCS:
-                cd = {}
-            cd[target - a] = doc
+            cd += (target - a, doc)
             di += 1
         chunks.append(Chunk(a, b, cd, a == open_comment and stop < 0))
     if not chunks:
-        chunks.append(Chunk(begin, begin, NO_DOCS))
+        chunks.append(Chunk(begin, begin))
     return chunks

@@ -8,8 +8,9 @@ place, without looking at each one. What this does not handle the simple way
 were merged) goes to ``parse_text``, which looks at every chunk.
 
 Moving the chunks after an edit costs one addition per block of chunks, not one
-per chunk: each chunk (its bounds and its results' anchor) is kept relative to
-the base of its block, about sqrt(n) consecutive chunks (``EditCache.blocks``).
+per chunk: each chunk's bounds are kept relative to the base of its block, about
+sqrt(n) consecutive chunks (``EditCache.blocks``), and its result's spans
+relative to the chunk (``ChunkResult.place``).
 """
 
 from __future__ import annotations
@@ -43,24 +44,21 @@ class EditCache(ChunkCache):
         self.blocks: list[Span] = []
 
     def block_up(self) -> None:
-        """Put the chunks and their results, one result per chunk, in blocks of about sqrt(n)."""
+        """Put the chunks, one result per chunk (pinned to it), in blocks of about sqrt(n)."""
         self.blocks = []
         chunks = self.split[1] if self.split is not None else []
-        results = self.results
-        if len(chunks) != len(results):
+        if len(chunks) != len(self.results):
             return  # merged chunks: the next edit is parsed by ``parse_text``
         size = max(16, isqrt(len(chunks)))
         for a in range(0, len(chunks), size):
             base = Span(chunks[a].start, 0)
             self.blocks.append(base)
-            for ch, r in zip(chunks[a:a + size], results[a:a + size]):
+            for ch in chunks[a:a + size]:
                 ch.rebase(base)
-                r.anchor.rebase(base)
 
-    def place(self, chunks: list[Chunk], results: list[ChunkResult], i: int, delta: int,
-              middle: list[Chunk], placed: list[ChunkResult]) -> None:
-        """Move ``chunks[i:]`` and their results by ``delta``, and put ``middle`` (parsed to ``placed``,
-        at their offsets in the new text) in a block before them."""
+    def place(self, chunks: list[Chunk], i: int, delta: int, middle: list[Chunk]) -> None:
+        """Move ``chunks[i:]`` (and so their results) by ``delta``, and put ``middle`` (at their offsets in
+        the new text) in a block before them."""
         blocks = self.blocks
         at = len(blocks)
         if i < len(chunks):
@@ -71,7 +69,6 @@ class EditCache(ChunkCache):
                 t = i
                 while t < len(chunks) and chunks[t].anchor is block:
                     chunks[t].rebase(base)
-                    results[t].anchor.rebase(base)
                     t += 1
                 at += 1
                 blocks.insert(at, base)
@@ -80,9 +77,8 @@ class EditCache(ChunkCache):
                     b.start += delta
         if middle:
             base = Span(middle[0].start, 0)
-            for ch, r in zip(middle, placed):
+            for ch in middle:
                 ch.rebase(base)
-                r.anchor.rebase(base)
             blocks.insert(at, base)
 
 
@@ -112,13 +108,13 @@ def _reuse(text: str, cache: EditCache) -> ParseResult | None:
     for ch in fresh:
         if ch.unterminated:
             return None
-        r = parser.parse(text[ch.start:ch.end], ch.docs)
+        r = parser.parse(text[ch.start:ch.end], ch.doc_map())
         if r.open_at_end:
             return None
-        r.move_to(ch.start)
+        r.place(ch)
         middle.append(r)
     cut = old_chunks[k].start if k < len(old_chunks) else len(text)
-    cache.place(old_chunks, old, i, len(text) - len(old_text), fresh, middle)
+    cache.place(old_chunks, i, len(text) - len(old_text), fresh)
     # the items before the change start before it (the others are further on, moved or gone): a binary search
     before = bisect_left(prev.items, cut, key=_START)
     behind = len(prev.items) - before - sum(len(r.items) for r in old[k:i])

@@ -52,8 +52,9 @@ class ChunkResult:
     The chunk's text is not kept: it is the ``length`` characters at ``base`` of the text it is placed in.
     """
 
-    items: list[Any]
-    #: The chunk's one recorded span (``ModelBuilder.reset``): moving it moves every span of the chunk.
+    items: Sequence[Any]
+    #: The chunk's one recorded span, its ``SpanTable`` (``ModelBuilder.reset``), pinned to the start of the
+    #: ``Chunk`` it was parsed from (``place``): moving the chunk moves every span of the result.
     anchor: AnchoredSpan
     problems: Sequence[Problem]
     length: int
@@ -64,12 +65,9 @@ class ChunkResult:
         """Where the chunk starts in the text."""
         return self.anchor.start
 
-    def move_to(self, base: int) -> None:
-        """Shift every span of the chunk so that it starts at ``base``."""
-        delta = base - self.anchor.start
-        if delta:
-            self.anchor.start += delta
-            self.anchor.end += delta
+    def place(self, chunk: Span) -> None:
+        """Put every span of the result where ``chunk`` starts, and move them with ``chunk`` from now on."""
+        self.anchor.pin(chunk)
 
 
 @dataclass(slots=True, eq=False)
@@ -168,7 +166,7 @@ class _ChunkParser:
             problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.anchored(0, 0)))
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
-        items: list[Any] = parsed if isinstance(parsed, list) else []
+        items = tuple(parsed) if isinstance(parsed, list) else ()  # mostly one: a tuple is smaller than a list
         b.table.seal()
         return ChunkResult(items, b.anchor, problems or (), len(text), open_at_end)
 
@@ -376,7 +374,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
     if cache is None and not chunks[-1].unterminated:
         docs: dict[int, str] = {}
         for ch in chunks:
-            docs.update({k + ch.start: v for k, v in ch.docs.items()})
+            docs.update(ch.doc_map(ch.start))
         clean = parser.parse_clean(text, docs)
         if clean is not None:
             file_as_old()  # the model outlives the young collections that would traverse it
@@ -391,18 +389,18 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         r = same.pop() if same else None
         if r is None and ch.unterminated:
             anchor = AnchoredSpan(0, 0, ORIGIN)
-            r = ChunkResult([], anchor, [Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', "
+            r = ChunkResult((), anchor, [Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', "
                                                  "so the rest of the file is comment", AnchoredSpan(0, 2, anchor))],
                             len(ctext))
         if r is None:
-            r = parser.parse(ctext, ch.docs)
+            r = parser.parse(ctext, ch.doc_map())
         # a chunk left open is joined with what follows it now, whether it was parsed now or in an
         # earlier version: what follows may have changed, and the answer must be a fresh parse's
         if r.open_at_end and i + 1 < n and not chunks[i + 1].unterminated:
             merged = _merge(parser, text, chunks, i)
             if merged is not None:
                 r, i = merged
-        r.move_to(ch.start)
+        r.place(ch)
         results.append(r)
         i += 1
     if cache is not None:
@@ -418,12 +416,12 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
 def _merge(parser: _ChunkParser, text: str, chunks: list[Chunk], i: int) -> tuple[ChunkResult, int] | None:
     """Join chunk ``i`` with the following ones until the join parses cleanly."""
     first = chunks[i]
-    docs = dict(first.docs)
+    docs = dict(first.doc_map())
     for j in range(i + 1, min(len(chunks), i + 1 + _MAX_MERGE)):
         nxt = chunks[j]
         if nxt.unterminated:
             return None
-        docs.update({k + nxt.start - first.start: v for k, v in nxt.docs.items()})
+        docs.update(nxt.doc_map(nxt.start - first.start))
         r = parser.parse(text[first.start:nxt.end], docs)
         if not r.problems:
             return r, j
