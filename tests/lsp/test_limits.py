@@ -69,7 +69,7 @@ async def test_closing_documents_releases_what_was_cached_for_them(tmp_path: Pat
             project.close(uri)
         await project.run(lambda: None)  # the model thread has released them
         assert project.workspace().cached_paths() == set()
-        assert not project.docs and not project.snapshots and not project.line_indexes and not project._name_cache
+        assert not project.docs and not project.snapshots and not project.line_indexes
 
         keeper = path_to_uri(str(tmp_path / "keeper.iface"))
         project.open(keeper, 'include "shared.iface"\nstruct K { 1: shared.Vec v }\n', 1)

@@ -22,7 +22,7 @@ from .convert import UTF16, LineIndex, LineIndexes
 from .documents import DocState, Document, path_to_uri, uri_to_path
 from .findings import Findings, capped
 from .settings import Settings
-from .snapshots import Name, Snapshot, View, names_of
+from .snapshots import Snapshot, View, names_of
 
 if TYPE_CHECKING:
     from ..model.nodes import Interface
@@ -57,7 +57,6 @@ class Project:
         self._waiters: dict[str, list[tuple[int, asyncio.Future[Snapshot | None]]]] = {}
         self._external: dict[str, set[str]] = {}
         self.line_indexes = LineIndexes()
-        self._name_cache: dict[int, tuple[object, Name]] = {}
         self.findings = Findings()
         self.workspace_index: Any = None
 
@@ -114,9 +113,9 @@ class Project:
             snap = Snapshot(uri, path, state.version, state.seq, state.text, index, None)
             self._install(doc, snap)
             return snap, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
-        names, topics = names_of(comp, self._name_cache, self.snapshots.get(uri))
+        names, defs, topics = names_of(comp, self.snapshots.get(uri))
         deps = frozenset(c.path for c in comp.closure()[1:])
-        snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
+        snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps, defs=defs)
         self._install(doc, snap)
         uri_of = path_to_uri
         found = self.findings.of(path, comp, self.settings, self._include_paths())
@@ -142,8 +141,8 @@ class Project:
             return None
         comp = self.workspace().compile_path(path)
         text = comp.source.text
-        return Snapshot(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp,
-                        *names_of(comp, self._name_cache))
+        names, defs, topics = names_of(comp)
+        return Snapshot(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp, names, topics, defs=defs)
 
     # ---- documents (event loop) ----------------------------------------------------
     def open(self, uri: str, text: str, version: int) -> None:
@@ -187,7 +186,6 @@ class Project:
             self._ws.set_overlay(path, None)
             indexed = set(getattr(self.workspace_index, "compilations", {}) or {})
             self._ws.retain({self._ws.normpath(p) for p in keep | indexed})
-        self._name_cache.clear()
         self.line_indexes.retain(keep)
         self.findings.retain(keep)
 

@@ -46,6 +46,9 @@ class Snapshot:
     deps: frozenset[str] = frozenset()
     #: The type names of ``names`` sorted by name, local ones then included ones (completion builds it once).
     sorted_types: tuple[tuple[Name, ...], tuple[Name, ...]] | None = None
+    #: The definition each of ``names`` was made from (model thread only): the next compile keeps the
+    #: names of the definitions it reuses.
+    defs: tuple[object, ...] = ()
 
     @property
     def iface(self) -> Interface | None:
@@ -119,35 +122,38 @@ class View:
         return self.project.location(source, span)
 
 
-def names_of(comp: Compilation, cache: dict[int, tuple[object, Name]], last: Snapshot | None = None
-             ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
-    """Names of a compilation for completion: local definitions, then included ones with their prefix.
+def names_of(comp: Compilation, last: Snapshot | None = None
+             ) -> tuple[tuple[Name, ...], tuple[object, ...], tuple[tuple[str, str], ...]]:
+    """Names of a compilation for completion (local definitions, then included ones with their prefix),
+    the definition of each, and the topics.
 
-    ``cache`` keeps the entry of each definition object: chunks that did not
-    change keep their definition objects, so an edit rebuilds only its own.
-    When the compilation's lists were spliced from those of the ``last``
-    snapshot's, so are its names and topics, in time that follows the edit.
+    Chunks that did not change keep their definition objects, so the names of the ``last`` snapshot's
+    definitions are kept and an edit rebuilds only its own. When the compilation's lists were spliced
+    from those of the ``last`` snapshot's, so are its names and topics, in time that follows the edit.
     """
     from ..model import nodes as m
     from ..model.walk import all_fields
 
-    fresh: dict[int, tuple[object, Name]] = {}
-
-    def entry(prefix: str, d: m.Definition) -> Name:
-        key = id(d)
-        hit = cache.get(key)
-        if hit is not None and hit[0] is d and hit[1].name == prefix + d.name:
-            fresh[key] = hit
-            return hit[1]
+    def make(prefix: str, d: m.Definition) -> Name:
         if isinstance(d, m.Enum):
             members = tuple(v.name for v in d.values)
         elif isinstance(d, m.Const):
             members = ()
         else:
             members = tuple(f.name for f in all_fields(d)) + tuple(c.name for c in getattr(d, "consts", ()))
-        name = Name(prefix + d.name, d.kind, d.kind, d.doc or "", members)
-        fresh[key] = (d, name)
-        return name
+        return Name(prefix + d.name, d.kind, d.kind, d.doc or "", members)
+
+    known: dict[int, int] | None = None  # id of a definition of ``last`` -> its place there (made when needed)
+
+    def entry(prefix: str, d: m.Definition) -> Name:
+        nonlocal known
+        if last is not None and last.defs:
+            if known is None:
+                known = {id(x): i for i, x in enumerate(last.defs)}
+            i = known.get(id(d))
+            if i is not None and last.defs[i] is d and last.names[i].name == prefix + d.name:
+                return last.names[i]
+        return make(prefix, d)
 
     iface = comp.interface
     spliced = iface.spliced
@@ -157,17 +163,19 @@ def names_of(comp: Compilation, cache: dict[int, tuple[object, Name]], last: Sna
         n = len(before.definitions)
         at, out, come = spliced[1].get("definitions", (0, 0, 0))
         assert last is not None
-        spliced_names = (*last.names[:at], *(entry("", d) for d in iface.definitions[at:at + come]),
-                         *last.names[at + out:])
-        at, out, come = spliced[1].get("wirings", (0, 0, 0))
-        topics = (*last.topics[:at], *((w.topic, w.type.name) for w in iface.wirings[at:at + come]),
-                  *last.topics[at + out:])
-        if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
-            return spliced_names, topics
+        if len(last.defs) == len(last.names):
+            came = iface.definitions[at:at + come]
+            spliced_names = (*last.names[:at], *(make("", d) for d in came), *last.names[at + out:])
+            defs = (*last.defs[:at], *came, *last.defs[at + out:])
+            at, out, come = spliced[1].get("wirings", (0, 0, 0))
+            topics = (*last.topics[:at], *((w.topic, w.type.name) for w in iface.wirings[at:at + come]),
+                      *last.topics[at + out:])
+            if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
+                return spliced_names, defs, topics
+    defs_list: list[object] = list(iface.definitions)
     names = [entry("", d) for d in iface.definitions]
     for prefix, inc in sorted(iface.included.items()):
         names.extend(entry(prefix + ".", d) for d in inc.definitions)
-    cache.clear()
-    cache.update(fresh)
+        defs_list.extend(inc.definitions)
     topics = tuple((w.topic, w.type.name) for w in iface.wirings)
-    return tuple(names), topics
+    return tuple(names), tuple(defs_list), topics
