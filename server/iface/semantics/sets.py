@@ -3,13 +3,10 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
-from typing import TypeVar
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
 from ..model.walk import resolve_typedefs
-
-K = TypeVar("K")
 
 
 def derive(iface: m.Interface) -> Iterator[Diagnostic]:
@@ -177,11 +174,12 @@ class SetFindings:
         self.facts: dict[m.Wiring, m.Definition | None] = {}
         #: wiring -> its wrong-kind finding
         self.wrong: dict[m.Wiring, Diagnostic] = {}
-        #: The wirings of one statement, of one channel: a group of one is the wiring itself (most are).
-        self.by_statement: dict[tuple[str, str, str], Group] = {}
-        self.by_channel: dict[tuple[str, str], Group] = {}
-        self.statement_found: dict[tuple[str, str, str], list[Diagnostic]] = {}
-        self.channel_found: dict[tuple[str, str], list[Diagnostic]] = {}
+        #: The wirings on one topic name (its statements and its channels are among them), keyed by the
+        #: wiring's own string: a group of one is the wiring itself (most are).
+        self.by_topic: dict[str, Group] = {}
+        #: topic name -> ``duplicate-wiring`` findings of its statements, ``topic-type-conflict`` of its channels
+        self.statement_found: dict[str, list[Diagnostic]] = {}
+        self.channel_found: dict[str, list[Diagnostic]] = {}
         self.wired: dict[int, int] = {}  # id(message) -> publishes/subscribes naming it
         self.delta: dict[int, int] = {}  # id(Δ service) -> provides/calls naming it
         self.calls = 0  # provides and calls statements
@@ -198,8 +196,7 @@ class SetFindings:
         """Items ``gone`` and ``new`` (definitions and wirings), and wirings resolved ``again``."""
         src = iface.source
         touched: set[int] = set()
-        statements: set[tuple[str, str, str]] = set()
-        channels: set[tuple[str, str]] = set()
+        topics: set[str] = set()
         services_changed = False
         for x in [*gone, *again]:
             if isinstance(x, m.Wiring):
@@ -207,9 +204,8 @@ class SetFindings:
                 self.wrong.pop(x, None)
                 self._wiring(x, target, -1, touched)
                 if x in gone:  # noqa: SIM102  (a wiring resolved again keeps its place)
-                    self._place(x, -1, statements, channels)
-                else:
-                    channels.add(_channel(x))
+                    _regroup(self.by_topic, x.topic, x, -1)
+                topics.add(x.topic)
             else:
                 services_changed |= self._definition(x, -1)
         for x in [*new, *again]:
@@ -221,19 +217,18 @@ class SetFindings:
                     self.wrong[x] = wrong
                 self._wiring(x, target, 1, touched)
                 if x not in again:
-                    self._place(x, 1, statements, channels)
+                    _regroup(self.by_topic, x.topic, x, 1)
+                topics.add(x.topic)
             else:
                 services_changed |= self._definition(x, 1)
                 touched.add(id(x))
-        for key in self.statement_found:  # a statement made twice: its wirings in order again
-            if key not in statements:
-                same = self.by_statement[key]
-                if isinstance(same, list) and same != sorted(same, key=_start):
-                    statements.add(key)
-        for key in statements:
-            self._statement(src, key, channels)
-        for ch in channels:
-            self._channel(src, ch)
+        for topic in [*self.statement_found, *self.channel_found]:  # a topic with findings: in order again
+            if topic not in topics:
+                on = self.by_topic[topic]
+                if isinstance(on, list) and on != sorted(on, key=_start):
+                    topics.add(topic)
+        for topic in topics:
+            self._topic(src, topic)
         robot_file = src.path.endswith(".iface")
         flags = (robot_file and not interface_package(iface), robot_file and not self.calls and iface.component is None)
         every = flags != self.flags
@@ -314,64 +309,47 @@ class SetFindings:
             return True
         return False
 
-    def _place(self, w: m.Wiring, by: int, statements: set[tuple[str, str, str]],
-               channels: set[tuple[str, str]]) -> None:
-        key = (w.direction, w.type.name, w.topic)
-        ch = _channel(w)
-        _regroup(self.by_statement, key, w, by)
-        _regroup(self.by_channel, ch, w, by)
-        statements.add(key)
-        channels.add(ch)
-
-    def _statement(self, src: m.Source, key: tuple[str, str, str], channels: set[tuple[str, str]]) -> None:
-        same = self.by_statement.get(key)
-        if same is None:
-            self.statement_found.pop(key, None)
-            return
-        if isinstance(same, m.Wiring):
-            self.statement_found.pop(key, None)
-            channels.add(_channel(same))
-            return
-        same.sort(key=_start)
-        first = same[0]
-        self.statement_found[key] = [
-            make("duplicate-wiring", f"'{w.direction} {w.type.name} on \"{w.topic}\"' is stated twice",
-                 src, w.span, related=[Related(src, first.span, "first stated here")]) for w in same[1:]]
-        channels.add(_channel(first))
-
-    def _channel(self, src: m.Source, ch: tuple[str, str]) -> None:
-        on = self.by_channel.get(ch)
+    def _topic(self, src: m.Source, topic: str) -> None:
+        """The findings of the wirings on ``topic``: statements made twice, channels used with two types."""
+        on = self.by_topic.get(topic)
         if not isinstance(on, list):  # none, or one wiring: nothing to compare
-            self.channel_found.pop(ch, None)
+            self.statement_found.pop(topic, None)
+            self.channel_found.pop(topic, None)
             return
         on.sort(key=_start)
-        found = []
-        first: m.Wiring | None = None
+        stated: dict[tuple[str, str], m.Wiring] = {}  # (direction, type name) -> the first statement
+        firsts: dict[str, m.Wiring] = {}  # channel -> the first wiring on it (not one stated twice)
+        twice: list[Diagnostic] = []
+        found: list[Diagnostic] = []
         for w in on:
-            same = self.by_statement[(w.direction, w.type.name, w.topic)]
-            if isinstance(same, list) and same[0] is not w:
+            first = stated.setdefault((w.direction, w.type.name), w)
+            if first is not w:
+                twice.append(make("duplicate-wiring", f"'{w.direction} {w.type.name} on \"{w.topic}\"' is stated twice",
+                                  src, w.span, related=[Related(src, first.span, "first stated here")]))
                 continue  # stated twice: reported as such
-            if first is None:
-                first = w
+            ch = _channel(w)
+            first = firsts.setdefault(ch, w)
+            if first is w:
                 continue
             a, b = first.type, w.type
             if not ((a.target is not None and a.target is b.target) or a.name == b.name):
                 found.append(make("topic-type-conflict",
-                                  f"{ch[0]} '{w.topic}' is used with '{b.name}' here and with '{a.name}' elsewhere",
+                                  f"{ch} '{w.topic}' is used with '{b.name}' here and with '{a.name}' elsewhere",
                                   src, w.topic_span,
                                   related=[Related(src, first.topic_span, f"'{w.topic}' used with '{a.name}'")]))
-        if found:
-            self.channel_found[ch] = found
-        else:
-            self.channel_found.pop(ch, None)
+        for kept, new in ((self.statement_found, twice), (self.channel_found, found)):
+            if new:
+                kept[topic] = new
+            else:
+                kept.pop(topic, None)
 
 
 #: Wirings grouped under one key: the wiring itself while it is alone, else a list (in the order of the text
-#: once its statement or channel is checked).
+#: once its findings are made).
 Group = m.Wiring | list[m.Wiring]
 
 
-def _regroup(groups: dict[K, Group], k: K, w: m.Wiring, by: int) -> None:
+def _regroup(groups: dict[str, Group], k: str, w: m.Wiring, by: int) -> None:
     """Put ``w`` in the group ``k`` (``by`` > 0) or take it out; a group of one is the wiring itself (most are)."""
     group = groups.get(k)
     if by < 0:
@@ -390,8 +368,9 @@ def _regroup(groups: dict[K, Group], k: K, w: m.Wiring, by: int) -> None:
         groups[k] = [group, w]
 
 
-def _channel(w: m.Wiring) -> tuple[str, str]:
-    return ("topic" if w.direction in ("publishes", "subscribes") else "service", w.topic)
+def _channel(w: m.Wiring) -> str:
+    """Where a wiring's name lives: among topics, or among services (and actions)."""
+    return "topic" if w.direction in ("publishes", "subscribes") else "service"
 
 
 def _start(w: m.Wiring) -> int:
