@@ -31,6 +31,25 @@ def test_a_position_inside_a_surrogate_pair_or_past_the_line_is_clamped() -> Non
     assert index.offset(9, 0) == len("𝔸x\nyz")
 
 
+def test_an_edited_line_index_equals_one_made_from_the_new_text() -> None:
+    """Edits across blocks, adding more than a block of lines, and blocks longer than 64 KiB (4-byte starts)."""
+    import random
+
+    rnd = random.Random(7)
+    text = "\n".join("x" * rnd.choice([0, 3, 40, 200, 70000 if rnd.random() < 0.002 else 9]) for _ in range(4000))
+    index = LineIndex(text, UTF16)
+    for _ in range(60):
+        start = rnd.randrange(len(text) + 1)
+        end = min(len(text), start + rnd.choice([0, 1, 30, 5000, 90000]))
+        new = rnd.choice(["", "y", "\n", "ab\ncd\n", "\n" * 1500, "z" * 70000 + "\n"])
+        text = text[:start] + new + text[end:]
+        index = index.edited(start, end, new, text)
+        fresh = LineIndex(text, UTF16)
+        assert index.starts == fresh.starts == [0, *(i + 1 for i, c in enumerate(text) if c == "\n")]
+        for offset in (0, start, start + len(new), len(text), rnd.randrange(len(text) + 1)):
+            assert index.position(offset) == fresh.position(offset)
+
+
 def test_offsets_map_through_edits_both_ways() -> None:
     edits = [(2, 4, 3), (0, 0, 1)]  # "abcdef" → "abXYZef" → "_abXYZef"
     assert map_back(edits, 0) == 0 and map_back(edits, 1) == 0 and map_back(edits, 7) == 5

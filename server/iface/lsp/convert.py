@@ -16,9 +16,17 @@ UTF8, UTF16, UTF32 = "utf-8", "utf-16", "utf-32"
 _BREAK = re.compile(r"\r\n|\r|\n")
 
 
-#: Line starts are kept in blocks of about this many lines (arrays of machine integers), each with an offset
-#: still to add to its starts, so that an edit copies one block and moves the later ones by their offsets alone.
+#: Line starts are kept in blocks of about this many lines, each an array of the starts relative to the block's
+#: first one (2 bytes each while a block spans less than 64 KiB of text) and the offset of that first line: an
+#: edit copies one block and moves the later ones by their offsets alone.
 _BLOCK = 1024
+
+
+def _block(starts: list[int], base: int) -> array[int]:
+    """The starts of one block relative to ``base`` (its first start), as small as they fit."""
+    last = starts[-1] - base
+    code = "H" if last < 1 << 16 else "I" if last < 1 << 32 else "q"
+    return array(code, [x - base for x in starts] if base else starts)
 
 
 def _line_starts(text: str) -> list[int]:
@@ -38,18 +46,19 @@ class LineIndex:
 
     An edited text's index is made from the last one (``edited``) in time that follows the edit: the
     starts are blocks of lines, and the blocks after the edit are shared, moved by a number each.
+    ``_blocks[k]`` holds the starts of block ``k`` relative to its first line, which starts at ``_shift[k]``
+    and is line ``_lines[k]``.
     """
 
-    __slots__ = ("text", "encoding", "ascii", "_blocks", "_shift", "_heads", "_lines")
+    __slots__ = ("text", "encoding", "ascii", "_blocks", "_shift", "_lines")
 
     def __init__(self, text: str, encoding: str = UTF16) -> None:
         self.text = text
         self.encoding = encoding
         self.ascii = text.isascii()
         starts = _line_starts(text)
-        self._blocks = [array("q", starts[i:i + _BLOCK]) for i in range(0, len(starts), _BLOCK)]
-        self._shift = [0] * len(self._blocks)
-        self._heads = [b[0] for b in self._blocks]
+        self._shift = starts[::_BLOCK]
+        self._blocks = [_block(starts[i:i + _BLOCK], starts[i]) for i in range(0, len(starts), _BLOCK)]
         self._lines = list(range(0, len(starts), _BLOCK))
 
     @property
@@ -68,7 +77,7 @@ class LineIndex:
 
     def _line_of(self, offset: int) -> tuple[int, int]:
         """(line, its start) of an offset inside the text."""
-        k = bisect_right(self._heads, offset) - 1
+        k = bisect_right(self._shift, offset) - 1
         d = self._shift[k]
         block = self._blocks[k]
         i = bisect_right(block, offset - d) - 1
@@ -89,20 +98,24 @@ class LineIndex:
         k1 = bisect_right(self._lines, first) - 1
         k2 = bisect_right(self._lines, last) - 1
         delta = len(new) - (end - start)
-        merged = [x + self._shift[k] for k in range(k1, k2 + 1) for x in self._blocks[k]]
+        # the starts of blocks k1..k2 relative to block k1's first line (which the edit does not move)
+        base = self._shift[k1]
+        merged = list(self._blocks[k1])
+        for k in range(k1 + 1, k2 + 1):
+            merged.extend(x + (self._shift[k] - base) for x in self._blocks[k])
         lo = first - self._lines[k1] + 1
         hi = last - self._lines[k1] + 1
         added = []
         i = new.find("\n")
         while i >= 0:
-            added.append(start + i + 1)
+            added.append(start - base + i + 1)
             i = new.find("\n", i + 1)
         merged[lo:hi] = added
         merged[lo + len(added):] = [x + delta for x in merged[lo + len(added):]]
-        pieces = [array("q", merged[i:i + _BLOCK]) for i in range(0, len(merged), _BLOCK)] or [array("q", [0])]
+        heads = [base + merged[i] for i in range(0, len(merged), _BLOCK)]
+        pieces = [_block(merged[i:i + _BLOCK], merged[i]) for i in range(0, len(merged), _BLOCK)]
         out._blocks = [*self._blocks[:k1], *pieces, *self._blocks[k2 + 1:]]
-        out._shift = [*self._shift[:k1], *([0] * len(pieces)), *(d + delta for d in self._shift[k2 + 1:])]
-        out._heads = [*self._heads[:k1], *(p[0] for p in pieces), *(h + delta for h in self._heads[k2 + 1:])]
+        out._shift = [*self._shift[:k1], *heads, *(d + delta for d in self._shift[k2 + 1:])]
         lines = self._lines[:k1]
         n = self._lines[k1]
         for p in pieces:
