@@ -69,8 +69,9 @@ class Analysis:
         self.units: dict[int, Unit] = {}
         #: The items that use a name, by id (see ``_use``).
         self.users: Users = {}
-        #: Definitions by name, in the order of the text (more than one: a duplicate).
-        self.by_name: dict[str, tuple[m.Definition, ...]] = {}
+        #: Definitions by name, in the order of the text: the definition itself, or (a name defined twice) a
+        #: tuple (see ``_defined``).
+        self.by_name: dict[str, m.Definition | tuple[m.Definition, ...]] = {}
         self.duplicates: dict[str, list[Diagnostic]] = {}
         self.symbols: dict[str, m.Definition] = {}
         #: Units with a finding, by id of their item.
@@ -134,6 +135,22 @@ def _users(users: Users, name: str) -> Collection[int]:
     if had is None:
         return ()
     return (had,) if isinstance(had, int) else had
+
+
+def _defined(by_name: dict[str, m.Definition | tuple[m.Definition, ...]], name: str) -> tuple[m.Definition, ...]:
+    """The definitions of ``name``, in the order of the text."""
+    had = by_name.get(name)
+    return () if had is None else had if isinstance(had, tuple) else (had,)
+
+
+def _undefine(by_name: dict[str, m.Definition | tuple[m.Definition, ...]], d: m.Definition) -> None:
+    """Forget the definition ``d`` of its name (a name left with one definition holds it itself)."""
+    had = by_name.get(d.name)
+    if had is d:
+        del by_name[d.name]
+    elif isinstance(had, tuple):
+        rest = tuple(x for x in had if x is not d)
+        by_name[d.name] = rest[0] if len(rest) == 1 else rest
 
 
 def _value_names(v: m.Value | None, out: set[str]) -> None:
@@ -232,21 +249,21 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         an.noisy.pop(id(u.item), None)
         an.unknown.pop(id(u.item), None)
         if not isinstance(u.item, m.Wiring):
-            an.by_name[u.item.name] = tuple(d for d in an.by_name[u.item.name] if d is not u.item)
+            _undefine(an.by_name, u.item)
             changed.add(u.item.name)
     for x in added:
         if not isinstance(x, m.Wiring):
-            an.by_name[x.name] = (*an.by_name.get(x.name, ()), x)
+            had = an.by_name.get(x.name)
+            an.by_name[x.name] = x if had is None else (*had, x) if isinstance(had, tuple) else (had, x)
             changed.add(x.name)
     for n in an.duplicates:  # two chunks of one text may swap their model objects between versions
-        if n not in changed and an.by_name[n] != tuple(sorted(an.by_name[n], key=_START)):
+        if n not in changed and (same := _defined(an.by_name, n)) != tuple(sorted(same, key=_START)):
             changed.add(n)
     for n in changed:
-        same = an.by_name.get(n) or ()
+        same = _defined(an.by_name, n)
         if len(same) > 1:
             same = an.by_name[n] = tuple(sorted(same, key=_START))
         if not same:
-            an.by_name.pop(n, None)
             an.duplicates.pop(n, None)
             continue
         if len(same) == 1:
@@ -265,7 +282,7 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         an.symbols = symbols
     else:  # definitions replaced by ones of the same names, in the same order: the table keeps its order
         for n in changed:
-            an.symbols[n] = an.by_name[n][0]
+            an.symbols[n] = _defined(an.by_name, n)[0]
     iface.symbols = dict(an.symbols)
     rebound = [n for n in changed if an.symbols.get(n) is not was[n]]
     names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(was[n], m.Const)
@@ -382,7 +399,7 @@ def _in_place(an: Analysis, removed: list[Unit], added: list[m.Definition | m.Wi
     defined twice: the symbol table then has its keys in the same order."""
     gone = [u.item.name for u in removed if not isinstance(u.item, m.Wiring)]
     come = [x.name for x in added if not isinstance(x, m.Wiring)]
-    return gone == come and all(len(an.by_name.get(n, ())) == 1 for n in changed)
+    return gone == come and all(len(_defined(an.by_name, n)) == 1 for n in changed)
 
 
 def _fill_sets(iface: m.Interface) -> None:
