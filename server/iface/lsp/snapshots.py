@@ -14,7 +14,9 @@ from .convert import LineIndex
 from .documents import DocState, Edit, map_back, map_forward
 
 if TYPE_CHECKING:
-    from ..model.nodes import Interface
+    from collections.abc import Iterator
+
+    from ..model.nodes import Interface, Wiring
     from ..model.source import Source, Span
     from ..semantics.compile import Compilation
     from .project import Project
@@ -42,7 +44,8 @@ class Snapshot:
     index: LineIndex
     comp: Compilation | None
     names: tuple[Name, ...] = ()
-    topics: tuple[tuple[str, str], ...] = ()
+    #: The topic and the type name of each wiring, one after the other: (topic, type name, topic, ...).
+    topics: tuple[str, ...] = ()
     deps: frozenset[str] = frozenset()
     #: The type names of ``names`` sorted by name, local ones then included ones (completion builds it once).
     sorted_types: tuple[tuple[Name, ...], tuple[Name, ...]] | None = None
@@ -123,9 +126,9 @@ class View:
 
 
 def names_of(comp: Compilation, last: Snapshot | None = None
-             ) -> tuple[tuple[Name, ...], tuple[object, ...], tuple[tuple[str, str], ...]]:
+             ) -> tuple[tuple[Name, ...], tuple[object, ...], tuple[str, ...]]:
     """Names of a compilation for completion (local definitions, then included ones with their prefix),
-    the definition of each, and the topics.
+    the definition of each, and the topics (``Snapshot.topics``).
 
     Chunks that did not change keep their definition objects, so the names of the ``last`` snapshot's
     definitions are kept and an edit rebuilds only its own. When the compilation's lists were spliced
@@ -168,8 +171,7 @@ def names_of(comp: Compilation, last: Snapshot | None = None
             spliced_names = (*last.names[:at], *(make("", d) for d in came), *last.names[at + out:])
             defs = (*last.defs[:at], *came, *last.defs[at + out:])
             at, out, come = spliced[1].get("wirings", (0, 0, 0))
-            topics = (*last.topics[:at], *((w.topic, w.type.name) for w in iface.wirings[at:at + come]),
-                      *last.topics[at + out:])
+            topics = (*last.topics[:2 * at], *_topics(iface.wirings[at:at + come]), *last.topics[2 * (at + out):])
             if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
                 return spliced_names, defs, topics
     defs_list: list[object] = list(iface.definitions)
@@ -177,5 +179,11 @@ def names_of(comp: Compilation, last: Snapshot | None = None
     for prefix, inc in sorted(iface.included.items()):
         names.extend(entry(prefix + ".", d) for d in inc.definitions)
         defs_list.extend(inc.definitions)
-    topics = tuple((w.topic, w.type.name) for w in iface.wirings)
-    return tuple(names), tuple(defs_list), topics
+    return tuple(names), tuple(defs_list), tuple(_topics(iface.wirings))
+
+
+def _topics(wirings: list[Wiring]) -> Iterator[str]:
+    """The topic and the type name of each wiring, one after the other."""
+    for w in wirings:
+        yield w.topic
+        yield w.type.name

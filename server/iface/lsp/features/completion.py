@@ -100,7 +100,8 @@ def _topics(project: object, snap: object) -> list[tuple[str, str, str]]:
     if index is not None:
         for t in index.topics():
             found.setdefault(t)
-    for topic, type_name in getattr(snap, "topics", ()):
+    flat = getattr(snap, "topics", ())  # topic, type name, topic, type name, ...
+    for topic, type_name in zip(flat[::2], flat[1::2]):
         found.setdefault((topic, type_name, ""))
     return list(found)
 
