@@ -42,11 +42,16 @@ from .validate import (
 )
 
 
+#: What a unit is made for: a definition or a wiring statement (model nodes hash by identity: the keys of
+#: ``Analysis.units``).
+Part = m.Definition | m.Wiring
+
+
 @dataclass(slots=True, eq=False)
 class Unit:
     """One definition or wiring statement and what it found."""
 
-    item: m.Definition | m.Wiring
+    item: Part
     #: Every name the item looks up (types and named values, with their parts).
     uses: tuple[str, ...]
     #: Its named types that name nothing, in order.
@@ -66,18 +71,18 @@ class Analysis:
 
     def __init__(self) -> None:
         self.context: object = None
-        self.units: dict[int, Unit] = {}
-        #: The items that use a name, by id (see ``_use``).
+        self.units: dict[Part, Unit] = {}
+        #: The items that use a name (see ``_use``).
         self.users: Users = {}
         #: Definitions by name, in the order of the text: the definition itself, or (a name defined twice) a
         #: tuple (see ``_defined``).
         self.by_name: dict[str, m.Definition | tuple[m.Definition, ...]] = {}
         self.duplicates: dict[str, list[Diagnostic]] = {}
         self.symbols: dict[str, m.Definition] = {}
-        #: Units with a finding, by id of their item.
-        self.noisy: dict[int, Unit] = {}
-        #: Units with a named type that names nothing, by id of their item.
-        self.unknown: dict[int, Unit] = {}
+        #: Units with a finding, by their item.
+        self.noisy: dict[Part, Unit] = {}
+        #: Units with a named type that names nothing, by their item.
+        self.unknown: dict[Part, Unit] = {}
         #: The source the kept findings are attached to.
         self.source: Source | None = None
         self.cycles: list[Diagnostic] = []
@@ -95,46 +100,45 @@ class Analysis:
         self.iface = last
 
 
-#: The items that use a name: a bare id, a tuple of a few, or a set of more (most names have one or two users,
-#: and a set is some 200 bytes).
-Users = dict[str, int | tuple[int, ...] | set[int]]
+#: The items that use a name: the item itself, a tuple of a few, or a set of more (most names have one or two
+#: users, and a set is some 200 bytes).
+Users = dict[str, Part | tuple[Part, ...] | set[Part]]
 _FEW = 8
 
 
-def _use(users: Users, name: str, k: int) -> None:
-    """Record that the item of id ``k`` uses ``name``."""
+def _use(users: Users, name: str, x: Part) -> None:
+    """Record that the item ``x`` uses ``name``."""
     had = users.get(name)
     if had is None:
-        users[name] = k
-    elif isinstance(had, int):
-        if had != k:
-            users[name] = (had, k)
+        users[name] = x
     elif isinstance(had, tuple):
-        if k not in had:
-            users[name] = (*had, k) if len(had) < _FEW else {*had, k}
-    else:
-        had.add(k)
+        if x not in had:
+            users[name] = (*had, x) if len(had) < _FEW else {*had, x}
+    elif isinstance(had, set):
+        had.add(x)
+    elif had is not x:
+        users[name] = (had, x)
 
 
-def _unuse(users: Users, name: str, k: int) -> None:
-    """Forget that the item of id ``k`` uses ``name``."""
+def _unuse(users: Users, name: str, x: Part) -> None:
+    """Forget that the item ``x`` uses ``name``."""
     had = users.get(name)
-    if isinstance(had, int):
-        if had == k:
-            del users[name]
+    if had is x:
+        del users[name]
     elif isinstance(had, tuple):
-        if k in had:
-            users[name] = tuple(x for x in had if x != k)
-    elif had is not None:
-        had.discard(k)
+        if x in had:
+            rest = tuple(y for y in had if y is not x)
+            users[name] = rest[0] if len(rest) == 1 else rest
+    elif isinstance(had, set):
+        had.discard(x)
 
 
-def _users(users: Users, name: str) -> Collection[int]:
-    """The ids of the items that use ``name``."""
+def _users(users: Users, name: str) -> Collection[Part]:
+    """The items that use ``name``."""
     had = users.get(name)
     if had is None:
         return ()
-    return (had,) if isinstance(had, int) else had
+    return had if isinstance(had, (tuple, set)) else (had,)
 
 
 def _defined(by_name: dict[str, m.Definition | tuple[m.Definition, ...]], name: str) -> tuple[m.Definition, ...]:
@@ -209,20 +213,20 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     last, an.iface = an.iface, iface
     defs = iface.definitions
     units = an.units
-    items: list[m.Definition | m.Wiring]
+    items: list[Part]
     told = change is not None and bool(units)
     if not units:  # a first compile
         removed = []
         added = [*defs, *iface.wirings]
     elif told:  # the edit says what it changed
         assert change is not None
-        removed = [units.pop(id(x)) for x in change[1] if id(x) in units]
+        removed = [units.pop(x) for x in change[1] if isinstance(x, _UNITS) and x in units]
         added = [x for x in change[2] if isinstance(x, _UNITS)]
     else:
         items = [*defs, *iface.wirings]
-        by_id = dict(zip(map(id, items), items))
-        removed = [units.pop(k) for k in units.keys() - by_id.keys()]
-        added = [by_id[k] for k in by_id.keys() - units.keys()]
+        present = dict.fromkeys(items)
+        removed = [units.pop(x) for x in units.keys() - present.keys()]
+        added = list(present.keys() - units.keys())
         if last is not None and _reordered(last, iface, units):
             removed, added = [], [*defs, *iface.wirings]
             an.reset()  # an item moved past another (a chunk found by its text): every unit again
@@ -243,11 +247,10 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     # ---- definitions by name: duplicates and the symbol table -------------------------------------
     changed: set[str] = set()
     for u in removed:
-        k = id(u.item)
         for n in u.uses:
-            _unuse(an.users, n, k)
-        an.noisy.pop(id(u.item), None)
-        an.unknown.pop(id(u.item), None)
+            _unuse(an.users, n, u.item)
+        an.noisy.pop(u.item, None)
+        an.unknown.pop(u.item, None)
         if not isinstance(u.item, m.Wiring):
             _undefine(an.by_name, u.item)
             changed.add(u.item.name)
@@ -288,18 +291,16 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(was[n], m.Const)
                         or (n in an.symbols) != (was[n] is not None) for n in rebound)
     # ---- resolve what is new, and what uses a name that now means another definition ----------------
-    redo: dict[int, m.Definition | m.Wiring] = {id(x): x for x in added}
+    redo = dict.fromkeys(added)
     for n in rebound:
-        for k in _users(an.users, n):
-            if k not in redo:
-                redo[k] = units[k].item
-    todo = added if first else sorted(redo.values(), key=_START)
+        for x in _users(an.users, n):
+            redo.setdefault(x)
+    todo = added if first else sorted(redo, key=_START)
     fresh: list[Unit] = []
     for x in todo:
         uses: set[str] = set()
         unknown = resolve_item(iface, x, uses if keep else None)
-        k = id(x)  # one int object for the item's every entry below
-        old = units.get(k)
+        old = units.get(x)
         if isinstance(x, m.Wiring):
             local = old.local if old is not None else (wiring_findings(src, x) if robot else [])
         else:
@@ -311,14 +312,14 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
             if old is not None:
                 for n in old.uses:
                     if n not in uses:
-                        _unuse(an.users, n, k)
+                        _unuse(an.users, n, x)
             for n in uses:
-                _use(an.users, n, k)
-        units[k] = unit
+                _use(an.users, n, x)
+        units[x] = unit
         if unknown:
-            an.unknown[k] = unit
+            an.unknown[x] = unit
         else:
-            an.unknown.pop(k, None)
+            an.unknown.pop(x, None)
         fresh.append(unit)
     if first:
         an.cycle_members = set()
@@ -334,9 +335,9 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     if first and not removed:
         an.sets.update(iface, [], added, [])
     else:
-        new = {id(x) for x in added}
-        an.sets.update(iface, [u.item for u in removed], [u.item for u in fresh if id(u.item) in new],
-                       [u.item for u in fresh if id(u.item) not in new and isinstance(u.item, m.Wiring)])
+        new = set(added)
+        an.sets.update(iface, [u.item for u in removed], [u.item for u in fresh if u.item in new],
+                       [u.item for u in fresh if u.item not in new and isinstance(u.item, m.Wiring)])
     iface.defer_sets(_fill_sets)
     # ---- checks of resolved definitions -----------------------------------------------------------
     for u in fresh:
@@ -349,9 +350,9 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         an.recursion = []
     for u in fresh:
         if u.unresolved or u.local or u.checked:
-            an.noisy[id(u.item)] = u
+            an.noisy[u.item] = u
         else:
-            an.noisy.pop(id(u.item), None)
+            an.noisy.pop(u.item, None)
     # ---- the findings, in the order of a whole-file pass --------------------------------------------
     noisy = list(an.noisy.values())
     out: list[Diagnostic] = []
@@ -384,17 +385,17 @@ def _rehome_all(an: Analysis, src: Source) -> None:
         u.checked = [rehome(d, src) for d in u.checked]
 
 
-def _reordered(last: m.Interface, iface: m.Interface, kept: dict[int, Unit]) -> bool:
+def _reordered(last: m.Interface, iface: m.Interface, kept: dict[Part, Unit]) -> bool:
     """True when the items kept from the ``last`` version are not in the order they had there."""
     for before, now in ((last.definitions, iface.definitions), (last.wirings, iface.wirings)):
-        old = [x for x in before if id(x) in kept and kept[id(x)].item is x]
-        new = [x for x in now if id(x) in kept]
+        old = [x for x in before if x in kept]
+        new = [x for x in now if x in kept]
         if len(old) != len(new) or any(a is not b for a, b in zip(old, new)):
             return True
     return False
 
 
-def _in_place(an: Analysis, removed: list[Unit], added: list[m.Definition | m.Wiring], changed: set[str]) -> bool:
+def _in_place(an: Analysis, removed: list[Unit], added: list[Part], changed: set[str]) -> bool:
     """True when the edit replaced definitions by as many of the same names in the same order, none of them
     defined twice: the symbol table then has its keys in the same order."""
     gone = [u.item.name for u in removed if not isinstance(u.item, m.Wiring)]
@@ -408,7 +409,7 @@ def _fill_sets(iface: m.Interface) -> None:
         pass
 
 
-def _structural(an: Analysis, removed: list[Unit], added: list[m.Definition | m.Wiring]) -> bool:
+def _structural(an: Analysis, removed: list[Unit], added: list[Part]) -> bool:
     """True when an edit touches what the per-item summaries do not follow: typedefs (their chains),
     ``extends`` (its cycles), a definition on a cycle. Then every unit is made again."""
     if not an.units and not removed:
@@ -420,11 +421,9 @@ def _structural(an: Analysis, removed: list[Unit], added: list[m.Definition | m.
             return True
     names = {x.name for x in [*(u.item for u in removed), *added] if not isinstance(x, m.Wiring)}
     for n in names:
-        for k in _users(an.users, n):
-            u = an.units.get(k)
-            if u is not None and (isinstance(u.item, m.Typedef) or (isinstance(u.item, m.Service) and
-                                                                    u.item.extends is not None)
-                                  or k in an.cycle_members):
+        for x in _users(an.users, n):
+            if x in an.units and (isinstance(x, m.Typedef) or (isinstance(x, m.Service) and x.extends is not None)
+                                  or id(x) in an.cycle_members):
                 return True
     return False
 
