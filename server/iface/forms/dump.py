@@ -70,6 +70,9 @@ def _node(node: Any, src: Source) -> Any:
         if value is None or value == [] or value == () or value is False or (f.name == "implicit" and not value):
             continue
         out[f.name] = _node(value, src)
+    kind = getattr(type(node), "kind", None)
+    if isinstance(kind, str):  # a kind every node of the class has is kept on the class, not on each node
+        out["kind"] = kind
     if isinstance(node, m.NamedType):
         if node.target is not None:
             out["resolves_to"] = f"{node.target.kind} {node.target.name}"

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Literal, TypeVar, Union
+from typing import Any, Callable, ClassVar, Literal, TypeVar, Union
 
 from .source import Source, Span, SpanTable
 
@@ -120,7 +120,7 @@ class BaseType(Node):
     bound: int | None = None
     annotations: Sequence[Annotation] = ()
 
-    kind: Literal["base"] = "base"
+    kind: ClassVar[Literal["base"]] = "base"
 
 
 @spanned("span")
@@ -136,7 +136,7 @@ class NamedType(Node):
     #: For a type from an external package: the package name.
     external: str | None = None
 
-    kind: Literal["named"] = "named"
+    kind: ClassVar[Literal["named"]] = "named"
 
     @property
     def local_name(self) -> str:
@@ -164,7 +164,7 @@ class ArrayType(Node):
     spelled_list: bool = False
     annotations: Sequence[Annotation] = ()
 
-    kind: Literal["array"] = "array"
+    kind: ClassVar[Literal["array"]] = "array"
 
 
 @spanned("span")
@@ -176,7 +176,7 @@ class SetType(Node):
     span: Span
     annotations: Sequence[Annotation] = ()
 
-    kind: Literal["set"] = "set"
+    kind: ClassVar[Literal["set"]] = "set"
 
 
 @spanned("span")
@@ -189,7 +189,7 @@ class MapType(Node):
     span: Span
     annotations: Sequence[Annotation] = ()
 
-    kind: Literal["map"] = "map"
+    kind: ClassVar[Literal["map"]] = "map"
 
 
 TypeRef = Union[BaseType, NamedType, ArrayType, SetType, MapType]
@@ -315,7 +315,7 @@ class Const(Node):
     annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
-    kind: Literal["const"] = "const"
+    kind: ClassVar[Literal["const"]] = "const"
 
 
 @spanned("span", "name_span")
@@ -392,7 +392,7 @@ class Service(Node):
     annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
-    kind: Literal["service"] = "service"
+    kind: ClassVar[Literal["service"]] = "service"
 
     @property
     def is_diagnostics(self) -> bool:
@@ -419,7 +419,7 @@ class Action(Node):
     annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
-    kind: Literal["action"] = "action"
+    kind: ClassVar[Literal["action"]] = "action"
 
 
 @spanned("span", "name_span")
@@ -448,7 +448,7 @@ class Enum(Node):
     annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
-    kind: Literal["enum"] = "enum"
+    kind: ClassVar[Literal["enum"]] = "enum"
     #: (number of values, first value by name, the numbers): built when first asked, again if values change
     _index: tuple[int, dict[str, EnumValue], frozenset[int]] | None = field(default=None, repr=False,
                                                                             metadata={"derived": True})
@@ -482,7 +482,7 @@ class Senum(Node):
     annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
-    kind: Literal["senum"] = "senum"
+    kind: ClassVar[Literal["senum"]] = "senum"
 
 
 @spanned("span", "name_span")
@@ -497,7 +497,7 @@ class Typedef(Node):
     annotations: Sequence[Annotation] = ()
     doc: str | None = None
 
-    kind: Literal["typedef"] = "typedef"
+    kind: ClassVar[Literal["typedef"]] = "typedef"
     #: What the typedef finally stands for, through other typedefs; set by resolution on every compile
     #: (``semantics.resolve.settle_typedefs``), so a chain is followed once per compile, not once per use.
     final: TypeRef | None = field(default=None, repr=False, metadata={"derived": True})
