@@ -45,6 +45,18 @@ from .validate import (
 #: What a unit is made for: a definition or a wiring statement (model nodes hash by identity: the keys of
 #: ``Analysis.units``).
 Part = m.Definition | m.Wiring
+#: The names a unit uses, as kept (see ``_pack``).
+Uses = str | tuple[str, ...]
+
+
+def _pack(uses: set[str]) -> Uses:
+    """The names an item uses, as kept: one name itself, else a tuple (empty: the one empty tuple)."""
+    return next(iter(uses)) if len(uses) == 1 else tuple(uses)
+
+
+def _names(uses: Uses) -> tuple[str, ...]:
+    """The names of ``Unit.uses``."""
+    return (uses,) if isinstance(uses, str) else uses
 
 
 @dataclass(slots=True, eq=False)
@@ -52,8 +64,9 @@ class Unit:
     """One definition or wiring statement and what it found."""
 
     item: Part
-    #: Every name the item looks up (types and named values, with their parts).
-    uses: tuple[str, ...]
+    #: Every name the item looks up (types and named values, with their parts): one name itself (most items
+    #: look up one), else a tuple (see ``_names``).
+    uses: Uses
     #: Its named types that name nothing, in order.
     unknown: Sequence[m.NamedType]
     #: ``unknown-type`` findings of ``unknown``.
@@ -247,7 +260,7 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     # ---- definitions by name: duplicates and the symbol table -------------------------------------
     changed: set[str] = set()
     for u in removed:
-        for n in u.uses:
+        for n in _names(u.uses):
             _unuse(an.users, n, u.item)
         an.noisy.pop(u.item, None)
         an.unknown.pop(u.item, None)
@@ -307,10 +320,10 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
             if keep:
                 _named_values(x, uses)
             local = old.local if old is not None else local_findings(src, x, robot)
-        unit = Unit(x, tuple(uses), unknown or (), (), local or (), (), old.edges if old is not None else ())
+        unit = Unit(x, _pack(uses), unknown or (), (), local or (), (), old.edges if old is not None else ())
         if keep:
             if old is not None:
-                for n in old.uses:
+                for n in _names(old.uses):
                     if n not in uses:
                         _unuse(an.users, n, x)
             for n in uses:
