@@ -154,13 +154,13 @@ class Source:
 
     path: str
     text: str
-    _lines: list[int] | None = field(default=None, repr=False)
+    _lines: array[int] | None = field(default=None, repr=False)
 
     @property
-    def line_starts(self) -> list[int]:
-        """Offsets at which each line starts."""
+    def line_starts(self) -> array[int]:
+        """Offsets at which each line starts (machine integers: 4 bytes a line, not a list of int objects)."""
         if self._lines is None:
-            starts = [0]
+            starts = array("I" if len(self.text) < 1 << 32 else "q", [0])
             find = self.text.find
             i = find("\n")
             while i >= 0:
