@@ -79,12 +79,22 @@ class Unit:
     edges: tuple[object, ...] = ()
 
 
+#: What ``Analysis.units`` keeps of an item: its ``Unit``, or only the names it uses when the unit is quiet
+#: (no finding, nothing unknown, no struct edges: most are), made into a unit again when read (``_unit``).
+Kept = Unit | Uses
+
+
+def _unit(x: Part, kept: Kept) -> Unit:
+    """The unit of ``x`` from what is kept of it."""
+    return kept if isinstance(kept, Unit) else Unit(x, kept, (), (), (), (), ())
+
+
 class Analysis:
     """What one document's last compile found, per item (the memo of ``analyse``)."""
 
     def __init__(self) -> None:
         self.context: object = None
-        self.units: dict[Part, Unit] = {}
+        self.units: dict[Part, Kept] = {}
         #: The items that use a name (see ``_use``).
         self.users: Users = {}
         #: Definitions by name, in the order of the text: the definition itself, or (a name defined twice) a
@@ -233,12 +243,12 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         added = [*defs, *iface.wirings]
     elif told:  # the edit says what it changed
         assert change is not None
-        removed = [units.pop(x) for x in change[1] if isinstance(x, _UNITS) and x in units]
+        removed = [_unit(x, units.pop(x)) for x in change[1] if isinstance(x, _UNITS) and x in units]
         added = [x for x in change[2] if isinstance(x, _UNITS)]
     else:
         items = [*defs, *iface.wirings]
         present = dict.fromkeys(items)
-        removed = [units.pop(x) for x in units.keys() - present.keys()]
+        removed = [_unit(x, units.pop(x)) for x in units.keys() - present.keys()]
         added = list(present.keys() - units.keys())
         if last is not None and _reordered(last, iface, units):
             removed, added = [], [*defs, *iface.wirings]
@@ -313,7 +323,7 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     for x in todo:
         uses: set[str] = set()
         unknown = resolve_item(iface, x, uses if keep else None)
-        old = units.get(x)
+        old = None if (kept := units.get(x)) is None else _unit(x, kept)
         if isinstance(x, m.Wiring):
             local = old.local if old is not None else (wiring_findings(src, x) if robot else [])
         else:
@@ -366,6 +376,8 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
             an.noisy[u.item] = u
         else:
             an.noisy.pop(u.item, None)
+            if keep and not u.unknown and not u.edges:  # quiet: only the names it uses are kept
+                units[u.item] = u.uses
     # ---- the findings, in the order of a whole-file pass --------------------------------------------
     noisy = list(an.noisy.values())
     out: list[Diagnostic] = []
@@ -398,7 +410,7 @@ def _rehome_all(an: Analysis, src: Source) -> None:
         u.checked = [rehome(d, src) for d in u.checked]
 
 
-def _reordered(last: m.Interface, iface: m.Interface, kept: dict[Part, Unit]) -> bool:
+def _reordered(last: m.Interface, iface: m.Interface, kept: dict[Part, Kept]) -> bool:
     """True when the items kept from the ``last`` version are not in the order they had there."""
     for before, now in ((last.definitions, iface.definitions), (last.wirings, iface.wirings)):
         old = [x for x in before if x in kept]
