@@ -23,11 +23,10 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True, slots=True)
 class Name:
-    """A definition as completion sees it (immutable, safe to read from any thread)."""
+    """A definition as completion sees it (immutable, safe to read from any thread); its kind is its detail."""
 
     name: str
     kind: str
-    detail: str
     doc: str
     members: tuple[str, ...] = ()
 
@@ -144,7 +143,7 @@ def names_of(comp: Compilation, last: Snapshot | None = None
             members = ()
         else:
             members = tuple(f.name for f in all_fields(d)) + tuple(c.name for c in getattr(d, "consts", ()))
-        return Name(prefix + d.name, d.kind, d.kind, d.doc or "", members)
+        return Name(prefix + d.name, d.kind, d.doc or "", members)
 
     known: dict[int, int] | None = None  # id of a definition of ``last`` -> its place there (made when needed)
 

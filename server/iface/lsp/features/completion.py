@@ -215,7 +215,7 @@ def _types(names: tuple[Name, ...], items: Items, types: tuple[tuple[Name, ...],
         added = 0
         for n in group:
             if n.name not in items.seen and items.fits(n.name):
-                items.add(n.name, n.kind, n.detail, n.doc, sort=sort)
+                items.add(n.name, n.kind, n.kind, n.doc, sort=sort)
                 added += 1
                 if added > MAX_ITEMS:
                     break
@@ -255,4 +255,4 @@ def _dotted(ctx: Context, names: tuple[Name, ...], items: Items) -> None:
                 items.add(f"{head}.{member}", kind, f"member of {head}", sort="1",
                           replace_from=ctx.prefix_start)
         elif n.name.startswith(head + ".") and n.kind in TYPE_KINDS | {"service", "action", "const"}:
-            items.add(n.name, n.kind, n.detail, n.doc, sort="2", replace_from=ctx.prefix_start)
+            items.add(n.name, n.kind, n.kind, n.doc, sort="2", replace_from=ctx.prefix_start)
