@@ -101,6 +101,7 @@ class Analysis:
         #: tuple (see ``_defined``).
         self.by_name: dict[str, m.Definition | tuple[m.Definition, ...]] = {}
         self.duplicates: dict[str, list[Diagnostic]] = {}
+        #: The symbol table of the last interface (its ``symbols``, the same dict).
         self.symbols: dict[str, m.Definition] = {}
         #: Units with a finding, by their item.
         self.noisy: dict[Part, Unit] = {}
@@ -306,10 +307,11 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
             if d.name not in symbols:
                 symbols[d.name] = d
         an.symbols = symbols
-    else:  # definitions replaced by ones of the same names, in the same order: the table keeps its order
+    elif changed:  # definitions replaced by ones of the same names, in the same order: the table keeps its order
+        an.symbols = dict(an.symbols)  # a copy: the last interface keeps its own table
         for n in changed:
             an.symbols[n] = _defined(an.by_name, n)[0]
-    iface.symbols = dict(an.symbols)
+    iface.symbols = an.symbols  # shared until the table changes (it is never changed in place)
     rebound = [n for n in changed if an.symbols.get(n) is not was[n]]
     names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(was[n], m.Const)
                         or (n in an.symbols) != (was[n] is not None) for n in rebound)
