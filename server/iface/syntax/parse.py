@@ -20,7 +20,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 from lark.parsers.lalr_analysis import Shift
 
 from ..model import nodes as m
-from ..model.source import ORIGIN, AnchoredSpan, Span
+from ..model.source import AnchoredSpan, Span, SpanTable
 from .chunks import Chunk, split
 from .grammar import build_parser, terminal_descriptions
 from .driver import Driver
@@ -45,29 +45,33 @@ class Problem:
     data: dict[str, Any] = field(default_factory=dict)
 
 
-@dataclass(slots=True, eq=False)
-class ChunkResult:
-    """What one chunk of text parsed to; its spans are relative to ``anchor``, where it starts.
+class ChunkResult(SpanTable):
+    """What one chunk of text parsed to, and the table its model's spans are kept in (one object: a result
+    is made for every definition of a file).
 
-    The chunk's text is not kept: it is the ``length`` characters at ``base`` of the text it is placed in.
+    It is pinned to the start of the ``Chunk`` it was parsed from (``place``): moving the chunk moves every
+    span of the result. The chunk's text is not kept: it is the ``length`` characters at ``base`` of the text
+    it is placed in.
     """
 
-    items: Sequence[Any]
-    #: The chunk's one recorded span, its ``SpanTable`` (``ModelBuilder.reset``), pinned to the start of the
-    #: ``Chunk`` it was parsed from (``place``): moving the chunk moves every span of the result.
-    anchor: AnchoredSpan
-    problems: Sequence[Problem]
-    length: int
-    open_at_end: bool = False
+    __slots__ = ("items", "problems", "length", "open_at_end")
+
+    def __init__(self, items: Sequence[Any] = (), problems: Sequence[Problem] = (), length: int = 0,
+                 open_at_end: bool = False) -> None:  # noqa: D107
+        super().__init__()
+        self.items = items
+        self.problems = problems
+        self.length = length
+        self.open_at_end = open_at_end
 
     @property
     def base(self) -> int:
         """Where the chunk starts in the text."""
-        return self.anchor.start
+        return self.start
 
     def place(self, chunk: Span) -> None:
         """Put every span of the result where ``chunk`` starts, and move them with ``chunk`` from now on."""
-        self.anchor.pin(chunk)
+        self.pin(chunk)
 
 
 @dataclass(slots=True, eq=False)
@@ -93,21 +97,23 @@ class _ChunkParser:
         self.lock = threading.Lock()
         self.driver: Driver | None = None
 
-    def parse_clean(self, text: str, docs: dict[int, str]) -> list[Any] | None:
-        """The items of a text that has no problem at all, read by the fast scanner; else None."""
+    def parse_clean(self, text: str, docs: dict[int, str]) -> ChunkResult | None:
+        """What a text that has no problem at all parses to, read by the fast scanner; else None."""
         with self.lock:
             if self.driver is None:
                 self.driver = Driver(self.parser, self.builder, FastScanner(self.parser))
             b = self.builder
-            b.reset(docs)
+            result = ChunkResult(length=len(text))
+            b.reset(docs, result)
             try:
                 items = self.driver.parse(text)
             except (ScanError, UnexpectedInput, RecursionError):
                 return None
             if b.problems or not isinstance(items, list):
                 return None
-            b.table.seal()
-            return items
+            result.seal()
+            result.items = items
+            return result
 
     def parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
         """Parse one chunk; its spans are kept relative to its table, so that it can be moved later."""
@@ -116,7 +122,8 @@ class _ChunkParser:
 
     def _parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
         b = self.builder
-        b.reset(docs)
+        result = ChunkResult(length=len(text))
+        b.reset(docs, result)
         problems: list[Problem] = []
         open_at_end = False
         errors = 0
@@ -166,9 +173,11 @@ class _ChunkParser:
             problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.anchored(0, 0)))
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
-        items = tuple(parsed) if isinstance(parsed, list) else ()  # mostly one: a tuple is smaller than a list
-        b.table.seal()
-        return ChunkResult(items, b.anchor, problems or (), len(text), open_at_end)
+        result.items = tuple(parsed) if isinstance(parsed, list) else ()  # mostly one: smaller than a list
+        result.problems = problems or ()
+        result.open_at_end = open_at_end
+        result.seal()
+        return result
 
 
 def _unwind_to_body(ip: Any) -> bool:
@@ -378,7 +387,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         clean = parser.parse_clean(text, docs)
         if clean is not None:
             file_as_old()  # the model outlives the young collections that would traverse it
-            return ParseResult(clean, [], [ChunkResult(clean, AnchoredSpan(0, 0, ORIGIN), (), len(text))])
+            return ParseResult(cast(list[Any], clean.items), [], [clean])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)
@@ -388,10 +397,9 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         same = pool.get(ctext)
         r = same.pop() if same else None
         if r is None and ch.unterminated:
-            anchor = AnchoredSpan(0, 0, ORIGIN)
-            r = ChunkResult((), anchor, [Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', "
-                                                 "so the rest of the file is comment", AnchoredSpan(0, 2, anchor))],
-                            len(ctext))
+            r = ChunkResult(length=len(ctext))
+            r.problems = [Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', so the rest of "
+                                  "the file is comment", AnchoredSpan(0, 2, r))]
         if r is None:
             r = parser.parse(ctext, ch.doc_map())
         # a chunk left open is joined with what follows it now, whether it was parsed now or in an

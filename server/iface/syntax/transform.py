@@ -138,17 +138,12 @@ class ModelBuilder:
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
 
-    @property
-    def anchor(self) -> SpanTable:
-        """The chunk's one recorded span, its table: moving it moves every span of the chunk."""
-        return self.table
-
-    def reset(self, docs: dict[int, str]) -> None:
+    def reset(self, docs: dict[int, str], table: SpanTable) -> None:
         """Start a new chunk whose doc comments are ``docs`` (by the offset they document).
 
-        Every node's spans go to one new table (``SpanTable``), relative to where the chunk starts.
+        Every node's spans go to ``table``, new and empty, relative to where the chunk starts.
         """
-        self.table = SpanTable()
+        self.table = table
         self.docs = docs
         self.problems = []
         self._depth = {}
