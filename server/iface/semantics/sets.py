@@ -156,7 +156,7 @@ def _wrong_kind(src: m.Source, w: m.Wiring, target: m.Definition | None) -> Diag
                 f"not a service or action: only those are {done}", src, w.type.span)
 
 
-def _count(counts: dict[int, int], key: int, by: int, touched: set[int]) -> None:
+def _count(counts: dict[m.Item, int], key: m.Item, by: int, touched: set[m.Item]) -> None:
     n = counts.get(key, 0) + by
     if n:
         counts[key] = n
@@ -180,14 +180,15 @@ class SetFindings:
         #: topic name -> ``duplicate-wiring`` findings of its statements, ``topic-type-conflict`` of its channels
         self.statement_found: dict[str, list[Diagnostic]] = {}
         self.channel_found: dict[str, list[Diagnostic]] = {}
-        self.wired: dict[int, int] = {}  # id(message) -> publishes/subscribes naming it
-        self.delta: dict[int, int] = {}  # id(Δ service) -> provides/calls naming it
+        # keyed by the definitions themselves (model nodes hash by identity)
+        self.wired: dict[m.Item, int] = {}  # message -> publishes/subscribes naming it
+        self.delta: dict[m.Item, int] = {}  # Δ service -> provides/calls naming it
         self.calls = 0  # provides and calls statements
-        self.messages: dict[int, m.Struct] = {}
-        self.deltas: dict[int, m.Service] = {}
+        self.messages: dict[m.Struct, None] = {}  # a dict: smaller than a set of as many
+        self.deltas: dict[m.Service, None] = {}
         self.implicit_kinds = 0  # services and actions, not Δ
-        self.message_found: dict[int, Diagnostic] = {}
-        self.delta_found: dict[int, Diagnostic] = {}
+        self.message_found: dict[m.Item, Diagnostic] = {}
+        self.delta_found: dict[m.Item, Diagnostic] = {}
         self.implicit: Diagnostic | None = None
         self.flags: tuple[bool, bool] | None = None
 
@@ -195,7 +196,7 @@ class SetFindings:
                again: Sequence[m.Wiring]) -> None:
         """Items ``gone`` and ``new`` (definitions and wirings), and wirings resolved ``again``."""
         src = iface.source
-        touched: set[int] = set()
+        touched: set[m.Item] = set()
         topics: set[str] = set()
         services_changed = False
         for x in [*gone, *again]:
@@ -221,7 +222,7 @@ class SetFindings:
                 topics.add(x.topic)
             else:
                 services_changed |= self._definition(x, 1)
-                touched.add(id(x))
+                touched.add(x)
         for topic in [*self.statement_found, *self.channel_found]:  # a topic with findings: in order again
             if topic not in topics:
                 on = self.by_topic[topic]
@@ -233,21 +234,19 @@ class SetFindings:
         flags = (robot_file and not interface_package(iface), robot_file and not self.calls and iface.component is None)
         every = flags != self.flags
         self.flags = flags
-        for k in (self.messages.keys() | self.message_found.keys()) if every else touched:
-            d = self.messages.get(k)
-            if d is not None and flags[0] and not self.wired.get(k):
-                self.message_found[k] = make("message-no-direction",
+        for d in (self.message_found.keys() | self.messages.keys()) if every else touched:
+            if isinstance(d, m.Struct) and d in self.messages and flags[0] and not self.wired.get(d):
+                self.message_found[d] = make("message-no-direction",
                                              f"message '{d.name}' is neither published nor subscribed: it is a type "
                                              f"definition (add `publishes {d.name} on \"/topic\"` to wire it)",
                                              src, d.name_span, name=d.name)
             else:
-                self.message_found.pop(k, None)
-        for k in (self.deltas.keys() | self.delta_found.keys()) if every else touched:
-            s = self.deltas.get(k)
-            if s is not None and not self.delta.get(k):
-                self.delta_found[k] = _unwired_delta(iface, s)
+                self.message_found.pop(d, None)
+        for s in (self.delta_found.keys() | self.deltas.keys()) if every else touched:
+            if isinstance(s, m.Service) and s in self.deltas and not self.delta.get(s):
+                self.delta_found[s] = _unwired_delta(iface, s)
             else:
-                self.delta_found.pop(k, None)
+                self.delta_found.pop(s, None)
         if every or services_changed:
             self.implicit = None
             if flags[1] and self.implicit_kinds:
@@ -280,30 +279,29 @@ class SetFindings:
         self.delta_found = {k: move(f) for k, f in self.delta_found.items()}
         self.implicit = move(self.implicit) if self.implicit is not None else None
 
-    def _wiring(self, w: m.Wiring, target: m.Definition | None, by: int, touched: set[int]) -> None:
+    def _wiring(self, w: m.Wiring, target: m.Definition | None, by: int, touched: set[m.Item]) -> None:
         if w.direction in ("publishes", "subscribes"):
             if target is not None and isinstance(target, m.Struct):
-                _count(self.wired, id(target), by, touched)
+                _count(self.wired, target, by, touched)
             return
         self.calls += by
         if isinstance(target, m.Service) and target.is_diagnostics:
-            _count(self.delta, id(target), by, touched)
+            _count(self.delta, target, by, touched)
 
     def _definition(self, d: m.Item, by: int) -> bool:
         """Count a definition in or out; True when it is a service or action that is not Δ."""
-        k = id(d)
         if isinstance(d, m.Struct) and d.kind == "message":
             if by > 0:
-                self.messages[k] = d
+                self.messages[d] = None
             else:
-                self.messages.pop(k, None)
-                self.message_found.pop(k, None)
+                self.messages.pop(d, None)
+                self.message_found.pop(d, None)
         elif isinstance(d, m.Service) and d.is_diagnostics:
             if by > 0:
-                self.deltas[k] = d
+                self.deltas[d] = None
             else:
-                self.deltas.pop(k, None)
-                self.delta_found.pop(k, None)
+                self.deltas.pop(d, None)
+                self.delta_found.pop(d, None)
         elif isinstance(d, (m.Service, m.Action)):
             self.implicit_kinds += by
             return True
