@@ -189,6 +189,28 @@ def _spans(node: object, out: list[tuple[str, int, int]], path: str = "", depth:
     return out
 
 
+def test_edits_whose_place_the_editor_tells_match_fresh_compiles() -> None:
+    """An editor says what its edits kept (``compile_text(..., edited=(last text, head, tail))``), exactly or
+    less than that (several edits in one change): the texts are not compared, and the compile is still a
+    fresh one's. What is said about another text than the last one compiled is not used."""
+    rng = random.Random(5)
+    text = (DATA / "valid" / "ros_types.iface").read_text() + (DATA / "valid" / "mini_robot.iface").read_text()
+    editor = Workspace()
+    path = "/virtual/told.iface"
+    editor.compile_text(path, text)
+    for step in range(150):
+        pos = rng.randrange(len(text) + 1)
+        end = min(len(text), pos + rng.randint(0, 30))
+        new = text[:pos] + rng.choice(SNIPPETS) + text[end:]
+        head, tail = pos, len(text) - end
+        if rng.random() < 0.3:  # what a change of several edits says: less than what was kept
+            head, tail = rng.randint(0, head), rng.randint(0, tail)
+        last = text if rng.random() < 0.9 else "".join(list(text))  # an equal text, not the one compiled
+        got = editor.compile_text(path, new, (last, head, tail))
+        text = new
+        assert _fingerprint(got) == _fingerprint(compile_source(Source(path, text))), f"step {step}"
+
+
 def test_edits_of_a_long_file_move_every_span_as_a_fresh_parse_places_it() -> None:
     """Chunks after an edit move by blocks (``EditCache``): over 150 edits of a file of 240 chunks,
     near each other and far apart, every span of the model (names, types, members) is where a fresh

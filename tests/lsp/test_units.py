@@ -9,7 +9,7 @@ import pytest
 
 from iface.lsp.context import context_at
 from iface.lsp.convert import UTF8, UTF16, UTF32, LineIndex
-from iface.lsp.documents import map_back, map_forward, path_to_uri, uri_to_path
+from iface.lsp.documents import EditLog, map_back, map_forward, path_to_uri, uri_to_path
 from iface.lsp.settings import Settings
 
 
@@ -55,6 +55,17 @@ def test_offsets_map_through_edits_both_ways() -> None:
     assert map_back(edits, 0) == 0 and map_back(edits, 1) == 0 and map_back(edits, 7) == 5
     assert map_back(edits, 4) is None  # inside the inserted "XYZ"
     assert map_forward(edits, 5) == 7 and map_forward(edits, 3) is None and map_forward(edits, 1) == 2
+
+
+def test_an_edit_log_says_what_its_edits_kept_of_a_text() -> None:
+    log = EditLog()
+    for edit in [(2, 4, 3), (0, 0, 1), (7, 8, 0)]:  # "abcdef" → "abXYZef" → "_abXYZef" → "_abXYZe"
+        log.append(edit)
+    assert log.kept(0, 1, 6) == (2, 2)  # "ab" … "ef"
+    assert log.kept(0, 3, 6) == (0, 0)
+    assert log.kept(1, 2, 7) == (0, 7) and log.kept(2, 2, 8) == (8, 8)
+    log.forget_before(2)
+    assert log.kept(1, 3, 7) is None and log.kept(2, 3, 8) == (7, 0) and log.kept(2, 4, 8) is None
 
 
 def test_uris_and_paths() -> None:

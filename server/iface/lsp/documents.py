@@ -96,6 +96,19 @@ class EditLog:
             lo = max(first - self._base, 0)
             return self._edits[lo:max(last - self._base, lo)]
 
+    def kept(self, first: int, last: int, length: int) -> tuple[int, int] | None:
+        """(head, tail): how many characters at its start and at its end the edits [first, last) left as
+        they were in a text of ``length`` characters; None when some of those edits are forgotten."""
+        with self._lock:
+            if first < self._base or last - self._base > len(self._edits):
+                return None
+            head = tail = length
+            for start, end, new in self._edits[first - self._base:last - self._base]:
+                head = min(head, start)
+                tail = min(tail, length - end)
+                length += new - (end - start)
+            return head, tail
+
     def forget_before(self, seq: int) -> None:
         """Drop edits older than ``seq`` (no snapshot needs them any more)."""
         with self._lock:

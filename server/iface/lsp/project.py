@@ -106,8 +106,10 @@ class Project:
         uri, path, state = doc.uri, doc.path, doc.state
         ws = self.workspace()
         index = state.index
+        last = self.snapshots.get(uri)
+        kept = doc.log.kept(last.seq, state.seq, len(last.text)) if last is not None else None
         try:
-            comp = ws.compile_text(path, state.text)
+            comp = ws.compile_text(path, state.text, (last.text, *kept) if last is not None and kept else None)
         except Exception as e:  # the model must never take the server down
             log.exception("compiling %s failed", uri)
             snap = Snapshot(uri, path, state.version, state.seq, state.text, index, None)

@@ -180,9 +180,16 @@ class Workspace:
         """Compile a file from the overlay or the disk (a missing file gets a diagnostic)."""
         return self._compile(self.normpath(path), None)
 
-    def compile_text(self, path: str, text: str) -> Compilation:
-        """Compile ``text`` as the content of ``path`` (an editor buffer)."""
+    def compile_text(self, path: str, text: str, edited: tuple[str, int, int] | None = None) -> Compilation:
+        """Compile ``text`` as the content of ``path`` (an editor buffer).
+
+        ``edited`` is (last text, head, tail) when ``text`` is the last text compiled for ``path`` with only
+        what lies between its first ``head`` and last ``tail`` characters edited: the texts are then not
+        compared to find where they differ (a comparison that takes time with the length of the file).
+        """
         key = self.normpath(path)
+        if (cache := self._chunks.get(key)) is not None:
+            cache.known = edited  # None too: what an earlier call said is not about this text
         self.overlays[key] = text
         return self._compile(key, text)
 

@@ -96,18 +96,25 @@ def split(text: str, previous: tuple[str, list[Chunk]] | None = None) -> list[Ch
     return [*old_chunks[:k], *middle, *moved]
 
 
-def resplit(text: str, old: str, old_chunks: list[Chunk]) -> tuple[int, list[Chunk], int]:
+def resplit(text: str, old: str, old_chunks: list[Chunk],
+            known: tuple[int, int] | None = None) -> tuple[int, list[Chunk], int]:
     """Cut ``text``, an edited version of ``old`` whose chunks were ``old_chunks``, again where it changed.
 
     Returns ``(k, middle, i)``: the chunks of ``text`` are ``old_chunks[:k]``, then ``middle``, then
     ``old_chunks[i:]`` moved by ``len(text) - len(old)`` (which the caller does). Only the text
     around the change is scanned: once the scan reaches, past the change, a cut the earlier version
     had at the same place, the rest is as it was. Time follows the change, not the text.
+
+    ``known`` is (head, tail) when the caller knows that the texts have at least their first ``head`` and
+    last ``tail`` characters in common (an editor's edits say so): they are not compared then.
     """
-    head = _common_prefix(old, text)
+    head = _common_prefix(old, text) if known is None else min(known[0], len(old), len(text))
     if head == len(old) == len(text):
         return len(old_chunks), [], len(old_chunks)
-    tail = _common_suffix(old, text, head)
+    if known is None:
+        tail = _common_suffix(old, text, head)
+    else:
+        tail = max(min(known[1], len(old) - head, len(text) - head), 0)
     delta = len(text) - len(old)
     new_end = len(text) - tail
     k = max(bisect_right(old_chunks, head, key=_START) - 2, 0)  # one chunk of margin before the change

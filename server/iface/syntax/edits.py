@@ -42,6 +42,9 @@ class EditCache(ChunkCache):
         self.change: Change | None = None
         #: The bases of the blocks of chunks, in text order (empty: the chunks are in no block).
         self.blocks: list[Span] = []
+        #: What the next text is known to keep of the last one: (the last text, head, tail) when only the
+        #: characters between its first ``head`` and last ``tail`` were edited (``Workspace.compile_text``).
+        self.known: tuple[str, int, int] | None = None
 
     def block_up(self) -> None:
         """Put the chunks, one result per chunk (pinned to it), in blocks of about sqrt(n)."""
@@ -85,7 +88,8 @@ class EditCache(ChunkCache):
 def parse_edited(text: str, cache: EditCache) -> ParseResult:
     """``parse_text(text, cache)``, re-parsing only the chunks between those the edit left as they were."""
     cache.change = None
-    reused = _reuse(text, cache)
+    known, cache.known = cache.known, None
+    reused = _reuse(text, cache, known)
     result = reused if reused is not None else parse_text(text, cache)
     # each edit adds a block or two: they are made again after a whole parse and about every sqrt(n) edits
     if reused is None or len(cache.blocks) > 3 * isqrt(len(result.chunks)) + 16:
@@ -94,7 +98,7 @@ def parse_edited(text: str, cache: EditCache) -> ParseResult:
     return result
 
 
-def _reuse(text: str, cache: EditCache) -> ParseResult | None:
+def _reuse(text: str, cache: EditCache, known: tuple[str, int, int] | None = None) -> ParseResult | None:
     prev = cache.last
     if prev is None or cache.split is None or not cache.blocks:
         return None
@@ -102,7 +106,8 @@ def _reuse(text: str, cache: EditCache) -> ParseResult | None:
     old = prev.chunks
     if len(old) != len(old_chunks) or (prev.problems and any(r.open_at_end for r in old)):
         return None  # merged chunks, or one left open that what follows may close now
-    k, fresh, i = resplit(text, old_text, old_chunks)
+    kept = known[1:] if known is not None and known[0] is old_text else None
+    k, fresh, i = resplit(text, old_text, old_chunks, kept)
     parser = chunk_parser()
     middle: list[ChunkResult] = []
     for ch in fresh:
@@ -119,13 +124,18 @@ def _reuse(text: str, cache: EditCache) -> ParseResult | None:
     before = bisect_left(prev.items, cut, key=_START)
     behind = len(prev.items) - before - sum(len(r.items) for r in old[k:i])
     new = list(chain.from_iterable(map(_ITEMS, middle)))
-    items: list[Any] = [*prev.items[:before], *new, *prev.items[len(prev.items) - behind:]]
+    # one copy of each long list, then the part that changed replaced in place (no copies of the two ends)
+    items: list[Any] = prev.items.copy()
+    items[before:len(items) - behind] = new
     cache.change = (cut, prev.items[before:len(prev.items) - behind], new, prev.items)
-    results = [*old[:k], *middle, *old[i:]]
+    results = old.copy()
+    results[k:i] = middle
     if prev.problems:
         problems = [p for r in results if r.problems for p in r.problems]
     else:
         problems = [p for r in middle for p in r.problems]
-    cache.split = (text, [*old_chunks[:k], *fresh, *old_chunks[i:]])
+    chunks = old_chunks.copy()
+    chunks[k:i] = fresh
+    cache.split = (text, chunks)
     cache.results = results
     return ParseResult(items, problems, results)
