@@ -115,9 +115,9 @@ class Project:
             snap = Snapshot(uri, path, state.version, state.seq, state.text, index, None)
             self._install(doc, snap)
             return snap, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
-        names, defs, topics = names_of(comp, self.snapshots.get(uri))
+        names, topics = names_of(comp, self.snapshots.get(uri))
         deps = frozenset(c.path for c in comp.closure()[1:])
-        snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps, defs=defs)
+        snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
         self._install(doc, snap)
         uri_of = path_to_uri
         found = self.findings.of(path, comp, self.settings, self._include_paths())
@@ -143,8 +143,7 @@ class Project:
             return None
         comp = self.workspace().compile_path(path)
         text = comp.source.text
-        names, defs, topics = names_of(comp)
-        return Snapshot(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp, names, topics, defs=defs)
+        return Snapshot(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp, *names_of(comp))
 
     # ---- documents (event loop) ----------------------------------------------------
     def open(self, uri: str, text: str, version: int) -> None:

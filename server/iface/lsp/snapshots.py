@@ -16,7 +16,7 @@ from .documents import DocState, Edit, map_back, map_forward
 if TYPE_CHECKING:
     from collections.abc import Iterator
 
-    from ..model.nodes import Interface, Wiring
+    from ..model.nodes import Definition, Interface, Wiring
     from ..model.source import Source, Span
     from ..semantics.compile import Compilation
     from .project import Project
@@ -48,9 +48,6 @@ class Snapshot:
     deps: frozenset[str] = frozenset()
     #: The type names of ``names`` sorted by name, local ones then included ones (completion builds it once).
     sorted_types: tuple[tuple[Name, ...], tuple[Name, ...]] | None = None
-    #: The definition each of ``names`` was made from (model thread only): the next compile keeps the
-    #: names of the definitions it reuses.
-    defs: tuple[object, ...] = ()
 
     @property
     def iface(self) -> Interface | None:
@@ -125,13 +122,14 @@ class View:
 
 
 def names_of(comp: Compilation, last: Snapshot | None = None
-             ) -> tuple[tuple[Name, ...], tuple[object, ...], tuple[str, ...]]:
-    """Names of a compilation for completion (local definitions, then included ones with their prefix),
-    the definition of each, and the topics (``Snapshot.topics``).
+             ) -> tuple[tuple[Name, ...], tuple[str, ...]]:
+    """Names of a compilation for completion (local definitions, then included ones with their prefix)
+    and its topics (``Snapshot.topics``).
 
     Chunks that did not change keep their definition objects, so the names of the ``last`` snapshot's
     definitions are kept and an edit rebuilds only its own. When the compilation's lists were spliced
-    from those of the ``last`` snapshot's, so are its names and topics, in time that follows the edit.
+    from those of the ``last`` snapshot's, so are its names and topics, in time that follows the edit
+    (a list the edit did not change is the last one).
     """
     from ..model import nodes as m
     from ..model.walk import all_fields
@@ -145,16 +143,20 @@ def names_of(comp: Compilation, last: Snapshot | None = None
             members = tuple(f.name for f in all_fields(d)) + tuple(c.name for c in getattr(d, "consts", ()))
         return Name(prefix + d.name, d.kind, d.doc or "", members)
 
-    known: dict[int, int] | None = None  # id of a definition of ``last`` -> its place there (made when needed)
+    # the definitions of ``last``'s names (its interface's lists are its own: a compile makes new ones)
+    # and the place of each by id, made when first needed
+    old: list[m.Definition] | None = None
+    known: dict[int, int] = {}
 
     def entry(prefix: str, d: m.Definition) -> Name:
-        nonlocal known
-        if last is not None and last.defs:
-            if known is None:
-                known = {id(x): i for i, x in enumerate(last.defs)}
-            i = known.get(id(d))
-            if i is not None and last.defs[i] is d and last.names[i].name == prefix + d.name:
-                return last.names[i]
+        nonlocal old
+        if old is None:
+            old = _definitions(last.iface) if last is not None and last.iface is not None else []
+            if len(old) == len(last.names if last is not None else ()):
+                known.update((id(x), i) for i, x in enumerate(old))
+        i = known.get(id(d))
+        if i is not None and old[i] is d and last is not None and last.names[i].name == prefix + d.name:
+            return last.names[i]
         return make(prefix, d)
 
     iface = comp.interface
@@ -163,22 +165,30 @@ def names_of(comp: Compilation, last: Snapshot | None = None
     if spliced is not None and before is not None and spliced[0] == id(before) and \
             [(p, id(i)) for p, i in before.included.items()] == [(p, id(i)) for p, i in iface.included.items()]:
         n = len(before.definitions)
-        at, out, come = spliced[1].get("definitions", (0, 0, 0))
         assert last is not None
-        if len(last.defs) == len(last.names):
-            came = iface.definitions[at:at + come]
-            spliced_names = (*last.names[:at], *(make("", d) for d in came), *last.names[at + out:])
-            defs = (*last.defs[:at], *came, *last.defs[at + out:])
-            at, out, come = spliced[1].get("wirings", (0, 0, 0))
+        spliced_names = last.names
+        if "definitions" in spliced[1]:
+            at, out, come = spliced[1]["definitions"]
+            spliced_names = (*last.names[:at], *(make("", d) for d in iface.definitions[at:at + come]),
+                             *last.names[at + out:])
+        topics = last.topics
+        if "wirings" in spliced[1]:
+            at, out, come = spliced[1]["wirings"]
             topics = (*last.topics[:2 * at], *_topics(iface.wirings[at:at + come]), *last.topics[2 * (at + out):])
-            if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
-                return spliced_names, defs, topics
-    defs_list: list[object] = list(iface.definitions)
+        if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
+            return spliced_names, topics
     names = [entry("", d) for d in iface.definitions]
     for prefix, inc in sorted(iface.included.items()):
         names.extend(entry(prefix + ".", d) for d in inc.definitions)
-        defs_list.extend(inc.definitions)
-    return tuple(names), tuple(defs_list), tuple(_topics(iface.wirings))
+    return tuple(names), tuple(_topics(iface.wirings))
+
+
+def _definitions(iface: Interface) -> list[Definition]:
+    """The definitions ``names_of`` names, in its order: local ones, then those of each include by prefix."""
+    out = list(iface.definitions)
+    for _, inc in sorted(iface.included.items()):
+        out.extend(inc.definitions)
+    return out
 
 
 def _topics(wirings: list[Wiring]) -> Iterator[str]:
