@@ -104,11 +104,11 @@ class SpanTable(AnchoredSpan):
     """
 
     __slots__ = ("offsets",)
-    offsets: Any  # an array("i") while the chunk is parsed, then bytes or array (``seal``)
+    offsets: Any  # a list while the chunk is parsed, then bytes or an array (``seal``)
 
     def __init__(self) -> None:  # noqa: D107
         super().__init__(0, 0, ORIGIN)
-        self.offsets = array("i")
+        self.offsets = []
 
     def add(self, start: int, end: int) -> int:
         """Record the span [start, end); its index. Spans are added while the table is at offset 0."""
@@ -122,13 +122,17 @@ class SpanTable(AnchoredSpan):
         self.offsets[2 * k] = start
         self.offsets[2 * k + 1] = end
 
-    def seal(self) -> None:
-        """Keep the offsets in as little memory as they fit: in most chunks 2 bytes each, in one bytes object."""
+    def seal(self, length: int) -> None:
+        """Keep the offsets, all within [0, ``length``], in as little memory as they fit: in most chunks
+        2 bytes each, in one bytes object."""
         offsets = self.offsets
-        if not offsets or (min(offsets) >= -32768 and max(offsets) < 32768):
-            self.offsets = array("h", offsets).tobytes()
-        else:
-            self.offsets = array("i", offsets)
+        try:
+            if length < 1 << 15:
+                self.offsets = array("h", offsets).tobytes()
+            else:
+                self.offsets = array("i" if length < 1 << 31 else "q", offsets)
+        except OverflowError:  # an offset beyond the chunk: kept as it is, never lost
+            self.offsets = array("q", offsets)
 
     def at(self, k: int) -> AnchoredSpan:
         """The span at index ``k``, relative to this table: it moves when the table does."""

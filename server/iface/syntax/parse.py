@@ -111,7 +111,7 @@ class _ChunkParser:
                 return None
             if b.problems or not isinstance(items, list):
                 return None
-            result.seal()
+            result.seal(len(text))
             result.items = items
             return result
 
@@ -176,7 +176,7 @@ class _ChunkParser:
         result.items = tuple(parsed) if isinstance(parsed, list) else ()  # mostly one: smaller than a list
         result.problems = problems or ()
         result.open_at_end = open_at_end
-        result.seal()
+        result.seal(len(text))
         return result
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from lark import Token
@@ -117,14 +117,6 @@ def _text(tok: Token) -> str:
     return sys.intern(str(tok))
 
 
-def _start(x: Any) -> int:
-    return x.start_pos if isinstance(x, Token) else x.span.start
-
-
-def _end(x: Any) -> int:
-    return x.end_pos if isinstance(x, Token) else x.span.end
-
-
 class _Tagged(tuple):
     """A (tag, payload, span) triple passed up from helper rules."""
 
@@ -133,10 +125,10 @@ class ModelBuilder:
     """Callbacks for every rule of grammar.lark; see ``parse.ChunkParser``."""
 
     def __init__(self) -> None:
-        self.table = SpanTable()
         self.docs: dict[int, str] = {}
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
+        self.reset({}, SpanTable())
 
     def reset(self, docs: dict[int, str], table: SpanTable) -> None:
         """Start a new chunk whose doc comments are ``docs`` (by the offset they document).
@@ -144,20 +136,27 @@ class ModelBuilder:
         Every node's spans go to ``table``, new and empty, relative to where the chunk starts.
         """
         self.table = table
+        self._offsets: list[int] = table.offsets
+        #: ``span(start, end)``: record a node's span [start, end) in the table; its index, which the node keeps
+        self.span: Callable[[int, int], Any] = table.add
         self.docs = docs
         self.problems = []
         self._depth = {}
 
-    def span(self, start: int, end: int) -> Any:
-        """Record a node's span [start, end) in the chunk's table; its index, which the node keeps."""
-        return self.table.add(start, end)
-
     def tok_span(self, tok: Token) -> Any:
         """Record the span of one token of a node; its index."""
-        offsets = self.table.offsets
+        offsets = self._offsets
         offsets.append(tok.start_pos)
         offsets.append(tok.end_pos)
         return (len(offsets) >> 1) - 1
+
+    def _start(self, x: Any) -> int:
+        """Where a token or a node made for this chunk starts (read from the table: no span is made)."""
+        return x.start_pos if type(x) is Token else self._offsets[2 * x._k]
+
+    def _end(self, x: Any) -> int:
+        """Where a token or a node made for this chunk ends."""
+        return x.end_pos if type(x) is Token else self._offsets[2 * x._k + 1]
 
     def anchored(self, start: int, end: int) -> AnchoredSpan:
         """A span object of its own (a problem's, a field id's), relative to the chunk likewise."""
@@ -181,7 +180,7 @@ class ModelBuilder:
         scope, name = c[1], c[2]
         ann = c[3] if len(c) > 3 else ()
         value = self._decode(name) if name.type == "LITERAL" else _text(name)
-        end = ann[-1].span.end if ann else name.end_pos
+        end = self._end(ann[-1]) if ann else name.end_pos
         return m.Namespace(_text(scope), value, self.span(c[0].start_pos, end), ann, _t=self.table)
 
     def component(self, c: list[Any]) -> m.ComponentDecl:
@@ -214,7 +213,7 @@ class ModelBuilder:
     def const(self, c: list[Any]) -> m.Const:
         kw, ftype, name = c[0], self._type(c[1]), c[2]
         value = c[4]
-        return m.Const(_text(name), ftype, value, self.span(kw.start_pos, value.span.end),
+        return m.Const(_text(name), ftype, value, self.span(kw.start_pos, self._end(value)),
                        self.tok_span(name), (), self.docs.get(kw.start_pos), _t=self.table)
 
     member_const = const
@@ -339,7 +338,7 @@ class ModelBuilder:
             elif isinstance(x, list):
                 ann = x
                 end = self._ann_end
-        start = _start(first)
+        start = self._start(first)
         return m.Function(_text(name), returns, self.span(start, end), self.tok_span(name), params,
                           throws, oneway, ann, self.docs.get(start), _t=self.table)
 
@@ -353,7 +352,7 @@ class ModelBuilder:
             fid = self._int(first)
             fid_span = self.anchored(first.start_pos, first.end_pos)
             i = 1
-        start = _start(first)
+        start = self._start(first)
         req = None
         x = c[i]
         if type(x) is Token and (x.type == "REQUIRED" or x.type == "OPTIONAL"):
@@ -375,7 +374,7 @@ class ModelBuilder:
                 end = self._ann_end
             else:
                 default = x
-                end = x.span.end
+                end = self._end(x)
         return m.Field(_text(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
                        req, default, ann, self.docs.get(start), reference, _t=self.table)
 
@@ -458,7 +457,7 @@ class ModelBuilder:
                 t.annotations = x
             else:
                 kind, size, end = x
-                arr = m.ArrayType(t, self.span(t.span.start, end), kind, size, _t=self.table)
+                arr = m.ArrayType(t, self.span(self._start(t), end), kind, size, _t=self.table)
                 t = self._container(arr, t)
         return t
 
@@ -506,7 +505,7 @@ class ModelBuilder:
     def annotation(self, c: list[Any]) -> m.Annotation:
         key = c[0]
         value = c[1] if len(c) > 1 else None
-        end = value.span.end if value is not None else key.end_pos
+        end = self._end(value) if value is not None else key.end_pos
         return m.Annotation(_text(key), value, self.span(key.start_pos, end), _t=self.table)
 
     def annotations(self, c: list[Any]) -> list[m.Annotation]:
@@ -549,4 +548,4 @@ class ModelBuilder:
         last = c[-1]
         if isinstance(last, list):
             return last, self._ann_end
-        return (), _end(last)
+        return (), self._end(last)
