@@ -72,3 +72,16 @@ def test_a_span_read_from_a_parsed_node_moves_with_its_chunk() -> None:
     again = ws.compile_text("/t.iface", longer).interface.definitions[1]
     assert again is b  # the chunk was kept and moved
     assert longer[span.start:span.end] == longer[b.name_span.start:b.name_span.end] == "B"
+
+
+def test_node_constructors_keep_the_dataclass_signature_and_fresh_defaults() -> None:
+    """Spanned classes have their own ``__init__`` (spans stored in their slots): every field is set as the
+    dataclass would set it, and a default list is a new one for each node."""
+    a = m.Service("A", Span(0, 1), Span(2, 3))
+    b = m.Service("B", Span(4, 5), name_span=Span(6, 7), form="flat", doc="d")
+    assert a.functions == [] and a.functions is not b.functions and a.consts is not b.consts
+    a.functions.append(None)  # type: ignore[arg-type]
+    assert b.functions == [] and (b.form, b.doc, b.name_span.start) == ("flat", "d", 6)
+    f = m.Field("x", m.BaseType("u8", Span(0, 2)), Span(0, 4), Span(3, 4), 7, reference=True)
+    assert (f.id, f.reference, f.requiredness, f.annotations, f._t) == (7, True, None, (), None)
+    assert repr(f).startswith("Field(name='x', type=BaseType(name='u8', span=Span(0, 2)")
