@@ -79,14 +79,27 @@ class Unit:
     edges: tuple[object, ...] = ()
 
 
-#: What ``Analysis.units`` keeps of an item: its ``Unit``, or only the names it uses when the unit is quiet
-#: (no finding, nothing unknown, no struct edges: most are), made into a unit again when read (``_unit``).
-Kept = Unit | Uses
+@dataclass(slots=True, eq=False)
+class Quiet:
+    """What is kept of a quiet struct with edges: the names it uses, its edges."""
+
+    uses: Uses
+    edges: tuple[object, ...]
+
+
+#: What ``Analysis.units`` keeps of an item: its ``Unit``, or when the unit is quiet (no finding, nothing
+#: unknown: most are) only the names it uses (with a struct's edges, a ``Quiet``), made into a unit again when
+#: read (``_unit``).
+Kept = Unit | Quiet | Uses
 
 
 def _unit(x: Part, kept: Kept) -> Unit:
     """The unit of ``x`` from what is kept of it."""
-    return kept if isinstance(kept, Unit) else Unit(x, kept, (), (), (), (), ())
+    if isinstance(kept, Unit):
+        return kept
+    if isinstance(kept, Quiet):
+        return Unit(x, kept.uses, (), (), (), (), kept.edges)
+    return Unit(x, kept, (), (), (), (), ())
 
 
 class Analysis:
@@ -378,8 +391,8 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
             an.noisy[u.item] = u
         else:
             an.noisy.pop(u.item, None)
-            if keep and not u.unknown and not u.edges:  # quiet: only the names it uses are kept
-                units[u.item] = u.uses
+            if keep and not u.unknown:  # quiet: only the names it uses (and its edges) are kept
+                units[u.item] = Quiet(u.uses, u.edges) if u.edges else u.uses
     # ---- the findings, in the order of a whole-file pass --------------------------------------------
     noisy = list(an.noisy.values())
     out: list[Diagnostic] = []
