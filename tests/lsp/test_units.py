@@ -62,10 +62,12 @@ def test_an_edit_log_says_what_its_edits_kept_of_a_text() -> None:
     for edit in [(2, 4, 3), (0, 0, 1), (7, 8, 0)]:  # "abcdef" → "abXYZef" → "_abXYZef" → "_abXYZe"
         log.append(edit)
     assert log.kept(0, 1, 6) == (2, 2)  # "ab" … "ef"
-    assert log.kept(0, 3, 6) == (0, 0)
+    assert log.kept(0, 3, 6) is None  # nothing kept that the edits tell: the texts are compared
     assert log.kept(1, 2, 7) == (0, 7) and log.kept(2, 2, 8) == (8, 8)
     log.forget_before(2)
     assert log.kept(1, 3, 7) is None and log.kept(2, 3, 8) == (7, 0) and log.kept(2, 4, 8) is None
+    log.append((0, 7, 9))  # the whole text sent again
+    assert log.kept(3, 4, 7) is None
 
 
 def test_uris_and_paths() -> None:

@@ -98,7 +98,8 @@ class EditLog:
 
     def kept(self, first: int, last: int, length: int) -> tuple[int, int] | None:
         """(head, tail): how many characters at its start and at its end the edits [first, last) left as
-        they were in a text of ``length`` characters; None when some of those edits are forgotten."""
+        they were in a text of ``length`` characters; None when some of those edits are forgotten, or when
+        they kept nothing they can tell (a whole text sent again)."""
         with self._lock:
             if first < self._base or last - self._base > len(self._edits):
                 return None
@@ -107,7 +108,8 @@ class EditLog:
                 head = min(head, start)
                 tail = min(tail, length - end)
                 length += new - (end - start)
-            return head, tail
+        # a whole text sent again says nothing of where it changed: the texts are compared then
+        return (head, tail) if head or tail else None
 
     def forget_before(self, seq: int) -> None:
         """Drop edits older than ``seq`` (no snapshot needs them any more)."""
