@@ -110,9 +110,9 @@ class Analysis:
         self.units: dict[Part, Kept] = {}
         #: The items that use a name (see ``_use``).
         self.users: Users = {}
-        #: Definitions by name, in the order of the text: the definition itself, or (a name defined twice) a
-        #: tuple (see ``_defined``).
-        self.by_name: dict[str, m.Definition | tuple[m.Definition, ...]] = {}
+        #: The names defined more than once: their definitions, in the order of the text (a name defined once
+        #: is found in ``symbols``: see ``_defined``).
+        self.twice: dict[str, tuple[m.Definition, ...]] = {}
         self.duplicates: dict[str, list[Diagnostic]] = {}
         #: The symbol table of the last interface (its ``symbols``, the same dict).
         self.symbols: dict[str, m.Definition] = {}
@@ -178,20 +178,13 @@ def _users(users: Users, name: str) -> Collection[Part]:
     return had if isinstance(had, (tuple, set)) else (had,)
 
 
-def _defined(by_name: dict[str, m.Definition | tuple[m.Definition, ...]], name: str) -> tuple[m.Definition, ...]:
-    """The definitions of ``name``, in the order of the text."""
-    had = by_name.get(name)
-    return () if had is None else had if isinstance(had, tuple) else (had,)
-
-
-def _undefine(by_name: dict[str, m.Definition | tuple[m.Definition, ...]], d: m.Definition) -> None:
-    """Forget the definition ``d`` of its name (a name left with one definition holds it itself)."""
-    had = by_name.get(d.name)
-    if had is d:
-        del by_name[d.name]
-    elif isinstance(had, tuple):
-        rest = tuple(x for x in had if x is not d)
-        by_name[d.name] = rest[0] if len(rest) == 1 else rest
+def _defined(an: Analysis, name: str) -> tuple[m.Definition, ...]:
+    """The definitions of ``name`` the last compile found, in the order of the text."""
+    same = an.twice.get(name)
+    if same is not None:
+        return same
+    d = an.symbols.get(name)
+    return () if d is None else (d,)
 
 
 def _value_names(v: m.Value | None, out: set[str]) -> None:
@@ -282,39 +275,35 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         _rehome_all(an, src)
     an.source = src
     # ---- definitions by name: duplicates and the symbol table -------------------------------------
-    changed: set[str] = set()
+    #: The names whose definitions the edit changed: their definitions now.
+    changed: dict[str, tuple[m.Definition, ...]] = {}
     for u in removed:
         for n in _names(u.uses):
             _unuse(an.users, n, u.item)
         an.noisy.pop(u.item, None)
         an.unknown.pop(u.item, None)
         if not isinstance(u.item, m.Wiring):
-            _undefine(an.by_name, u.item)
-            changed.add(u.item.name)
+            n = u.item.name
+            changed[n] = tuple(d for d in (changed[n] if n in changed else _defined(an, n)) if d is not u.item)
     for x in added:
         if not isinstance(x, m.Wiring):
-            had = an.by_name.get(x.name)
-            an.by_name[x.name] = x if had is None else (*had, x) if isinstance(had, tuple) else (had, x)
-            changed.add(x.name)
-    for n in an.duplicates:  # two chunks of one text may swap their model objects between versions
-        if n not in changed and (same := _defined(an.by_name, n)) != tuple(sorted(same, key=_START)):
-            changed.add(n)
-    for n in changed:
-        same = _defined(an.by_name, n)
-        if len(same) > 1:
-            same = an.by_name[n] = tuple(sorted(same, key=_START))
-        if not same:
+            n = x.name
+            changed[n] = (*(changed[n] if n in changed else _defined(an, n)), x)
+    for n, same in an.twice.items():  # two chunks of one text may swap their model objects between versions
+        if n not in changed and same != tuple(sorted(same, key=_START)):
+            changed[n] = same
+    for n, same in changed.items():
+        if len(same) < 2:
+            an.twice.pop(n, None)
             an.duplicates.pop(n, None)
             continue
-        if len(same) == 1:
-            an.duplicates.pop(n, None)
-            continue
+        same = changed[n] = an.twice[n] = tuple(sorted(same, key=_START))
         head = same[0]
         an.duplicates[n] = [make("duplicate-definition", f"'{d.name}' is already defined", src, d.name_span,
                                  related=[Related(src, head.name_span, f"first definition of '{d.name}'")])
                             for d in same[1:]]
     was = {n: an.symbols.get(n) for n in changed}
-    if first or (changed and not (told and _in_place(an, removed, added, changed))):
+    if first or (changed and not (told and _in_place(removed, added, changed))):
         symbols: dict[str, m.Definition] = {}
         for d in defs:
             if d.name not in symbols:
@@ -323,7 +312,7 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     elif changed:  # definitions replaced by ones of the same names, in the same order: the table keeps its order
         an.symbols = dict(an.symbols)  # a copy: the last interface keeps its own table
         for n in changed:
-            an.symbols[n] = _defined(an.by_name, n)[0]
+            an.symbols[n] = changed[n][0]
     iface.symbols = an.symbols  # shared until the table changes (it is never changed in place)
     rebound = [n for n in changed if an.symbols.get(n) is not was[n]]
     names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(was[n], m.Const)
@@ -435,12 +424,12 @@ def _reordered(last: m.Interface, iface: m.Interface, kept: dict[Part, Kept]) ->
     return False
 
 
-def _in_place(an: Analysis, removed: list[Unit], added: list[Part], changed: set[str]) -> bool:
+def _in_place(removed: list[Unit], added: list[Part], changed: dict[str, tuple[m.Definition, ...]]) -> bool:
     """True when the edit replaced definitions by as many of the same names in the same order, none of them
     defined twice: the symbol table then has its keys in the same order."""
     gone = [u.item.name for u in removed if not isinstance(u.item, m.Wiring)]
     come = [x.name for x in added if not isinstance(x, m.Wiring)]
-    return gone == come and all(len(_defined(an.by_name, n)) == 1 for n in changed)
+    return gone == come and all(len(same) == 1 for same in changed.values())
 
 
 def _fill_sets(iface: m.Interface) -> None:
