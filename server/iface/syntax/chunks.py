@@ -44,11 +44,22 @@ class Chunk(AnchoredSpan):
     __slots__ = ("docs", "unterminated")
 
     def __init__(self, start: int, end: int, docs: tuple[int | str, ...] = (), unterminated: bool = False) -> None:
-        super().__init__(start, end, ORIGIN)
+        super().__init__(start, start, ORIGIN)
+        self._end = end - start
         #: The doc comments, flat: (offset documented, text, offset, text …); a tuple is a quarter of a dict.
         self.docs = docs
         #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
         self.unterminated = unterminated
+
+    @property
+    def end(self) -> int:
+        """Where the chunk ends. Its length is kept rather than its end: a small number, most often one of
+        the ints Python shares, where an end relative to the block is an object of its own."""
+        return self.start + self._end
+
+    @end.setter
+    def end(self, value: int) -> None:
+        self._end = value - self.start
 
     def doc_map(self, shift: int = 0) -> dict[int, str]:
         """The doc comments by the offset they document, plus ``shift``."""

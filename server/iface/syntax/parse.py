@@ -54,7 +54,7 @@ class ChunkResult(SpanTable):
     it is placed in.
     """
 
-    __slots__ = ("items", "problems", "length", "open_at_end")
+    __slots__ = ("_items", "problems", "length", "open_at_end")
 
     def __init__(self, items: Sequence[Any] = (), problems: Sequence[Problem] = (), length: int = 0,
                  open_at_end: bool = False) -> None:  # noqa: D107
@@ -68,6 +68,16 @@ class ChunkResult(SpanTable):
     def base(self) -> int:
         """Where the chunk starts in the text."""
         return self.start
+
+    @property
+    def items(self) -> Sequence[Any]:
+        """The model items the chunk parsed to, in order (mostly one, kept without a sequence around it)."""
+        items = self._items
+        return items if isinstance(items, (list, tuple)) else (items,)
+
+    @items.setter
+    def items(self, items: Sequence[Any]) -> None:
+        self._items = items[0] if len(items) == 1 and not isinstance(items[0], (list, tuple)) else items
 
     def place(self, chunk: Span) -> None:
         """Put every span of the result where ``chunk`` starts, and move them with ``chunk`` from now on."""
@@ -173,7 +183,7 @@ class _ChunkParser:
             problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.anchored(0, 0)))
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
-        result.items = tuple(parsed) if isinstance(parsed, list) else ()  # mostly one: smaller than a list
+        result.items = parsed if isinstance(parsed, list) else ()
         result.problems = problems or ()
         result.open_at_end = open_at_end
         result.seal(len(text))
@@ -387,7 +397,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         clean = parser.parse_clean(text, docs)
         if clean is not None:
             file_as_old()  # the model outlives the young collections that would traverse it
-            return ParseResult(cast(list[Any], clean.items), [], [clean])
+            return ParseResult(list(clean.items), [], [clean])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)
