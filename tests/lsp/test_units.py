@@ -50,6 +50,24 @@ def test_an_edited_line_index_equals_one_made_from_the_new_text() -> None:
             assert index.position(offset) == fresh.position(offset)
 
 
+@pytest.mark.parametrize("lines", [0, 1, 1023, 1024, 1025, 2048, 5000])
+@pytest.mark.parametrize("breaks", ["\n", "\r\n", "\r", "mixed"])
+def test_line_starts_across_blocks_with_every_line_break(lines: int, breaks: str) -> None:
+    import random
+
+    rnd = random.Random(lines)
+    texts = ["x" * rnd.choice([0, 2, 30]) for _ in range(lines + 1)]
+    text = "".join(t + (rnd.choice(["\n", "\r\n", "\r"]) if breaks == "mixed" else breaks) for t in texts[:-1])
+    text += texts[-1]
+    index = LineIndex(text, UTF16)
+    starts = [0, *(m.end() for m in re.finditer(r"\r\n|\r|\n", text))]
+    assert index.starts == starts and index.line_count == len(starts)  # "\r" then "\n" is one break
+    for offset in range(0, len(text) + 1, 13):
+        line, column = index.position(offset)
+        assert starts[line] <= offset < (starts[line + 1] if line + 1 < len(starts) else len(text) + 1)
+        assert column == offset - starts[line]
+
+
 def test_offsets_map_through_edits_both_ways() -> None:
     edits = [(2, 4, 3), (0, 0, 1)]  # "abcdef" → "abXYZef" → "_abXYZef"
     assert map_back(edits, 0) == 0 and map_back(edits, 1) == 0 and map_back(edits, 7) == 5

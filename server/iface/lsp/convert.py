@@ -11,6 +11,8 @@ from __future__ import annotations
 import re
 from array import array
 from bisect import bisect_right
+from itertools import repeat
+from operator import sub
 
 UTF8, UTF16, UTF32 = "utf-8", "utf-16", "utf-32"
 _BREAK = re.compile(r"\r\n|\r|\n")
@@ -20,25 +22,52 @@ _BREAK = re.compile(r"\r\n|\r|\n")
 #: first one (2 bytes each while a block spans less than 64 KiB of text) and the offset of that first line: an
 #: edit copies one block and moves the later ones by their offsets alone.
 _BLOCK = 1024
+_REST = range(_BLOCK - 1)
+
+
+def _pack(starts: list[int]) -> array[int]:
+    """Starts of one block, already relative to its first line, in as few bytes each as they fit."""
+    last = starts[-1]
+    return array("H" if last < 1 << 16 else "I" if last < 1 << 32 else "q", starts)
 
 
 def _block(starts: list[int], base: int) -> array[int]:
     """The starts of one block relative to ``base`` (its first start), as small as they fit."""
-    last = starts[-1] - base
-    code = "H" if last < 1 << 16 else "I" if last < 1 << 32 else "q"
-    return array(code, [x - base for x in starts] if base else starts)
+    return _pack([x - base for x in starts] if base else starts)
 
 
-def _line_starts(text: str) -> list[int]:
+def _blocked(text: str) -> tuple[list[array[int]], list[int]]:
+    """The line starts of ``text`` in blocks (``LineIndex._blocks``) and where each block starts (``_shift``),
+    made block by block: no int object per line of the whole text is held at once (but for a text with
+    ``\r`` line breaks, read by a regular expression)."""
+    blocks: list[array[int]] = []
+    shift: list[int] = []
     if "\r" in text:
-        return [0, *(m.end() for m in _BREAK.finditer(text))]
-    starts = [0]
+        ends = [m.end() for m in _BREAK.finditer(text)]
+        starts = [0, *ends[:_BLOCK - 1]]
+        blocks.append(_block(starts, 0))
+        shift.append(0)
+        for k in range(_BLOCK - 1, len(ends), _BLOCK):
+            blocks.append(_block(ends[k:k + _BLOCK], ends[k]))
+            shift.append(ends[k])
+        return blocks, shift
     find = text.find
-    i = find("\n")
-    while i >= 0:
-        starts.append(i + 1)
-        i = find("\n", i + 1)
-    return starts
+    i = -1  # the line break before the first line of a block (-1 for the text's first line)
+    while True:
+        first = i
+        block = [i]  # line breaks, made starts relative to the block's first line once it is full
+        append = block.append
+        for _ in _REST:
+            i = find("\n", i + 1)
+            if i < 0:
+                break
+            append(i)
+        blocks.append(_pack(list(map(sub, block, repeat(first)))))
+        shift.append(first + 1)
+        if i >= 0:
+            i = find("\n", i + 1)
+        if i < 0:
+            return blocks, shift
 
 
 class LineIndex:
@@ -56,10 +85,8 @@ class LineIndex:
         self.text = text
         self.encoding = encoding
         self.ascii = text.isascii()
-        starts = _line_starts(text)
-        self._shift = starts[::_BLOCK]
-        self._blocks = [_block(starts[i:i + _BLOCK], starts[i]) for i in range(0, len(starts), _BLOCK)]
-        self._lines = list(range(0, len(starts), _BLOCK))
+        self._blocks, self._shift = _blocked(text)
+        self._lines = list(range(0, _BLOCK * len(self._blocks), _BLOCK))
 
     @property
     def starts(self) -> list[int]:
