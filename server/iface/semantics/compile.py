@@ -37,7 +37,6 @@ class Compilation:
     interface: m.Interface
     diagnostics: list[Diagnostic]
     includes: dict[str, Compilation] = field(default_factory=dict)
-    parsed: ParseResult | None = None
 
     @property
     def path(self) -> str:
@@ -349,7 +348,7 @@ def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
     finally:
         if enabled:
             gc.enable()
-    return Compilation(source, iface, diagnostics, included, parsed)
+    return Compilation(source, iface, diagnostics, included)
 
 
 def _inside(ranges: list[tuple[int, int]], offset: int) -> bool:
@@ -430,12 +429,15 @@ def _splice(iface: m.Interface, before: m.Interface, change: Change) -> bool:
         out = [x for x in gone if _list_of(x) == name]
         come = [x for x in new if _list_of(x) == name]
         if not out and not come:
-            setattr(iface, name, list(old))
+            setattr(iface, name, old)  # shared: an interface's lists are made, never changed
             continue
         at = bisect_left(old, cut, key=_START)
         if any(a is not b for a, b in zip(old[at:at + len(out)], out)) or len(old) < at + len(out):
             return False
-        setattr(iface, name, [*old[:at], *come, *old[at + len(out):]])
+        # one copy, the changed part replaced in place (a list of many items is copied once, not three times)
+        spliced = old.copy()
+        spliced[at:at + len(out)] = come
+        setattr(iface, name, spliced)
         where[name] = (at, len(out), len(come))
     iface.spliced = (id(before), where)
     for item in new:
