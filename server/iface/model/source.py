@@ -95,12 +95,12 @@ _PAIR16 = struct.Struct("=hh").unpack_from
 
 
 class SpanTable(AnchoredSpan):
-    """The spans of one chunk's model, kept as offsets in an array rather than as an object each.
+    """The spans of one chunk's model, kept as offsets rather than as an object each.
 
-    The table is the chunk's anchor (``ChunkResult.anchor``): its entries are relative to where it starts,
-    so moving the table moves them all. A node made by the parser keeps the table and the index of its
-    first span (``model.nodes.spanned``) and makes a span object only when one is asked for: some 23,000
-    span objects of 56 bytes at 10k lines become 8 bytes each.
+    A chunk's result is its table (``syntax.parse.ChunkResult``), pinned to the chunk: the offsets are
+    relative to where the table starts, so moving the chunk moves them all. A node made by the parser keeps
+    the table and the index of its first span (``model.nodes.spanned``) and makes a span object only when
+    one is read: some 23,000 span objects of 56 bytes at 10k lines become 4 bytes each.
     """
 
     __slots__ = ("offsets",)
