@@ -151,7 +151,7 @@ def names_of(comp: Compilation, last: Snapshot | None = None
     def entry(prefix: str, d: m.Definition) -> Name:
         nonlocal old
         if old is None:
-            old = _definitions(last.iface) if last is not None and last.iface is not None else []
+            old = [d for _, d in _named(last.iface)] if last is not None and last.iface is not None else []
             if len(old) == len(last.names if last is not None else ()):
                 known.update((id(x), i) for i, x in enumerate(old))
         i = known.get(id(d))
@@ -177,18 +177,17 @@ def names_of(comp: Compilation, last: Snapshot | None = None
             topics = (*last.topics[:2 * at], *_topics(iface.wirings[at:at + come]), *last.topics[2 * (at + out):])
         if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
             return spliced_names, topics
-    names = [entry("", d) for d in iface.definitions]
+    return tuple(entry(prefix, d) for prefix, d in _named(iface)), tuple(_topics(iface.wirings))
+
+
+def _named(iface: Interface) -> Iterator[tuple[str, Definition]]:
+    """The definitions ``names_of`` names, in its order, with their prefix: local ones (''), then those of
+    each include (``prefix.``)."""
+    for d in iface.definitions:
+        yield "", d
     for prefix, inc in sorted(iface.included.items()):
-        names.extend(entry(prefix + ".", d) for d in inc.definitions)
-    return tuple(names), tuple(_topics(iface.wirings))
-
-
-def _definitions(iface: Interface) -> list[Definition]:
-    """The definitions ``names_of`` names, in its order: local ones, then those of each include by prefix."""
-    out = list(iface.definitions)
-    for _, inc in sorted(iface.included.items()):
-        out.extend(inc.definitions)
-    return out
+        for d in inc.definitions:
+            yield prefix + ".", d
 
 
 def _topics(wirings: list[Wiring]) -> Iterator[str]:

@@ -16,7 +16,7 @@ from typing import Literal
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, Severity, make
 from ..model.normalize import normalize_action, normalize_service
-from ..model.source import AnchoredSpan, Source, Span
+from ..model.source import Source, Span
 from ..syntax.edits import Change, EditCache, parse_edited
 from ..syntax.parse import ParseResult, parse_text
 from .analysis import Analysis, analyse
@@ -388,10 +388,7 @@ def build_interface(source: Source, items: list[m.Item], before: m.Interface | N
     """
     iface = m.Interface(source, Path(source.path).stem)
     iface.items = items
-    # (a model whose spans are not kept relative to their chunk is made again: its services' sections
-    # read from a flat body hold spans no chunk moves)
-    if before is not None and change is not None and items and isinstance(items[0].span, AnchoredSpan) \
-            and _splice(iface, before, change):
+    if before is not None and change is not None and items and _splice(iface, before, change):
         return iface
     iface.wirings, iface.includes, iface.namespaces, iface.externals = [], [], [], []
     iface.component_decls, iface.definitions, iface.component = [], [], None

@@ -130,13 +130,12 @@ def _reuse(text: str, cache: EditCache, known: tuple[str, int, int] | None = Non
     cache.change = (cut, prev.items[before:len(prev.items) - behind], new, prev.items)
     # the cache's own lists, changed in place: the last version's parse is not kept (``cache.last`` is this
     # one from now on), and a copy of each would touch every chunk and result of the file
-    results = old
-    results[k:i] = middle
+    old[k:i] = middle
     if prev.problems:
-        problems = [p for r in results if r.problems for p in r.problems]
+        problems = [p for r in old if r.problems for p in r.problems]
     else:
         problems = [p for r in middle for p in r.problems]
     old_chunks[k:i] = fresh
     cache.split = (text, old_chunks)
-    cache.results = results
-    return ParseResult(items, problems, results)
+    cache.results = old
+    return ParseResult(items, problems, old)

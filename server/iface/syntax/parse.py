@@ -397,7 +397,8 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         clean = parser.parse_clean(text, docs)
         if clean is not None:
             file_as_old()  # the model outlives the young collections that would traverse it
-            return ParseResult(list(clean.items), [], [clean])
+            found = clean.items
+            return ParseResult(found if isinstance(found, list) else list(found), [], [clean])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)

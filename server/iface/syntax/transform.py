@@ -145,10 +145,7 @@ class ModelBuilder:
 
     def tok_span(self, tok: Token) -> Any:
         """Record the span of one token of a node; its index."""
-        offsets = self._offsets
-        offsets.append(tok.start_pos)
-        offsets.append(tok.end_pos)
-        return (len(offsets) >> 1) - 1
+        return self.span(tok.start_pos, tok.end_pos)
 
     def _start(self, x: Any) -> int:
         """Where a token or a node made for this chunk starts (read from the table: no span is made)."""
