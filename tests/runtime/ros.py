@@ -85,6 +85,8 @@ def environment(venv: Path, workspace: Path | None = None, log_dir: Path | None 
                           env=base).stdout
     env = dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
     env.update(LOOPBACK)
+    # This checkout's iface first: a worktree's tests must not run another checkout's installed copy.
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "server"), env.get("PYTHONPATH", "")) if p)
     for key in NOT_LOOPBACK:
         env.pop(key, None)
     env["ROS_DOMAIN_ID"] = str(free_domain())
