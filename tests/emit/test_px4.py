@@ -485,15 +485,22 @@ def test_orb_queue_length_is_a_uint8_power_of_two(tmp_path: Path) -> None:
     assert "holds 8" in rounded[3] and "holds 128" in rounded[4]
     specs = messages(result)
     assert [(c.type, c.name, c.val) for c in specs["A"].constants] == [("uint8", "ORB_QUEUE_LENGTH", 4)]
-    wrong, _ = compile_px4(tmp_path, "component q\nmessage A { u64 timestamp, const i32 ORB_QUEUE_LENGTH = 4 }\n"
-                           'publishes A on "/a"\n')
-    assert _located(wrong, "px4-queue-length") == [2] and wrong.has_errors
+    other, _ = compile_px4(tmp_path, "component q\nmessage A { u64 timestamp, const u32 ORB_QUEUE_LENGTH = 2 }\n"
+                           "message B { u64 timestamp, const u16 ORB_QUEUE_LENGTH = 300 }\n"
+                           'publishes A on "/a"\npublishes B on "/b"\n')
+    assert not other.has_errors, [d.format() for d in other.diagnostics]
+    assert _located(other, "px4-queue-length") == [2, 3]
+    assert _located(other, "px4-queue-length-rounded") == [3]
+    assert "holds 64" in next(d.message for d in other.diagnostics if d.code == "px4-queue-length-rounded")
+    specs = messages(other)
+    assert [(c.type, c.name, c.val) for c in specs["A"].constants] == [("uint32", "ORB_QUEUE_LENGTH", 2)]
 
 
-def test_a_float_constant_with_a_fraction_is_refused(tmp_path: Path) -> None:
+def test_a_float_constant_with_a_fraction_is_kept_with_a_warning(tmp_path: Path) -> None:
     result, _ = compile_px4(tmp_path, "component f\nmessage A {\n    u64 timestamp,\n    const float32 HALF = 0.5,\n"
                             "    const float32 TWO = 2.0\n}\npublishes A on \"/a\"\n")
-    assert _located(result, "px4-constant-fraction") == [4]
+    assert _located(result, "px4-constant-fraction") == [4] and not result.has_errors
+    assert [(c.name, c.val) for c in messages(result)["A"].constants] == [("HALF", 0.5), ("TWO", 2.0)]
     assert "int(value)" in next(d.message for d in result.diagnostics if d.code == "px4-constant-fraction")
 
 
@@ -503,7 +510,8 @@ def test_topic_names_fit_uorbs_node_path(tmp_path: Path) -> None:
     assert not ok_result.has_errors, [d.format() for d in ok_result.diagnostics]
     assert topics_of(files(ok_result)["msg/A.msg"], "A") == [fits]
     result, _ = compile_px4(tmp_path, f'component t\nmessage A {{ u64 timestamp }}\npublishes A on "/{too_long}"\n')
-    assert _located(result, "px4-topic-too-long") == [3] and result.has_errors
+    assert _located(result, "px4-topic-too-long") == [3] and not result.has_errors
+    assert topics_of(files(result)["msg/A.msg"], "A") == [too_long]
     named, _ = compile_px4(tmp_path, "component t\n/** used by nothing: its topic is its own name */\n"
                            f"message {'Abcdefgh' * 8} {{ u64 timestamp }}\nmessage B {{ u64 timestamp }}\n"
                            'publishes B on "/b"\n')

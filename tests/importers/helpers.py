@@ -13,6 +13,7 @@ BROKEN = DATA / "ros2_broken" / "broken_msgs"
 GAPS = DATA / "ros2_emitter_gaps" / "gap_msgs"
 PX4 = DATA / "px4" / "msg"
 PX4_BROKEN = DATA / "px4_broken"
+PX4_ACCEPTED = DATA / "px4_accepted" / "msg"
 
 
 def ros_files(*packages: Path) -> list[Path]:

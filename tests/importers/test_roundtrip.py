@@ -7,7 +7,7 @@ import pytest
 from iface.importers.oracle import FileView, PartView, differences, rihs01, ros_view
 
 from ..conftest import run_cli
-from .helpers import BROKEN, DATA, GAPS, PX4, ROBOT_GEOMETRY, ROBOT_MSGS, ros_files
+from .helpers import BROKEN, DATA, GAPS, PX4, PX4_ACCEPTED, ROBOT_GEOMETRY, ROBOT_MSGS, ros_files
 
 pytest.importorskip("mcap_ros2")
 pytest.importorskip("genmsg")
@@ -37,6 +37,26 @@ def test_px4_fixtures_come_back_identical():
     r = run_cli("roundtrip", "--from", "px4", str(PX4), "-v")
     assert r.stdout.splitlines()[-1] == "2 of 2 identical", r.stdout + r.stderr
     assert r.returncode == 0
+
+
+def test_messages_px4_builds_import_and_regenerate(tmp_path):
+    """A uint32 ORB_QUEUE_LENGTH, a float constant with a fraction, a queue uORB rounds, a topic too long for
+    uORB's node path: PX4 builds each, so iface warns and writes them back as they were."""
+    r = run_cli("roundtrip", "--from", "px4", str(PX4_ACCEPTED))
+    assert r.stdout.splitlines()[-1] == "2 of 2 identical", r.stdout + r.stderr
+    assert r.returncode == 0
+    assert run_cli("import", "--from", "px4", str(PX4_ACCEPTED), "--out", str(tmp_path / "iface")).returncode == 0
+    (model,) = (tmp_path / "iface").glob("*.iface")
+    assert run_cli("check", str(model)).returncode == 0
+    r = run_cli("generate", str(model), "--target", "px4", "--out", str(tmp_path / "out"))
+    assert r.returncode == 0, r.stderr
+    warned = sorted(line.split("[")[1].split("]")[0] for line in r.stderr.splitlines() if "warning[" in line)
+    assert warned == ["px4-constant-fraction", "px4-queue-length", "px4-queue-length-rounded", "px4-topic-too-long"]
+    written = {p.name: p.read_text().splitlines() for p in (tmp_path / "out" / "msg").glob("*.msg")}
+    assert "uint32 ORB_QUEUE_LENGTH = 2" in written["ModeReply.msg"]
+    burst = [line.split("#")[0].strip() if not line.startswith("# TOPICS") else line for line in written["SampleBurst.msg"]]
+    assert {"float32 GAIN = 0.5", "uint8 ORB_QUEUE_LENGTH = 5"} <= set(burst)
+    assert "# TOPICS sample_burst sample_burst_of_a_sensor_with_a_name_longer_than_uorb_keeps" in burst
 
 
 def test_json_round_trip(tmp_path):

@@ -22,14 +22,15 @@ CODES: dict[str, tuple[Severity, str]] = {
     "px4-topic-assumed": (Severity.WARNING, "A topic of a px4_msgs type that is not a uXRCE-DDS bridge name "
                           "(/fmu/out/<topic>, /fmu/in/<topic>): the uORB topic is assumed to be the snake_case "
                           "message name."),
-    "px4-topic-too-long": (Severity.ERROR, "A uORB topic name longer than 57 characters: its node path "
-                           "/obj/<topic><instance> would not fit in uORB's 64 bytes."),
-    "px4-queue-length": (Severity.ERROR, "An ORB_QUEUE_LENGTH constant that is not a uint8 integer, as PX4 "
-                         "declares it."),
+    "px4-topic-too-long": (Severity.WARNING, "A uORB topic name longer than 57 characters: PX4 builds it, but "
+                           "its node path /obj/<topic><instance> does not fit in uORB's 64 bytes, so it cannot be "
+                           "advertised."),
+    "px4-queue-length": (Severity.WARNING, "An ORB_QUEUE_LENGTH constant that is not a uint8: PX4 builds it and "
+                         "reads it as a uint8, as its own messages declare it."),
     "px4-queue-length-rounded": (Severity.WARNING, "An ORB_QUEUE_LENGTH that is not a power of two from 1 to 128: "
-                                 "uORB rounds it."),
-    "px4-constant-fraction": (Severity.ERROR, "A float constant with a fraction: PX4's generator writes constants as "
-                              "int(value)."),
+                                 "uORB reads it as a uint8 and rounds it."),
+    "px4-constant-fraction": (Severity.WARNING, "A float constant with a fraction: PX4 builds it, but its generator "
+                              "writes constants into the C++ header as int(value)."),
     "px4-topic-conflict": (Severity.ERROR, "One uORB topic used for two message types."),
     "px4-upstream-name": (Severity.WARNING, ("A message or topic with the name of one of PX4's own uORB messages "
                                              "or topics (the list shipped with iface, with its PX4 version).")),

@@ -34,6 +34,12 @@ TIMESTAMP_DOC = "time since system start (microseconds)"
 MAX_TOPIC = 64 - len("/obj/") - 1 - 1
 #: uORB rounds a queue length up to a power of two, at most 128 (round_pow_of_two_8 in uORBDeviceNode.cpp).
 QUEUE_LENGTHS = (1, 2, 4, 8, 16, 32, 64, 128)
+
+
+def queue_depth(declared: int) -> int:
+    """The queue uORB keeps for an ORB_QUEUE_LENGTH: the value as a uint8, rounded up to a power of two <= 128."""
+    n = declared % 256
+    return next((q for q in QUEUE_LENGTHS if q >= n), 128)
 _INT_TYPES = (("uint8", 0, 2**8 - 1), ("int8", -(2**7), 2**7 - 1), ("uint16", 0, 2**16 - 1),
               ("int16", -(2**15), 2**15 - 1), ("uint32", 0, 2**32 - 1), ("int32", -(2**31), 2**31 - 1))
 
@@ -230,16 +236,16 @@ class MessageBuilder:
                                          "compile; rename it", src, c.name_span))
             return None
         value = literal(owner, c.value)
-        if name == "ORB_QUEUE_LENGTH" and not self._queue_length(struct, c, ptype, value, src):
-            return None
+        if name == "ORB_QUEUE_LENGTH":
+            self._queue_length(struct, c, ptype, value, src)
         if isinstance(value, bool) or ptype == "bool":
             text = "1" if value else "0"
-        elif isinstance(value, float) and not value.is_integer():
-            self.diagnostics.append(diag("px4-constant-fraction", f"constant '{c.name}' of message '{struct.name}' "
-                                         f"is {value!r}: PX4's generator writes every constant as int(value), so "
-                                         f"the header would say {int(value)}", src, c.value.span))
-            return None
         elif isinstance(value, (int, float)):
+            if isinstance(value, float) and not value.is_integer():
+                self.diagnostics.append(diag("px4-constant-fraction", f"constant '{c.name}' of message "
+                                             f"'{struct.name}' is {value!r}: PX4's generator writes every constant "
+                                             f"as int(value), so its C++ header says {int(value)} (the .msg keeps "
+                                             f"{value!r})", src, c.value.span))
             text = number(value) if ptype in ("float32", "float64") else str(int(value))
         else:
             self.diagnostics.append(diag("px4-unsupported-type", f"constant '{c.name}' of message "
@@ -247,20 +253,21 @@ class MessageBuilder:
             return None
         return Line(ptype, name, text, one_line(c.doc))
 
-    def _queue_length(self, struct: m.Struct, c: m.Const, ptype: str | None, value: object, src: m.Source) -> bool:
-        """``ORB_QUEUE_LENGTH``: a uint8 (as PX4 declares it) that uORB keeps as given, else a diagnostic."""
-        if ptype != "uint8" or isinstance(value, bool) or not isinstance(value, int):
+    def _queue_length(self, struct: m.Struct, c: m.Const, ptype: str | None, value: object, src: m.Source) -> None:
+        """``ORB_QUEUE_LENGTH``: PX4 builds any numeric one and reads it as a uint8; warnings say what uORB keeps."""
+        if not isinstance(value, (bool, int, float)):
+            return
+        if ptype != "uint8":
             self.diagnostics.append(diag("px4-queue-length", f"ORB_QUEUE_LENGTH of message '{struct.name}' is "
-                                         f"{type_text(c.type)}: PX4 declares it 'uint8 ORB_QUEUE_LENGTH = N' "
-                                         "(write const u8 ORB_QUEUE_LENGTH = 4)", src, c.type.span))
-            return False
-        if value not in QUEUE_LENGTHS:
-            kept = next((q for q in QUEUE_LENGTHS if q >= value), 128)
+                                         f"{type_text(c.type)}: PX4 builds it and reads it as a uint8 (uORB's "
+                                         "DefaultQueueSize); PX4's own messages declare 'uint8 ORB_QUEUE_LENGTH = "
+                                         f"N' (const u8 ORB_QUEUE_LENGTH = {int(value)})", src, c.type.span))
+        kept = queue_depth(int(value))
+        if kept != value:
             self.diagnostics.append(diag("px4-queue-length-rounded", f"ORB_QUEUE_LENGTH of message "
-                                         f"'{struct.name}' is {value}: uORB rounds a queue length to a power of two "
-                                         f"from 1 to 128, so the queue holds {kept}; write {kept}", src,
-                                         c.value.span))
-        return True
+                                         f"'{struct.name}' is {value!r}: uORB reads it as a uint8 and rounds it "
+                                         f"up to a power of two from 1 to 128, so the queue holds {kept}; write "
+                                         f"{kept}", src, c.value.span))
 
     def field_type(self, t: m.TypeRef) -> str:
         """The uORB spelling of a field type; Unsupported says why there is none."""
@@ -382,17 +389,15 @@ class MessageBuilder:
                 self._too_long(msg.snake, self.owners.source(msg.struct), msg.struct.name_span,
                                f"the topic of message '{msg.struct.name}' (its snake_case name)")
 
-    def _too_long(self, topic: str, src: m.Source, span: m.Span, what: str) -> bool:
-        if len(topic) <= MAX_TOPIC:
-            return False
-        self.diagnostics.append(diag("px4-topic-too-long", f"{what}, '{topic}', has {len(topic)} characters: uORB "
-                                     f"topic names have at most {MAX_TOPIC} (its node path /obj/<topic><instance> "
-                                     "must fit in 64 bytes)", src, span))
-        return True
+    def _too_long(self, topic: str, src: m.Source, span: m.Span, what: str) -> None:
+        if len(topic) > MAX_TOPIC:
+            self.diagnostics.append(diag("px4-topic-too-long", f"{what}, '{topic}', has {len(topic)} characters: "
+                                         f"PX4 builds it, but uORB cannot advertise a topic over {MAX_TOPIC} "
+                                         "(its node path /obj/<topic><instance> must fit in 64 bytes, else "
+                                         "node_mkpath fails with ENAMETOOLONG)", src, span))
 
     def _claim(self, topic: str, msg: UorbMessage | None, type_name: str, src: m.Source, span: m.Span) -> None:
-        if self._too_long(topic, src, span, "uORB topic"):
-            return
+        self._too_long(topic, src, span, "uORB topic")
         first = self.topics.get(topic)
         if first is not None and first[1] != type_name:
             self.diagnostics.append(diag("px4-topic-conflict", f"uORB topic '{topic}' would carry both {type_name} "
