@@ -9,10 +9,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 shared=${IFACE_ROS2_SHARED:-$(cd .. && pwd)/shared}
-[ -d "$shared" ] || [ -n "${IFACE_ROS2_SHARED:-}" ] || shared=/work/shared
 venv=${IFACE_ROS2_VENV:-$HOME/.cache/ros2-runtime}
 if [ ! -f "$shared/ros2-runtime/setup.sh" ] || [ ! -f "$shared/ros2-build/build.sh" ]; then
-  echo "install-ros: no $shared/ros2-runtime or ros2-build (set IFACE_ROS2_SHARED); ROS tests will skip" >&2
+  echo "install-ros: no ../shared beside this clone ($shared/ros2-runtime or ros2-build is missing; set" \
+    "IFACE_ROS2_SHARED to its folder); ROS tests will skip" >&2
   exit 0
 fi
 start=$SECONDS
