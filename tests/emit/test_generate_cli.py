@@ -53,7 +53,11 @@ def test_dry_run_lists_and_writes_nothing(tmp_path: Path) -> None:
 def test_check_is_0_when_up_to_date_and_1_otherwise(tmp_path: Path) -> None:
     assert run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "--check").returncode == 1
     assert run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "-q").returncode == 0
-    assert run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "--check").returncode == 0
+    current = run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "--check")
+    written = sorted(p for p in tmp_path.rglob("*") if p.is_file())
+    assert current.returncode == 0 and current.stdout == f"ok: {len(written)} files up to date\n", current.stdout
+    quiet = run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "--check", "-q")
+    assert quiet.returncode == 0 and quiet.stdout == "" and quiet.stderr == ""
     (tmp_path / "listing1/msg/Message1.msg").write_text("changed\n")
     proc = run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "--check")
     assert proc.returncode == 1 and "Message1.msg" in proc.stdout

@@ -113,6 +113,10 @@ def _report(report: WriteReport, args: argparse.Namespace) -> int:
     if args.check:
         for p in report.differing:
             print(f"differs: {os.path.join(out, p)}")
+        if not report.differing and not args.quiet:
+            n = len(report.unchanged)
+            print(f"ok: {n} file{'' if n == 1 else 's'} up to date"
+                  + (f", {len(report.kept)} kept (yours)" if report.kept else ""))
         return 1 if report.differing else 0
     if args.dry_run:
         for p in report.written:
