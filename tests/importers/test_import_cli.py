@@ -101,3 +101,32 @@ def test_json_that_is_not_the_form(tmp_path):
     assert r.returncode == 1
     assert f"{bad}: not the iface JSON form: /items/0/name: missing" in r.stderr
     assert f"{broken}:3: not JSON" in r.stderr
+
+
+def test_single_interface_files_import(tmp_path):
+    """A .msg and a .srv of a package given as files: their package from package.xml; only they import."""
+    mode, set_mode = ROBOT_MSGS / "msg" / "Mode.msg", ROBOT_MSGS / "srv" / "SetMode.srv"
+    r = run_cli("import", "--from", "ros2", str(mode), str(set_mode), "--out", str(tmp_path / "a"))
+    assert r.returncode == 0, r.stderr
+    (model,) = (tmp_path / "a").glob("*.iface")
+    assert model.name == "robot_msgs.iface"
+    text = model.read_text()
+    assert "message Mode {" in text and "service SetMode {" in text and "Status" not in text
+    assert run_cli("check", str(model)).returncode == 0
+    # a file in <pkg>/msg/ without package.xml: the package is the folder above msg/
+    header = tmp_path / "my_msgs" / "msg" / "Header.msg"
+    header.parent.mkdir(parents=True)
+    header.write_text("uint32 seq\nstring frame_id\n")
+    r = run_cli("import", "--from", "ros2", str(header), "--out", str(tmp_path / "b"))
+    assert r.returncode == 0, r.stderr
+    assert "message Header {" in (tmp_path / "b" / "my_msgs.iface").read_text()
+    wrong = run_cli("import", "--from", "ros2", str(tmp_path / "notes.txt"), "--out", str(tmp_path / "c"))
+    assert wrong.returncode == 2 and "not a folder or a .msg, .srv, .action or .idl file" in wrong.stderr
+
+
+def test_check_of_a_ros_interface_file_points_to_import(tmp_path):
+    srv = ROBOT_MSGS / "srv" / "SetMode.srv"
+    r = run_cli("check", str(srv))
+    assert r.returncode == 2
+    assert r.stderr.strip() == (f"iface-lsp check: {srv}: expected a .iface or .thrift file; import a ROS 2 "
+                                f"interface first: iface-lsp import --from ros2 {srv} --out DIR")

@@ -94,7 +94,10 @@ def has_errors(diags: Iterable[Diagnostic]) -> bool:
 def check_suffix(path: str) -> None:
     """Refuse files that are neither .iface nor .thrift."""
     if not path.endswith(SUFFIXES):
-        raise UsageError(f"{path}: expected a .iface or .thrift file")
+        hint = ""
+        if path.endswith((".msg", ".srv", ".action", ".idl")):
+            hint = f"; import a ROS 2 interface first: iface-lsp import --from ros2 {path} --out DIR"
+        raise UsageError(f"{path}: expected a .iface or .thrift file{hint}")
 
 
 def print_link_notes(report: WriteReport, out: str, command: str) -> None:

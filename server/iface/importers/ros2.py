@@ -85,26 +85,48 @@ def package_metadata(folder: Path) -> dict[str, str]:
 
 
 def find_packages(inputs: list[str], problems: list[Problem]) -> list[Package]:
-    """The packages named on the command line, each once; folders without interfaces get a warning."""
+    """The packages named on the command line, each once; folders without interfaces get a warning.
+
+    An input may be one ``.msg``/``.srv``/``.action``/``.idl`` file: its package is the folder above
+    its ``msg/``, ``srv/``, ``action/`` or ``idl/`` folder (else its own folder), named by its
+    ``package.xml`` or that folder's name; only the files given are imported.
+    """
     out: dict[Path, Package] = {}
+    whole: set[Path] = set()
     for raw in inputs:
-        folder = Path(raw)
-        if not folder.is_dir():
-            raise InputError(f"{raw}: not a folder (give ROS 2 package folders)")
-        key = folder.resolve()
-        if key in out:
+        path = Path(raw)
+        if path.is_file() and path.suffix[1:] in IDL_FOLDERS:
+            folder = path.parent.parent if path.parent.name in IDL_FOLDERS else path.parent
+            key = folder.resolve()
+            pkg = out.setdefault(key, Package(package_name(folder), folder))
+            if key in whole:
+                continue
+            kind = path.suffix[1:]
+            if kind == "idl":
+                if path not in pkg.idl:
+                    pkg.idl.append(path)
+            elif (kind, path) not in pkg.files:
+                pkg.files.append((kind, path))  # type: ignore[arg-type]
             continue
-        pkg = Package(package_name(folder), folder)
+        if not path.is_dir():
+            raise InputError(f"{raw}: not a folder or a .msg, .srv, .action or .idl file (give ROS 2 package "
+                             "folders or interface files)")
+        key = path.resolve()
+        if key in whole:
+            continue
+        whole.add(key)
+        pkg = Package(package_name(path), path)
         for kind in KINDS:
-            sub = folder / kind
+            sub = path / kind
             if sub.is_dir():
                 pkg.files.extend((kind, p) for p in sorted(sub.glob(f"*.{kind}")) if p.is_file())
         for idl_dir in IDL_FOLDERS:
-            if (folder / idl_dir).is_dir():
-                pkg.idl.extend(p for p in sorted((folder / idl_dir).glob("*.idl")) if p.is_file())
+            if (path / idl_dir).is_dir():
+                pkg.idl.extend(p for p in sorted((path / idl_dir).glob("*.idl")) if p.is_file())
         if not pkg.files and not pkg.idl:
-            problems.append(Problem(str(folder), 0, "no msg/, srv/ or action/ interface files: not imported",
+            problems.append(Problem(str(path), 0, "no msg/, srv/ or action/ interface files: not imported",
                                     "warning"))
+            out.pop(key, None)
             continue
         out[key] = pkg
     names: dict[str, Package] = {}
