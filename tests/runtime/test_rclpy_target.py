@@ -106,6 +106,28 @@ def test_the_interface_package_is_the_ros2_targets_plus_the_protocol() -> None:
 # ---- the generation gap -------------------------------------------------------------------------------
 
 
+def test_an_interface_package_gets_no_node_of_nothing(tmp_path: Path) -> None:
+    """A package `import --from ros2` wrote: both node targets write the interface package only, and say so."""
+    msgs = tmp_path / "robot_geometry"
+    for rel, text in (("msg/Point.msg", "float64 x\nfloat64 y\n"), ("srv/Locate.srv", "string name\n---\nPoint at\n"),
+                      ("action/Go.action", "Point to\n---\nbool ok\n---\nfloat64 left\n")):
+        (msgs / rel).parent.mkdir(parents=True, exist_ok=True)
+        (msgs / rel).write_text(text)
+    assert cli("import", "--from", "ros2", str(msgs), "--out", str(tmp_path / "in")).returncode == 0
+    (model,) = (tmp_path / "in").glob("*.iface")
+    expected = cli("generate", str(model), "--target", "ros2", "--out", str(tmp_path / "ros2"), "-q")
+    assert expected.returncode == 0, expected.stderr
+    wanted = {p.relative_to(tmp_path / "ros2"): p.read_bytes() for p in (tmp_path / "ros2").rglob("*") if p.is_file()}
+    for target in ("rclpy", "rclcpp"):
+        out = tmp_path / target
+        r = cli("generate", str(model), "--target", target, "--out", str(out))
+        assert r.returncode == 0, r.stderr
+        assert {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()} == wanted
+        (info,) = [line for line in r.stderr.splitlines() if "runtime-interface-package" in line]
+        assert "robot_geometry.iface:3:11: information[runtime-interface-package]" in info
+        assert "only robot_geometry/ is written" in info
+
+
 def test_the_user_module_is_written_once_and_survives_regeneration_and_force(tmp_path: Path) -> None:
     iface = str(CASES["robot_arm"])
     assert cli("generate", iface, "--target", "rclpy", "--out", str(tmp_path)).returncode == 0

@@ -10,6 +10,9 @@ from ..model.diagnostics import Severity
 CODES: dict[str, tuple[Severity, str]] = {
     "runtime-annotation": (Severity.ERROR, "An annotation the node generators read (a diagnostics rate, "
                            "read_only) with a value they cannot use."),
+    "runtime-interface-package": (Severity.INFORMATION, "A component that wires nothing and has no parameter, "
+                                  "state or diagnostics (an interface package, as `import --from ros2` writes "
+                                  "one): only its interface package is written, no component package."),
     "runtime-name-clash": (Severity.ERROR, "A definition named like a service of the component protocol "
                            "(SaveState, RestoreState, ComponentControl), or two members whose handlers would "
                            "get one name."),

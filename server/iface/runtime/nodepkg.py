@@ -18,6 +18,7 @@ from ..emit.ros2.render import check_msg_values
 from ..emit.support import component_span
 from ..semantics.compile import Compilation
 from . import protocol
+from .codes import diag
 from .component import ComponentSpec, RosRef, describe
 from .keywords import node_keywords
 from .qosmap import check_downgrades
@@ -65,8 +66,20 @@ def prepare(comp: Compilation, language: str) -> tuple[Result, RosPackage | None
     result.diagnostics.extend(check_downgrades(spec))
     if result.has_errors:
         return result, None, None
+    if types_only(spec):
+        result.diagnostics.append(diag(
+            "runtime-interface-package", f"'{spec.component}' wires nothing and has no parameter, state or "
+            f"diagnostics: an interface package, so only {pkg.name}/ is written (no component package; wire a "
+            "topic, service or action, or add parameters, for a node)", comp.interface.source,
+            spec.ros.node_span))
+        return result, pkg, spec
     add_protocol(pkg, comp)
     return result, pkg, spec
+
+
+def types_only(spec: ComponentSpec) -> bool:
+    """An interface package: nothing wired (nor provided by default), no parameter, state or Δ: a node of nothing."""
+    return not spec.all_members() and not spec.params and not spec.state
 
 
 def read_user_file(path: str) -> str | None:
@@ -91,4 +104,4 @@ def launch_text(view: NodeView[Any], header: str, start_command: str, override: 
     return templates.render("launch.py.j2", **context)
 
 
-__all__ = ["add_protocol", "launch_text", "prepare", "protocol_refs", "read_user_file"]
+__all__ = ["add_protocol", "launch_text", "prepare", "protocol_refs", "read_user_file", "types_only"]

@@ -34,7 +34,7 @@ from ...semantics.compile import Compilation
 from .. import protocol
 from ..codes import diag
 from ..component import ComponentSpec
-from ..nodepkg import launch_text, prepare, protocol_refs, read_user_file
+from ..nodepkg import launch_text, prepare, protocol_refs, read_user_file, types_only
 from .render import CppPackage, build, cpp_comment, cpp_double, cpp_str
 from .usercode import check_user_source
 
@@ -94,6 +94,9 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's file there is checked against the interface."""
     result, pkg, spec = prepare(comp, "c++")
     if pkg is None or spec is None:
+        return result
+    if types_only(spec):
+        result.files = sorted_files(render_package(pkg, TemplateSet(ROS2_TEMPLATES, "ros2", filters=ROS2_FILTERS)))
         return result
     v = build(spec)
     if v.unsupported:

@@ -32,7 +32,7 @@ from ...emit.ros2.render import xml
 from ...semantics.compile import Compilation
 from .. import protocol
 from ..component import HANDLER_PREFIXES, ComponentSpec
-from ..nodepkg import add_protocol, launch_text, prepare, protocol_refs, read_user_file
+from ..nodepkg import add_protocol, launch_text, prepare, protocol_refs, read_user_file, types_only
 from ..usercode import check_user_module
 from .render import PyPackage, build, doc_text, docstring, py
 
@@ -91,6 +91,9 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's module there is checked against the interface."""
     result, pkg, spec = prepare(comp, "python")
     if pkg is None or spec is None:
+        return result
+    if types_only(spec):
+        result.files = sorted_files(render_package(pkg, TemplateSet(ROS2_TEMPLATES, "ros2", filters=ROS2_FILTERS)))
         return result
     ros2 = TemplateSet(ROS2_TEMPLATES, "ros2", filters=ROS2_FILTERS)
     templates = TemplateSet(TEMPLATES, "rclpy", filters=FILTERS, override=options.get("templates"))
