@@ -76,3 +76,17 @@ async def test_positions_count_in_the_negotiated_encoding(client: Client) -> Non
     assert d.range.start.character == (21 if utf32 else 22)
     assert d.range.end.character == d.range.start.character + 4
     client.close(uri)
+
+
+async def test_qos_values_rmw_lacks_are_warned_at_the_annotation(client: Client) -> None:
+    """The editor says what `check` and `generate` say: qos-not-in-rmw at the annotation, as a warning."""
+    text = ('component q\nmessage M { i32 x }\n'
+            'publishes M on "/kept" (qos.durability = "transient", qos.depth = 3)\n')
+    uri = client.open("qos_rmw.iface", text)
+    diags = await client.wait_diagnostics(uri, 1)
+    (d,) = [d for d in diags if d.code == "qos-not-in-rmw"]
+    assert d.severity == lsp.DiagnosticSeverity.Warning
+    assert d.range.start == client.pos(uri, 'qos.durability') and d.range.end == client.pos(uri, ', qos.depth')
+    assert d.message == ("qos.durability = transient: ROS 2 has no such durability (rmw's are volatile, "
+                         "transient_local, best_available); the generated node asks for transient_local")
+    client.close(uri)

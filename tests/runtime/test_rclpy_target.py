@@ -546,3 +546,15 @@ def test_qos_values_ros2_lacks_are_downgraded_with_a_warning_at_the_annotation(t
     assert ok.returncode == 0 and "runtime-qos-downgraded" not in ok.stderr, ok.stderr
     assert "'/in', 'on_in', {'durability': 'volatile', 'liveliness': 'automatic'})" in \
         (tmp_path / "ok" / "out" / "q_node" / "q_node" / "base.py").read_text()
+
+
+def test_check_warns_at_the_annotation_as_generate_does(tmp_path: Path) -> None:
+    """`check` says of the QoS values rmw lacks what generate says, at the same place (qos-not-in-rmw)."""
+    (tmp_path / "q.iface").write_text(QOS_DOWNGRADED)
+    generated = cli("generate", "q.iface", "--target", "rclpy", "--out", "out", "--dry-run", cwd=tmp_path)
+    checked = cli("check", "q.iface", cwd=tmp_path)
+    assert checked.returncode == 0, checked.stdout
+    said = re.findall(r"^q\.iface:(\d+):(\d+): warning\[runtime-qos-downgraded\]: (.*)$", generated.stderr, re.M)
+    found = re.findall(r"^q\.iface:(\d+):(\d+): warning\[qos-not-in-rmw\]: (.*)$", checked.stdout, re.M)
+    assert found == said and [w[:2] for w in found] == [w[:2] for w in QOS_WARNINGS], checked.stdout
+    assert checked.stdout.splitlines()[-1] == "ok: 1 file, 2 definitions, 3 warnings"

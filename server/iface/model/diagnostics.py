@@ -61,6 +61,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "duplicate-wiring": (Severity.WARNING, "The same wiring stated twice."),
     "invalid-topic-name": (Severity.ERROR, "A topic or service name that ROS 2 rejects."),
     "invalid-qos": (Severity.ERROR, "A QoS annotation with an unknown policy or a value ROS 2 cannot take."),
+    "qos-not-in-rmw": (Severity.WARNING, "A QoS value of the DDS vocabulary that ROS 2 (rmw) has no setting for "
+                       "(durability transient or persistent, liveliness manual_by_node): a generated node asks for "
+                       "the nearest one (transient_local, manual_by_topic), as generate's runtime-qos-downgraded "
+                       "says."),
     "include-not-interface": (Severity.ERROR, "An include that names a file which is not .iface or .thrift."),
     "recursive-type": (Severity.ERROR, "A type that contains itself, which ROS 2 and PX4 cannot represent."),
     "typedef-cycle": (Severity.ERROR, "Typedefs that stand for themselves: no type results."),

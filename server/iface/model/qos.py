@@ -19,6 +19,16 @@ ORDERS: dict[str, tuple[str, ...]] = {
 DURATIONS = ("deadline", "liveliness_lease_duration", "lifespan")
 ALIASES = {"lease_duration": "liveliness_lease_duration"}
 HISTORY = ("keep_last", "keep_all")
+#: (policy, value) of the DDS vocabulary rmw has no setting for → the nearest value a ROS 2 node asks for:
+#: rmw's durabilities are volatile, transient_local and best_available (``rmw_qos_durability_policy_t``);
+#: manual_by_node is deprecated in rmw's ``types.h`` and gone from rclpy's ``LivelinessPolicy`` (Kilted).
+DOWNGRADES: dict[tuple[str, str], str] = {
+    ("durability", "transient"): "transient_local",
+    ("durability", "persistent"): "transient_local",
+    ("liveliness", "manual_by_node"): "manual_by_topic",
+}
+_WHY = {"durability": "ROS 2 has no such durability (rmw's are volatile, transient_local, best_available)",
+        "liveliness": "rmw marks it deprecated and rclpy's LivelinessPolicy no longer has it"}
 KEYS = (*ORDERS, *DURATIONS, "history", "depth", *ALIASES)
 _UNITS = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
 _DURATION = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*(ns|us|ms|s)?\s*$")
@@ -33,6 +43,16 @@ def duration(text: str) -> float | None:
     if mt is None:
         return None
     return float(mt.group(1)) * _UNITS[mt.group(2) or "s"]
+
+
+def downgrade(key: str, value: str) -> str | None:
+    """What ``check`` and the node targets say of ``qos.<key> = value`` when rmw has no such setting, else None."""
+    key = ALIASES.get(key, key)
+    v = value.strip().lower()
+    given = DOWNGRADES.get((key, v))
+    if given is None:
+        return None
+    return f"qos.{key} = {v}: {_WHY[key]}; the generated node asks for {given}"
 
 
 def problem(key: str, value: str) -> tuple[bool, str] | None:

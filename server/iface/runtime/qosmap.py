@@ -17,19 +17,9 @@ from ..model.diagnostics import Diagnostic
 from .codes import diag
 from .component import ComponentSpec
 
-#: (policy, value) → the value the node is given.
-DOWNGRADES: dict[tuple[str, str], str] = {
-    ("durability", "transient"): "transient_local",
-    ("durability", "persistent"): "transient_local",
-    ("liveliness", "manual_by_node"): "manual_by_topic",
-}
-_WHY = {"durability": "ROS 2 has no such durability (rmw's are volatile, transient_local, best_available)",
-        "liveliness": "rmw marks it deprecated and rclpy's LivelinessPolicy no longer has it"}
-
-
 def rmw_value(key: str, value: str) -> str:
     """The value a node asks rmw for ``qos.<key> = value`` (lower case, full policy name)."""
-    return DOWNGRADES.get((key, value), value)
+    return rules.DOWNGRADES.get((key, value), value)
 
 
 def node_qos(qos: dict[str, str]) -> list[tuple[str, int | float | str]]:
@@ -63,13 +53,12 @@ def check_downgrades(spec: ComponentSpec) -> list[Diagnostic]:
         for a in w.annotations:
             if not a.key.startswith("qos."):
                 continue
-            key = rules.ALIASES.get(a.key[4:], a.key[4:])
-            value = a.text.strip().lower()
-            given = DOWNGRADES.get((key, value))
-            if given is not None:
-                out.append(diag("runtime-qos-downgraded", f"qos.{key} = {value}: {_WHY[key]}; the generated node "
-                                f"asks for {given}", member.source, a.span))
+            message = rules.downgrade(a.key[4:], a.text)
+            if message is not None:
+                out.append(diag("runtime-qos-downgraded", message, member.source, a.span))
     return sorted(out, key=lambda d: (d.span.start, d.span.end))
 
+
+DOWNGRADES = rules.DOWNGRADES
 
 __all__ = ["DOWNGRADES", "check_downgrades", "node_qos", "rmw_value"]

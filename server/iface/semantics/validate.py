@@ -24,6 +24,7 @@ from ..model.naming import (
     ros_type_name,
 )
 from ..model.normalize import ACTION_PARTS, SERVICE_PARTS, flat_reading
+from ..model.qos import downgrade as qos_downgrade
 from ..model.qos import problem as qos_problem
 from ..model.source import Source
 from ..model.walk import all_consts, bodies, resolve_typedefs, type_text
@@ -530,6 +531,10 @@ def qos_settings(src: Source, w: m.Wiring) -> Iterator[Diagnostic]:
             is_error, message = found
             yield make("invalid-qos", message, src, a.span,
                        severity=Severity.ERROR if is_error else Severity.WARNING)
+            continue
+        lacking = qos_downgrade(a.key[4:], a.text)
+        if lacking is not None:
+            yield make("qos-not-in-rmw", lacking, src, a.span)
 
 
 def struct_members(s: m.Struct) -> Iterator[tuple[m.Field, m.Struct]]:
