@@ -101,3 +101,31 @@ def test_the_sign_command(tmp_path: Path, package: Path) -> None:
     assert cli(str(package)).returncode == 2  # no key
     missing = cli(str(package), "--key", str(tmp_path / "nope.key"))
     assert missing.returncode == 2 and missing.stderr.count("\n") == 1
+
+
+def test_links_count_as_what_they_lead_to(tmp_path: Path, store: tuple[Path, Path]) -> None:
+    """An install tree's library links and linked folders are signed: retargeting or changing them shows."""
+    key, trusted = store
+    pkg, elsewhere = tmp_path / "install" / "counter", tmp_path / "build"
+    (pkg / "lib" / "counter").mkdir(parents=True)
+    elsewhere.mkdir()
+    (pkg / "lib" / "counter" / "counter").write_bytes(b"\x7fELF executable")
+    (pkg / "lib" / "libcounter.so.1").write_bytes(b"\x7fELF library 1")
+    (pkg / "lib" / "libother.so.1").write_bytes(b"\x7fELF library 2")
+    (pkg / "lib" / "libcounter.so").symlink_to("libcounter.so.1")
+    (elsewhere / "node.py").write_text("print('hi')\n")
+    (elsewhere / "loop").symlink_to(elsewhere)  # a link cycle is walked once
+    (pkg / "python").symlink_to(elsewhere)  # as colcon --symlink-install links a Python package
+    (pkg / "gone").symlink_to("nowhere")
+    doc = sign(pkg, key)
+    assert sorted(doc["files"]) == ["gone", "lib/counter/counter", "lib/libcounter.so", "lib/libcounter.so.1",
+                                    "lib/libother.so.1", "python/node.py"]
+    assert doc["files"]["lib/libcounter.so"] == doc["files"]["lib/libcounter.so.1"]
+    assert doc["files"]["gone"] == "link:nowhere"
+    assert verify(pkg, trusted) == []
+    (pkg / "lib" / "libcounter.so").unlink()
+    (pkg / "lib" / "libcounter.so").symlink_to("libother.so.1")
+    (elsewhere / "node.py").write_text("print('evil')\n")
+    problems = verify(pkg, trusted)
+    assert [p.split("/counter/", 1)[1] for p in problems] == ["lib/libcounter.so: changed since it was signed",
+                                                              "python/node.py: changed since it was signed"]

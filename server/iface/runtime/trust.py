@@ -44,17 +44,40 @@ def _crypto() -> Any:
     return serialization, ed25519
 
 
+def _digest(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return "sha256:" + h.hexdigest()
+
+
 def digests(folder: Path) -> dict[str, str]:
-    """``sha256:`` digest of every file under ``folder`` (POSIX relative paths), but the signature and caches."""
+    """``sha256:`` digest of every file under ``folder`` (POSIX relative paths), but the signature and caches.
+
+    Every file of an install tree counts: scripts, executables, shared libraries. A symbolic link
+    (a library's ``libx.so`` → ``libx.so.1``, or every file of a ``colcon --symlink-install``) counts
+    as the content it leads to, under its own path, and a linked folder is walked (each real folder
+    once); a link that leads nowhere is recorded as ``link:<target>``, so retargeting any link shows.
+    """
     out: dict[str, str] = {}
-    for root, dirs, files in os.walk(folder):
+    seen: set[str] = set()
+    for root, dirs, files in os.walk(folder, followlinks=True):
+        real = os.path.realpath(root)
+        if real in seen:
+            dirs[:] = []
+            continue
+        seen.add(real)
         dirs[:] = sorted(d for d in dirs if d not in _SKIPPED_DIRS)
         for name in sorted(files):
             path = Path(root) / name
             rel = path.relative_to(folder).as_posix()
-            if rel == SIGNATURE_FILE or name.endswith(".pyc") or path.is_symlink():
+            if rel == SIGNATURE_FILE or name.endswith(".pyc"):
                 continue
-            out[rel] = "sha256:" + hashlib.sha256(path.read_bytes()).hexdigest()
+            if path.is_file():
+                out[rel] = _digest(path)
+            elif path.is_symlink():
+                out[rel] = "link:" + os.readlink(path)
     return out
 
 
