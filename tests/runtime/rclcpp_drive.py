@@ -287,13 +287,23 @@ def main() -> int:
         report.step("state: the C++ node reads and writes the Python node's state document", same_document)
 
         def handover() -> str:
-            cmd = [cfg["python"], "-m", "iface", "handover", old_name, new_name, "--old", cfg["old_iface"], "--new",
-                   cfg["new_iface"], "--timeout", "10"]
+            base = [cfg["python"], "-m", "iface", "handover", old_name, new_name, "--old", cfg["old_iface"], "--new",
+                    cfg["new_iface"], "--timeout", "10", "--trust-store", cfg["trust_store"], "--new-package"]
+            # NEW's install tree with its executable changed after signing: refused before anything is touched
+            cmd = [*base, cfg["tampered_package"]]
+            refused = subprocess.run(cmd, env=cfg["env_cpp"], capture_output=True, text=True, timeout=180, check=False)
+            (a.logs / "handover-refused.log").write_text(f"$ {' '.join(cmd)}\n{refused.stdout}\n{refused.stderr}\n")
+            check(refused.returncode == 1, f"tampered package: exit {refused.returncode}: {refused.stderr[-1500:]}")
+            check(f"{cfg['tampered_file']}: changed since it was signed" in refused.stderr, refused.stderr[-1500:])
+            check(status(old_name).lifecycle_state == 3, "the refused hand-over touched the Python node")
+            cmd = [*base, cfg["new_package"]]
             done = subprocess.run(cmd, env=cfg["env_cpp"], capture_output=True, text=True, timeout=180, check=False)
             (a.logs / "handover.log").write_text(f"$ {' '.join(cmd)}\n{done.stdout}\n{done.stderr}\n")
             check(done.returncode == 0, f"exit {done.returncode}: {done.stderr[-1500:]}")
             result.update(json.loads(done.stdout))
-            return f"{result['result']}: {[s['step'] for s in result['steps']]}"
+            steps = [s["step"] for s in result["steps"]]
+            check("trust" in steps, f"no trust step: {steps}")
+            return f"{result['result']}: {steps} (a tampered executable refused first)"
 
         def carried() -> str:
             before, after = result["state_before"], result["state_after"]

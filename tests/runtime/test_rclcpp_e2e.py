@@ -109,6 +109,28 @@ def workspaces(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict
     return {"venv": ros_venv, "root": root, "ws_cpp": ws_cpp, "ws_py": ws_py, "env": env}
 
 
+def signed_package(package: Path, root: Path) -> dict[str, str]:
+    """Sign the installed C++ package as README says (its executable and libraries included); a tampered copy."""
+    key, store = root / "keys" / "me.key", root / "trusted"
+    key.parent.mkdir()
+    store.mkdir()
+    for argv in (["--keygen", str(key)], [str(package), "--key", str(key)]):
+        done = subprocess.run([sys.executable, "-m", "iface", "sign", *argv], capture_output=True, text=True,
+                              timeout=60, check=False)
+        assert done.returncode == 0, done.stderr
+    shutil.copy(f"{key}.pub", store)
+    signed = json.loads((package / "iface-signature.json").read_text())["files"]
+    binaries = sorted(p.relative_to(package).as_posix() for p in (package / "lib").rglob("*")
+                      if p.is_file() and (os.access(p, os.X_OK) or ".so" in p.name))
+    assert "lib/counter/counter" in binaries and set(binaries) <= set(signed), (binaries, sorted(signed))
+    tampered = root / "tampered" / "counter"
+    shutil.copytree(package, tampered, symlinks=True)
+    with open(tampered / "lib" / "counter" / "counter", "ab") as f:
+        f.write(b"\0")
+    return {"trust_store": str(store), "new_package": str(package), "tampered_package": str(tampered),
+            "tampered_file": str(tampered / "lib" / "counter" / "counter")}
+
+
 @pytest.fixture(scope="module")
 def run(workspaces: dict[str, Any]) -> dict[str, Any]:
     venv, root = workspaces["venv"], workspaces["root"]
@@ -118,7 +140,7 @@ def run(workspaces: dict[str, Any]) -> dict[str, Any]:
     config = {"python": sys.executable, "ros_python": str(venv / "bin" / "python"),
               "cpp_executable": str(workspaces["ws_cpp"] / "install" / "counter" / "lib" / "counter" / "counter"),
               "old_iface": str(ROOT / "examples" / "counter.iface"), "new_iface": str(COUNTER_V2),
-              "env_cpp": env_cpp, "env_py": env_py}
+              "env_cpp": env_cpp, "env_py": env_py, **signed_package(workspaces["ws_cpp"] / "install" / "counter", root)}
     (root / "config.json").write_text(json.dumps(config))
     out, log = root / "result.json", root / "driver.log"
     code = run_bounded([str(venv / "bin" / "python"), str(DRIVER), str(root / "config.json"), "--out", str(out),
