@@ -54,7 +54,8 @@ def test_messages_px4_builds_import_and_regenerate(tmp_path):
     assert warned == ["px4-constant-fraction", "px4-queue-length", "px4-queue-length-rounded", "px4-topic-too-long"]
     written = {p.name: p.read_text().splitlines() for p in (tmp_path / "out" / "msg").glob("*.msg")}
     assert "uint32 ORB_QUEUE_LENGTH = 2" in written["ModeReply.msg"]
-    burst = [line.split("#")[0].strip() if not line.startswith("# TOPICS") else line for line in written["SampleBurst.msg"]]
+    burst = [line if line.startswith("# TOPICS") else line.split("#")[0].strip()
+             for line in written["SampleBurst.msg"]]
     assert {"float32 GAIN = 0.5", "uint8 ORB_QUEUE_LENGTH = 5"} <= set(burst)
     assert "# TOPICS sample_burst sample_burst_of_a_sensor_with_a_name_longer_than_uorb_keeps" in burst
 

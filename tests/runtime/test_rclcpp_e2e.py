@@ -140,7 +140,8 @@ def run(workspaces: dict[str, Any]) -> dict[str, Any]:
     config = {"python": sys.executable, "ros_python": str(venv / "bin" / "python"),
               "cpp_executable": str(workspaces["ws_cpp"] / "install" / "counter" / "lib" / "counter" / "counter"),
               "old_iface": str(ROOT / "examples" / "counter.iface"), "new_iface": str(COUNTER_V2),
-              "env_cpp": env_cpp, "env_py": env_py, **signed_package(workspaces["ws_cpp"] / "install" / "counter", root)}
+              "env_cpp": env_cpp, "env_py": env_py,
+              **signed_package(workspaces["ws_cpp"] / "install" / "counter", root)}
     (root / "config.json").write_text(json.dumps(config))
     out, log = root / "result.json", root / "driver.log"
     code = run_bounded([str(venv / "bin" / "python"), str(DRIVER), str(root / "config.json"), "--out", str(out),

@@ -14,7 +14,8 @@ from .common import print_link_notes
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Declare the command's arguments."""
     p.add_argument("inputs", nargs="+", metavar="INPUT",
-                   help="ROS 2 package folders or .msg/.srv/.action/.idl files (ros2), a folder of uORB .msg files (px4), or JSON files (json)")
+                   help="ROS 2 package folders or .msg/.srv/.action/.idl files (ros2), a folder of uORB .msg "
+                        "files (px4), or JSON files (json)")
     p.add_argument("--from", dest="source", required=True, metavar="FORMAT",
                    help="what to import: " + ", ".join(sorted(importers())))
     p.add_argument("--out", required=True, metavar="DIR", help="the folder to write the .iface files to")
