@@ -53,10 +53,10 @@ class Chunk(AnchoredSpan):
         #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
         self.unterminated = unterminated
 
-    def __getstate__(self) -> tuple[Any, ...]:  # type: ignore[override]
+    def __getstate__(self) -> tuple[Any, ...]:
         return self.anchor, self._start, self._end, self.docs, self.unterminated
 
-    def __setstate__(self, state: tuple[Any, ...]) -> None:  # type: ignore[override]
+    def __setstate__(self, state: tuple[Any, ...]) -> None:
         self.anchor, self._start, self._end, self.docs, self.unterminated = state
 
     @property
