@@ -73,8 +73,8 @@ class Analysis:
         self.context: object = None
         #: The unit of every definition and wiring statement.
         self.units: dict[Part, Unit] = {}
-        #: The items that use a name.
-        self.users: dict[str, set[Part]] = {}
+        #: The items that use a name (a list: most names have one or two users, and a set is some 200 bytes).
+        self.users: dict[str, list[Part]] = {}
         #: Every name's definitions, in the order of the text (more than one: a duplicate).
         self.definitions: dict[str, tuple[m.Definition, ...]] = {}
         #: The ``duplicate-definition`` findings of each name defined more than once.
@@ -102,21 +102,23 @@ class Analysis:
         self.iface = last
 
 
-def _use(users: dict[str, set[Part]], name: str, x: Part) -> None:
+def _use(users: dict[str, list[Part]], name: str, x: Part) -> None:
     """Record that the item ``x`` uses ``name``."""
-    users.setdefault(name, set()).add(x)
+    had = users.setdefault(name, [])
+    if x not in had:
+        had.append(x)
 
 
-def _unuse(users: dict[str, set[Part]], name: str, x: Part) -> None:
+def _unuse(users: dict[str, list[Part]], name: str, x: Part) -> None:
     """Forget that the item ``x`` uses ``name``."""
     had = users.get(name)
-    if had is not None:
-        had.discard(x)
+    if had is not None and x in had:
+        had.remove(x)
         if not had:
             del users[name]
 
 
-def _users(users: dict[str, set[Part]], name: str) -> Collection[Part]:
+def _users(users: dict[str, list[Part]], name: str) -> Collection[Part]:
     """The items that use ``name``."""
     return users.get(name, ())
 
