@@ -93,14 +93,15 @@ class _ChunkParser:
         self.lock = threading.Lock()
         self.driver: Driver | None = None
 
-    def parse_clean(self, text: str, docs: dict[int, str]) -> ChunkResult | None:
-        """What a text that has no problem at all parses to, read by the fast scanner; else None."""
+    def parse_clean(self, text: str, docs: dict[int, str], anchors: tuple[Span, ...] = ()) -> ChunkResult | None:
+        """What a text that has no problem at all parses to, read by the fast scanner; else None. Its spans
+        are relative to ``anchors`` (where its chunks start: they are never moved), else to the result."""
         with self.lock:
             if self.driver is None:
                 self.driver = Driver(self.parser, self.builder, FastScanner(self.parser))
             b = self.builder
             result = ChunkResult(len(text))
-            b.reset(docs, result.anchor)
+            b.reset(docs, list(anchors) or [result.anchor])
             try:
                 items = self.driver.parse(text)
             except (ScanError, UnexpectedInput, RecursionError):
@@ -118,7 +119,7 @@ class _ChunkParser:
     def _parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
         b = self.builder
         result = ChunkResult(len(text))
-        b.reset(docs, result.anchor)
+        b.reset(docs, [result.anchor])
         problems: list[Problem] = []
         open_at_end = False
         errors = 0
@@ -378,7 +379,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         docs: dict[int, str] = {}
         for ch in chunks:
             docs.update(ch.doc_map(ch.start))
-        clean = parser.parse_clean(text, docs)
+        clean = parser.parse_clean(text, docs, tuple(Span(ch.start, ch.start) for ch in chunks))
         if clean is not None:
             return ParseResult(list(clean.items), [], [clean])
     results: list[ChunkResult] = []

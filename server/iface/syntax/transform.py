@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import sys
+from bisect import bisect_right
 from collections.abc import Sequence
 from typing import Any
 
@@ -128,25 +129,30 @@ class ModelBuilder:
         self.docs: dict[int, str] = {}
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
-        self.reset({}, AnchoredSpan(0, 0, ORIGIN))
+        self.reset({}, [AnchoredSpan(0, 0, ORIGIN)])
 
-    def reset(self, docs: dict[int, str], anchor: Span) -> None:
-        """Start a new chunk whose doc comments are ``docs`` (by the offset they document).
+    def reset(self, docs: dict[int, str], anchors: list[Span]) -> None:
+        """Start a new text whose doc comments are ``docs`` (by the offset they document).
 
-        Every span made is relative to ``anchor``, the start of the chunk's result.
+        Every span made is relative to the last of ``anchors`` (in text order, the first at 0) that starts at
+        or before it: a chunk's result, or each chunk of a whole text. Offsets from a near anchor are small
+        numbers, most of them ints Python shares, where offsets into a long text are an object each.
         """
-        self.anchor = anchor
+        self.anchors = anchors
+        self.anchor_starts = [a.start for a in anchors]
         self.docs = docs
         self.problems = []
         self._depth = {}
 
     def span(self, start: int, end: int) -> AnchoredSpan:
-        """The span [start, end) of the chunk, relative to its result (so that it moves with it)."""
-        return AnchoredSpan.relative(start, end, self.anchor)
+        """The span [start, end) of the text, relative to its anchor (so that it moves with it)."""
+        i = bisect_right(self.anchor_starts, start) - 1
+        base = self.anchor_starts[i]
+        return AnchoredSpan.relative(start - base, end - base, self.anchors[i])
 
     def tok_span(self, tok: Token) -> AnchoredSpan:
         """The span of one token."""
-        return AnchoredSpan.relative(tok.start_pos, tok.end_pos, self.anchor)
+        return self.span(tok.start_pos, tok.end_pos)
 
     @staticmethod
     def _start(x: Any) -> int:
