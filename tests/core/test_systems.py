@@ -6,12 +6,16 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import jsonschema
 import pytest
 
+from iface.forms.jsonform import items_from_json, schema_text, to_json
 from iface.model import nodes as m
 from iface.runtime.system import SystemFileError, system_spec
+from iface.semantics.compile import Workspace
 from iface.semantics.systems import period, start_order
 from iface.syntax.parse import parse_text
+from iface.text.printer import print_items
 from tests.conftest import ROOT, run_cli, run_main
 
 from .helpers import DATA
@@ -160,3 +164,12 @@ def test_the_living_room_example_is_clean() -> None:
     assert r.returncode == 0 and "error" not in r.stdout and "warning" not in r.stdout, r.stdout
     assert run_main("fmt", "--check", str(EXAMPLES / "living_room.iface"), str(EXAMPLES / "room_sensor.iface"),
                    str(EXAMPLES / "thermostat.iface")).returncode == 0
+
+
+def test_the_json_form_holds_a_system_and_reads_back() -> None:
+    form = to_json(Workspace().compile_path(str(HOME)).interface)
+    jsonschema.validate(form, json.loads(schema_text()))
+    kinds = [x["kind"] for x in form["items"]]
+    assert kinds == ["system", "include", "include", "instance", "instance", "instance"]
+    assert form["items"][5]["component"] == "thermostat"
+    assert print_items(items_from_json(form)) == HOME.read_text(encoding="utf-8")
