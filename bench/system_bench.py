@@ -1,9 +1,10 @@
 """Benchmark: a system file of growing size — compile and check it, its system graph's findings, ``system_spec``
 and the launch file.
 
-Run: ``python bench/system_bench.py`` — writes synthetic systems (one component file per 5 instances, each
-component publishing one topic of a shared type and subscribing the previous one's, the instances in a chain of ``after``)
-to a temporary folder and prints, per size, the time of each step and the ratio to the previous size's.
+Run: ``python bench/system_bench.py`` — writes synthetic systems (one component file per 5 instances,
+each component publishing one topic of a shared type and subscribing the previous one's, the instances
+in a chain of ``after``) to a temporary folder and prints, per size, the time of each step and the
+ratio to the previous size's.
 """
 
 from __future__ import annotations
