@@ -173,3 +173,13 @@ def test_the_json_form_holds_a_system_and_reads_back() -> None:
     assert kinds == ["system", "include", "include", "instance", "instance", "instance"]
     assert form["items"][5]["component"] == "thermostat"
     assert print_items(items_from_json(form)) == HOME.read_text(encoding="utf-8")
+
+
+def test_default_package_and_executable_are_those_the_rclpy_target_writes(tmp_path: Path) -> None:
+    spec = system_spec(EXAMPLES / "living_room.iface")
+    for inst in spec.instances:
+        r = run_main("generate", str(inst.iface_file), "--target", "rclpy", "--out", str(tmp_path), "-q")
+        assert r.returncode == 0, r.stderr
+        setup = (tmp_path / inst.package / "setup.py").read_text(encoding="utf-8")
+        assert f"'{inst.executable} = {inst.package}.__main__:main'" in setup
+        assert f'<name>{inst.package}</name>' in (tmp_path / inst.package / "package.xml").read_text(encoding="utf-8")
