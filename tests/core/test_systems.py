@@ -16,12 +16,10 @@ from iface.semantics.compile import Workspace
 from iface.semantics.systems import period, start_order
 from iface.syntax.parse import parse_text
 from iface.text.printer import print_items
-from tests.conftest import ROOT, run_cli, run_main
+from tests.conftest import run_cli, run_main
 
-from .helpers import DATA
-
-HOME = DATA / "system" / "home.iface"
-EXAMPLES = ROOT / "examples"
+from .helpers import DATA, EXAMPLES, write_home
+from .test_every_command import assert_every_command_answers
 TEXT = '''/** Two parts. */
 system pair version "2.1"
 include "a.iface"
@@ -80,9 +78,14 @@ def test_periods() -> None:
     assert [period(t) for t in ("1", "0s", "-1s", "1h", "often", "")] == [None] * 6
 
 
-def test_system_spec_gives_each_instance_what_starting_it_needs() -> None:
-    spec = system_spec(HOME)
-    assert (spec.name, spec.version, spec.file) == ("home", "0.2.0", HOME.resolve())
+@pytest.fixture(scope="module")
+def home(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_home(tmp_path_factory.mktemp("home"))
+
+
+def test_system_spec_gives_each_instance_what_starting_it_needs(home: Path) -> None:
+    spec = system_spec(home)
+    assert (spec.name, spec.version, spec.file) == ("home", "0.2.0", home.resolve())
     assert [i.name for i in spec.instances] == ["hall", "kitchen", "heating"]
     hall, kitchen, heating = spec.instances
     assert (hall.node, hall.component, hall.package, hall.executable) == (
@@ -90,9 +93,9 @@ def test_system_spec_gives_each_instance_what_starting_it_needs() -> None:
     assert (hall.restart, hall.snapshot_period, hall.after, hall.parameters, hall.line) == (
         "always", None, (), None, 6)
     assert (kitchen.node, kitchen.snapshot_period, kitchen.restart) == ("kitchen", 0.5, "on-failure")
-    assert kitchen.parameters == (HOME.parent / "kitchen.yaml").resolve() and kitchen.parameters.is_file()
+    assert kitchen.parameters == (home.parent / "kitchen.yaml").resolve() and kitchen.parameters.is_file()
     assert (heating.after, heating.restart, heating.package) == (("kitchen", "hall"), "never", "thermostat")
-    assert heating.iface_file == (EXAMPLES / "thermostat.iface").resolve()
+    assert heating.iface_file == (home.parent / "thermostat.iface").resolve()
     # the hash is the component's own, as `iface-lsp hash` and the generated node report it
     hashed = run_main("hash", str(EXAMPLES / "room_sensor.iface"))
     assert hashed.returncode == 0 and hall.interface_hash in hashed.stdout and hall.interface_hash.startswith("sha256:")
@@ -147,16 +150,20 @@ def test_check_reports_the_system_graph_on_the_instances(tmp_path: Path) -> None
     assert r.returncode == 1
 
 
-def test_graph_of_a_system_file_has_a_node_per_instance() -> None:
-    r = run_main("graph", "--format", "json", str(HOME))
+def test_graph_of_a_system_file_has_a_node_per_instance(home: Path) -> None:
+    r = run_main("graph", "--format", "json", str(home))
     assert r.returncode == 0, r.stderr
     g = json.loads(r.stdout)
     assert [(c["name"], c["component"]) for c in g["components"]] == [
         ("hall", "room_sensor"), ("kitchen", "room_sensor"), ("heating", "thermostat")]
     links = {(lk["from"], lk["to"], lk["name"]) for lk in g["links"]}
     assert links == {("hall", "heating", "/room/temperature"), ("kitchen", "heating", "/room/temperature")}
-    mixed = run_main("graph", str(HOME), str(EXAMPLES / "counter.iface"))
+    mixed = run_main("graph", str(home), str(EXAMPLES / "counter.iface"))
     assert mixed.returncode == 2 and "is a system file: give it alone" in mixed.stderr
+
+
+def test_every_command_answers_on_a_system_file(home: Path, tmp_path: Path) -> None:
+    assert_every_command_answers(home, tmp_path)
 
 
 def test_the_living_room_example_is_clean() -> None:
@@ -166,13 +173,13 @@ def test_the_living_room_example_is_clean() -> None:
                    str(EXAMPLES / "thermostat.iface")).returncode == 0
 
 
-def test_the_json_form_holds_a_system_and_reads_back() -> None:
-    form = to_json(Workspace().compile_path(str(HOME)).interface)
+def test_the_json_form_holds_a_system_and_reads_back(home: Path) -> None:
+    form = to_json(Workspace().compile_path(str(home)).interface)
     jsonschema.validate(form, json.loads(schema_text()))
     kinds = [x["kind"] for x in form["items"]]
     assert kinds == ["system", "include", "include", "instance", "instance", "instance"]
     assert form["items"][5]["component"] == "thermostat"
-    assert print_items(items_from_json(form)) == HOME.read_text(encoding="utf-8")
+    assert print_items(items_from_json(form)) == home.read_text(encoding="utf-8")
 
 
 def test_default_package_and_executable_are_those_the_rclpy_target_writes(tmp_path: Path) -> None:

@@ -12,19 +12,23 @@ from typing import Any
 import pytest
 
 from tests.conftest import ROOT, run_main
-
-HOME = ROOT / "tests" / "core" / "data" / "system" / "home.iface"
+from tests.core.helpers import write_home
 
 
 @pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+def home(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_home(tmp_path_factory.mktemp("home") / "system")
+
+
+@pytest.fixture(scope="module")
+def generated(home: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("launch")
-    r = run_main("generate", str(HOME), "--target", "launch", "--out", str(out))
+    r = run_main("generate", str(home), "--target", "launch", "--out", str(out))
     assert r.returncode == 0, r.stderr
     return out / "home.launch.py"
 
 
-def test_the_launch_file_lists_every_instance_in_start_order(generated: Path) -> None:
+def test_the_launch_file_lists_every_instance_in_start_order(generated: Path, home: Path) -> None:
     text = generated.read_text(encoding="utf-8")
     tree = ast.parse(text)
     assigned = {t.id: node.value for node in tree.body if isinstance(node, ast.Assign)
@@ -38,7 +42,7 @@ def test_the_launch_file_lists_every_instance_in_start_order(generated: Path) ->
     ]
     assert instances[0][4] is None and instances[2][4] is None
     params = (generated.parent / instances[1][4]).resolve()
-    assert params == (HOME.parent / "kitchen.yaml").resolve()
+    assert params == (home.parent / "kitchen.yaml").resolve()
     functions = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
     assert "generate_launch_description" in functions
     imported = {n.module for n in tree.body if isinstance(n, ast.ImportFrom)}
@@ -72,7 +76,7 @@ def _stand_ins() -> dict[str, types.ModuleType]:
 
 
 @pytest.mark.parametrize("activate", ["true", "false"])
-def test_the_launch_file_starts_each_node_as_its_instance_says(generated: Path, activate: str,
+def test_the_launch_file_starts_each_node_as_its_instance_says(generated: Path, home: Path, activate: str,
                                                                monkeypatch: pytest.MonkeyPatch) -> None:
     for name, module in _stand_ins().items():
         monkeypatch.setitem(sys.modules, name, module)
@@ -88,16 +92,16 @@ def test_the_launch_file_starts_each_node_as_its_instance_says(generated: Path, 
     flag = ["--activate"] if activate == "true" else []
     assert got == [
         ("room_sensor", "room_sensor", "hall_sensor", flag, [], True),
-        ("room_sensor", "room_sensor", "kitchen", flag, [(HOME.parent / "kitchen.yaml").resolve()], True),
+        ("room_sensor", "room_sensor", "kitchen", flag, [(home.parent / "kitchen.yaml").resolve()], True),
         ("thermostat", "thermostat", "heating", flag, [], False),
     ]
 
 
-def test_generation_is_stable_and_refuses_what_is_no_system(generated: Path, tmp_path: Path) -> None:
-    again = run_main("generate", str(HOME), "--target", "launch", "--out", str(generated.parent), "--check")
+def test_generation_is_stable_and_refuses_what_is_no_system(generated: Path, home: Path, tmp_path: Path) -> None:
+    again = run_main("generate", str(home), "--target", "launch", "--out", str(generated.parent), "--check")
     assert again.returncode == 0, again.stdout + again.stderr
     plain = run_main("generate", str(ROOT / "examples" / "counter.iface"), "--target", "launch", "--out", str(tmp_path))
     assert plain.returncode == 2 and "declares no system" in plain.stderr
-    system = run_main("generate", str(HOME), "--target", "rclpy", "--out", str(tmp_path))
+    system = run_main("generate", str(home), "--target", "rclpy", "--out", str(tmp_path))
     assert system.returncode == 2 and "is a system file" in system.stderr
     assert not any(tmp_path.iterdir())
