@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import sys
@@ -18,10 +19,42 @@ if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
-def run_cli(*args: str, cwd: Path | None = None, stdin: str | None = None) -> subprocess.CompletedProcess[str]:
-    """Run ``python -m iface ARGS`` and capture its output."""
+def run_cli(*args: str, cwd: Path | None = None, stdin: str | None = None,
+            hash_seed: str | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``python -m iface ARGS`` and capture its output (with ``hash_seed``: under that ``PYTHONHASHSEED``)."""
+    env = None if hash_seed is None else {**os.environ, "PYTHONHASHSEED": hash_seed}
     return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True,
-                          cwd=cwd, input=stdin, timeout=300)
+                          cwd=cwd, input=stdin, timeout=300, env=env)
+
+
+#: Two hash seeds that order sets and dicts of strings differently: output that depends on them differs.
+HASH_SEEDS = ("1", "2")
+
+#: What ``generated_in_two_processes`` runs: every file ``target`` generates for each path, with its findings.
+_GENERATE = """import sys
+from iface.emit import generate
+from iface.semantics.compile import Workspace
+target = sys.argv[1]
+for path in sys.argv[2:]:
+    result = generate(Workspace().compile_path(path), target)
+    print(path, [(f.path, f.text) for f in result.files], [d.format() for d in result.diagnostics])
+"""
+
+
+def in_two_processes(code: str, *args: str) -> tuple[str, str]:
+    """The output of the Python ``code`` (with ``args``) run in two processes under different hash seeds."""
+    outs = []
+    for seed in HASH_SEEDS:
+        r = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, cwd=ROOT,
+                           timeout=300, env={**os.environ, "PYTHONHASHSEED": seed})
+        assert r.returncode == 0, r.stderr[-2000:]
+        outs.append(r.stdout)
+    return outs[0], outs[1]
+
+
+def generated_in_two_processes(target: str, paths: list[Path]) -> tuple[str, str]:
+    """What ``target`` generates for each of ``paths``, in two processes under different hash seeds."""
+    return in_two_processes(_GENERATE, target, *(str(p) for p in paths))
 
 
 @pytest.fixture

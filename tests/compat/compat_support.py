@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -24,10 +25,15 @@ def compile_text(tmp_path: Path, name: str, text: str) -> Compilation:
     return compile_file(p)
 
 
-def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
-    """Run ``python -m iface ARGS`` and capture its output."""
+#: Two hash seeds that order sets and dicts of strings differently: output that depends on them differs.
+HASH_SEEDS = ("1", "2")
+
+
+def run_cli(*args: str, cwd: Path | None = None, hash_seed: str | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``python -m iface ARGS`` and capture its output (with ``hash_seed``: under that ``PYTHONHASHSEED``)."""
+    env = None if hash_seed is None else {**os.environ, "PYTHONHASHSEED": hash_seed}
     return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True,
-                          cwd=str(cwd or DATA), timeout=120, check=False)
+                          cwd=str(cwd or DATA), timeout=120, check=False, env=env)
 
 
 @functools.cache

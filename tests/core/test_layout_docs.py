@@ -118,3 +118,37 @@ def test_where_to_add_names_files_that_exist() -> None:
     missing = [p for p in named if not any((base / p).exists() for base in (PACKAGE, ROOT, ROOT / "tests" / "lsp",
                                                                             ROOT / "tests" / "core" / "data" / "invalid"))]
     assert missing == []
+
+
+CORE = ("model", "syntax", "semantics")
+
+
+def _modules(package: str) -> list[str]:
+    return sorted(p.stem for p in (PACKAGE / package).glob("*.py") if p.stem != "__init__")
+
+
+def test_core_package_docstrings_name_every_module_and_no_gone_one() -> None:
+    for package in CORE:
+        doc = (PACKAGE / package / "__init__.py").read_text(encoding="utf-8").split('"""')[1]
+        named = set(re.findall(r"``(\w+)``", doc))
+        assert [mod for mod in _modules(package) if mod not in named] == [], package
+        assert [w for w in ("oldgen", "SpanTable") if w in doc] == [], package
+
+
+def test_architecture_names_every_core_module_and_no_gone_one() -> None:
+    doc = ARCHITECTURE.read_text(encoding="utf-8")
+    rows = {line.split("|")[1].strip(): line for line in doc.splitlines() if line.startswith("| `")}
+    for package in CORE:
+        row = rows[f"`{package}/`"]
+        assert [mod for mod in _modules(package) if f"`{mod}`" not in row] == [], package
+    assert [w for w in ("oldgen", "SpanTable") if w in doc] == []
+
+
+def test_where_to_add_a_check_names_every_rule_registry() -> None:
+    from iface.semantics import validate
+    doc = ARCHITECTURE.read_text(encoding="utf-8")
+    section = doc.split("## Where to add", 1)[1].split("\n## ", 1)[0]
+    decorators = [n for n in ("rule", "local_rule", "definition_rule", "wiring_rule") if callable(getattr(validate, n))]
+    registries = [n for n in dir(validate) if n.endswith("RULES") and isinstance(getattr(validate, n), list)]
+    assert len(registries) == len(decorators) == 4
+    assert [d for d in decorators if f"`@{d}" not in section] == []

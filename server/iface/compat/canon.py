@@ -17,7 +17,7 @@ from ..model import nodes as m
 from ..semantics.compile import Compilation
 from .side import Side
 from .values import value_key
-from .view import (
+from .parts import (
     definitions,
     diagnostics,
     endpoint_qos,

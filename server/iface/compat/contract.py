@@ -10,7 +10,7 @@ from ..model.walk import type_text
 from ..semantics.compile import Compilation
 from .side import Side
 from .values import value_text
-from .view import endpoint_qos, endpoint_type
+from .parts import endpoint_qos, endpoint_type
 
 
 def _endpoint(side: Side, kind: str, ep: m.Endpoint) -> dict[str, Any]:

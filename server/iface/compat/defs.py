@@ -12,7 +12,7 @@ from .fields import Body, compare_fields
 from .findings import Location
 from .side import BOTH, SEND, Side, flip
 from .values import value_key, value_text
-from .view import definitions, service_form
+from .parts import definitions, service_form
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFORMATION
 _SAME_KIND = {"struct", "message"}

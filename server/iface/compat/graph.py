@@ -15,7 +15,7 @@ from ..model.source import Source, Span
 from ..semantics.compile import Compilation
 from .canon import wire_form
 from .system import Component, Port, System, qos_problems
-from .view import endpoint_type
+from .parts import endpoint_type
 
 Display = Callable[[str], str]
 GRAPH_ID = "iface-graph/1"

@@ -11,7 +11,7 @@ from .findings import Handover, Location, StateVar
 from .qos import weakened
 from .side import RECEIVE, Side
 from .values import value_key, value_text, widens_type
-from .view import (
+from .parts import (
     diagnostics,
     endpoint_qos,
     endpoint_type,

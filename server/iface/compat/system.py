@@ -16,7 +16,7 @@ from .defs import compare_definition
 from .findings import Finding
 from .qos import mismatches
 from .side import RECEIVE, SEND, Side
-from .view import ENDPOINT_SETS, endpoint_qos, endpoint_type
+from .parts import ENDPOINT_SETS, endpoint_qos, endpoint_type
 
 #: role -> the roles of its peers
 PEER_ROLE = {"publishes": "subscribes", "subscribes": "publishes", "provides": "calls", "calls": "provides"}

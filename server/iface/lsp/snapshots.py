@@ -43,8 +43,8 @@ class Snapshot:
     index: LineIndex
     comp: Compilation | None
     names: tuple[Name, ...] = ()
-    #: The topic and the type name of each wiring, one after the other: (topic, type name, topic, ...).
-    topics: tuple[str, ...] = ()
+    #: The topic and the type name of each wiring: ((topic, type name), ...).
+    topics: tuple[tuple[str, str], ...] = ()
     deps: frozenset[str] = frozenset()
     #: The type names of ``names`` sorted by name, local ones then included ones (completion builds it once).
     sorted_types: tuple[tuple[Name, ...], tuple[Name, ...]] | None = None
@@ -122,7 +122,7 @@ class View:
 
 
 def names_of(comp: Compilation, last: Snapshot | None = None
-             ) -> tuple[tuple[Name, ...], tuple[str, ...]]:
+             ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
     """Names of a compilation for completion (local definitions, then included ones with their prefix)
     and its topics (``Snapshot.topics``).
 
@@ -174,7 +174,7 @@ def names_of(comp: Compilation, last: Snapshot | None = None
         topics = last.topics
         if "wirings" in spliced[1]:
             at, out, come = spliced[1]["wirings"]
-            topics = (*last.topics[:2 * at], *_topics(iface.wirings[at:at + come]), *last.topics[2 * (at + out):])
+            topics = (*last.topics[:at], *_topics(iface.wirings[at:at + come]), *last.topics[at + out:])
         if len(spliced_names) - len(last.names) == len(iface.definitions) - n:
             return spliced_names, topics
     return tuple(entry(prefix, d) for prefix, d in _named(iface)), tuple(_topics(iface.wirings))
@@ -190,8 +190,7 @@ def _named(iface: Interface) -> Iterator[tuple[str, Definition]]:
             yield prefix + ".", d
 
 
-def _topics(wirings: list[Wiring]) -> Iterator[str]:
-    """The topic and the type name of each wiring, one after the other."""
+def _topics(wirings: list[Wiring]) -> Iterator[tuple[str, str]]:
+    """The topic and the type name of each wiring."""
     for w in wirings:
-        yield w.topic
-        yield w.type.name
+        yield w.topic, w.type.name

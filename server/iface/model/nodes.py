@@ -7,111 +7,25 @@ Cross references (``NamedType.target``) are filled in by ``resolve``.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, ClassVar, Literal, TypeVar, Union
+from typing import Any, ClassVar, Literal, Union
 
-from .source import Source, Span, SpanTable
+from .source import Source, Span
 
 # ---------------------------------------------------------------------------
-# Spans kept in a table
+# Nodes
 
 
 @dataclass(slots=True, eq=False)
 class Node:
-    """What every node with spans shares: the table its spans are kept in, when the parser made it.
+    """What every model node is: a slotted dataclass (identity equality) with a ``span``.
 
-    A node made by the parser keeps the index of its first span in its ``span`` slot and its chunk's
-    ``SpanTable`` here; its other spans (``name_span`` and the like) follow at the next indices. Reading
-    ``node.span`` then makes a span relative to the table, which moves with its chunk. A node made any other
-    way holds its spans itself and ``_t`` is None; so does a parsed node once one of its spans is set.
+    A node class declares its fields, the spans among them (``span`` first, then ``name_span`` and the
+    like) typed ``Span``. The parser's spans are ``AnchoredSpan``s that move with their chunk.
     """
 
-    _t: SpanTable | None = field(default=None, kw_only=True, repr=False, metadata={"derived": True})
-    #: The raw slot of ``span`` (set on each class by ``spanned``): a parsed node's index in its table.
-    _k: ClassVar[Any]
-
-
-_T = TypeVar("_T")
-_TABLE: Any = Node.__dict__["_t"]
-
-
-def spanned(*names: str) -> Callable[[type[_T]], type[_T]]:
-    """Make the span fields ``names`` (``span`` first) of a node class read from its table when it has one."""
-
-    def wrap(cls: type[_T]) -> type[_T]:
-        raws = [cls.__dict__[n] for n in names]
-        first = raws[0]
-        get_table, get_first = _TABLE.__get__, first.__get__
-
-        def detach(node: Any) -> None:
-            spans = [getattr(node, n) for n in names]
-            _TABLE.__set__(node, None)
-            for raw, span in zip(raws, spans):
-                raw.__set__(node, span)
-
-        def make(i: int, raw: Any) -> property:
-            get_raw, set_raw = raw.__get__, raw.__set__
-
-            def fget(node: Any) -> Span:
-                table = get_table(node)
-                if table is None:
-                    return get_raw(node)
-                return table.at(get_first(node) + i)
-
-            def fset(node: Any, value: Any) -> None:
-                if value.__class__ is not int and get_table(node) is not None:
-                    detach(node)
-                set_raw(node, value)
-
-            return property(fget, fset, doc=f"The node's {names[i]}.")
-
-        for i, (n, raw) in enumerate(zip(names, raws)):
-            setattr(cls, n, make(i, raw))
-        setattr(cls, "_k", first)
-        setattr(cls, "__init__", _raw_init(cls, dict(zip(names, raws))))
-        return cls
-
-    return wrap
-
-
-_FACTORY = object()
-
-
-def _raw_init(cls: type, raws: dict[str, Any]) -> Callable[..., None]:
-    """The dataclass ``__init__`` of ``cls``, but storing its spans in their slots directly: the parser makes
-    some 40,000 nodes at 10k lines, and the spans' properties are for reading."""
-    params: list[str] = []
-    kw_only: list[str] = []
-    body: list[str] = []
-    names: dict[str, Any] = {"_FACTORY": _FACTORY}
-    for f in dataclasses.fields(cls):
-        assert f.init, f"{cls.__name__}.{f.name}: a field that __init__ does not take"  # none has one
-        if f.default is not dataclasses.MISSING:
-            names[f"_d_{f.name}"] = f.default
-            default = f"=_d_{f.name}"
-        elif f.default_factory is not dataclasses.MISSING:
-            names[f"_f_{f.name}"] = f.default_factory
-            default = "=_FACTORY"
-        else:
-            default = ""
-        value = f.name
-        if default == "=_FACTORY":
-            value = f"_f_{f.name}() if {f.name} is _FACTORY else {f.name}"
-        (kw_only if f.kw_only else params).append(f"{f.name}{default}")
-        if f.name in raws:
-            names[f"_s_{f.name}"] = raws[f.name].__set__
-            body.append(f"    _s_{f.name}(self, {value})")
-        else:
-            body.append(f"    self.{f.name} = {value}")
-    signature = ", ".join(["self", *params, *(["*", *kw_only] if kw_only else [])])
-    exec(f"def __init__({signature}) -> None:\n" + "\n".join(body), names)  # noqa: S102
-    init = names["__init__"]
-    init.__qualname__ = f"{cls.__qualname__}.__init__"
-    init.__doc__ = cls.__dict__["__init__"].__doc__
-    return init
 
 # ---------------------------------------------------------------------------
 # Types
@@ -151,7 +65,6 @@ FLOAT32_MAX = 3.4028234663852886e38
 STRING_TYPES = frozenset({"string", "wstring"})
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class BaseType(Node):
     """A builtin type; ``bound`` is the maximum length of a bounded string."""
@@ -165,7 +78,6 @@ class BaseType(Node):
     kind: ClassVar[Literal["base"]] = "base"
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class NamedType(Node):
     """A reference to a definition by name, possibly qualified (``pkg.Type``)."""
@@ -194,7 +106,6 @@ class NamedType(Node):
 ArrayKind = Literal["fixed", "bounded", "unbounded"]
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class ArrayType(Node):
     """A sequence: ``T[]``, ``T[N]`` (fixed), ``T[<=N]`` (bounded) or Thrift ``list<T>``."""
@@ -209,7 +120,6 @@ class ArrayType(Node):
     kind: ClassVar[Literal["array"]] = "array"
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class SetType(Node):
     """Thrift ``set<T>``."""
@@ -221,7 +131,6 @@ class SetType(Node):
     kind: ClassVar[Literal["set"]] = "set"
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class MapType(Node):
     """Thrift ``map<K, V>``."""
@@ -243,7 +152,6 @@ TypeRef = Union[BaseType, NamedType, ArrayType, SetType, MapType]
 ValueKind = Literal["int", "double", "string", "name", "list", "map"]
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class Value(Node):
     """A constant value as written: int, double, string, name, list or map.
@@ -259,7 +167,6 @@ class Value(Node):
     text: str = ""
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class Annotation(Node):
     """A Thrift annotation ``key = value`` (value None for a bare flag)."""
@@ -291,7 +198,6 @@ def annotation(annotations: Sequence[Annotation], key: str) -> Annotation | None
 Requiredness = Literal["required", "optional"]
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Field(Node):
     """A field of a struct-like body, a section, a function's argument list or throws."""
@@ -344,7 +250,6 @@ class Field(Node):
         return lo, hi
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Const(Node):
     """A constant, at top level or inside a body (ROS 2 message constants)."""
@@ -360,7 +265,6 @@ class Const(Node):
     kind: ClassVar[Literal["const"]] = "const"
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Section(Node):
     """A part of a service or action: request/response, goal/result/feedback."""
@@ -375,7 +279,6 @@ class Section(Node):
     doc: str | None = None
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Function(Node):
     """A Thrift service function: one request/response pair."""
@@ -398,7 +301,6 @@ StructKind = Literal["struct", "union", "exception", "message", "configuration",
 BodyForm = Literal["explicit", "flat", "functions", "empty"]
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Struct(Node):
     """struct, union, exception (Thrift); message, configuration, state (iface)."""
@@ -413,7 +315,6 @@ class Struct(Node):
     doc: str | None = None
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Service(Node):
     """A service: Thrift functions, or one request/response pair (flat or explicit)."""
@@ -443,7 +344,6 @@ class Service(Node):
             (a := annotation(self.annotations, "role")) is not None and a.text == "diagnostics")
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Action(Node):
     """An action: goal, result and feedback."""
@@ -464,7 +364,6 @@ class Action(Node):
     kind: ClassVar[Literal["action"]] = "action"
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class EnumValue(Node):
     """One enumerator; ``value`` is explicit or counted on from the previous one."""
@@ -478,7 +377,6 @@ class EnumValue(Node):
     doc: str | None = None
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Enum(Node):
     """A Thrift enum."""
@@ -512,7 +410,6 @@ class Enum(Node):
         return number in self._indexed()[2]
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Senum(Node):
     """A Thrift senum (deprecated string enum)."""
@@ -527,7 +424,6 @@ class Senum(Node):
     kind: ClassVar[Literal["senum"]] = "senum"
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class Typedef(Node):
     """``typedef T Name``."""
@@ -552,7 +448,6 @@ Definition = Union[Struct, Service, Action, Enum, Senum, Typedef, Const]
 # Headers and wiring
 
 
-@spanned("span", "path_span")
 @dataclass(slots=True, eq=False)
 class Include(Node):
     """``include "file"``; ``resolved`` is the absolute path once found."""
@@ -564,7 +459,6 @@ class Include(Node):
     resolved: str | None = None
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class Namespace(Node):
     """``namespace scope name`` (scope ``ros2``, ``px4``, ``cpp``, ``*`` …)."""
@@ -575,7 +469,6 @@ class Namespace(Node):
     annotations: Sequence[Annotation] = ()
 
 
-@spanned("span", "name_span")
 @dataclass(slots=True, eq=False)
 class ComponentDecl(Node):
     """``component name version "x.y"``."""
@@ -588,7 +481,6 @@ class ComponentDecl(Node):
     doc: str | None = None
 
 
-@spanned("span")
 @dataclass(slots=True, eq=False)
 class External(Node):
     """``external pkg`` or ``external pkg.Type``: types that live outside iface."""
@@ -600,7 +492,6 @@ class External(Node):
 Direction = Literal["publishes", "subscribes", "provides", "calls"]
 
 
-@spanned("span", "topic_span")
 @dataclass(slots=True, eq=False)
 class Wiring(Node):
     """A direction statement: ``publishes T on "/topic"`` and the like."""
@@ -668,7 +559,7 @@ class Interface:
     #: {list name: (index, items there before, items there now)} for the lists the edit changed).
     spliced: tuple[int, dict[str, tuple[int, int, int]]] | None = None
 
-    # the seven sets, filled by ``sets.derive``
+    # the seven sets, filled by ``sets.fill_sets``
     subscribed: list[Endpoint] = field(default_factory=list)       # M
     published: list[Endpoint] = field(default_factory=list)        # N
     services: list[Endpoint] = field(default_factory=list)         # S (provides and calls), never Δ
@@ -732,6 +623,6 @@ class Interface:
         return None
 
 
-#: The fields of ``Interface`` that hold the seven sets (``sets.derive`` fills them).
+#: The fields of ``Interface`` that hold the seven sets (``sets.fill_sets`` fills them).
 SET_FIELDS = frozenset({"subscribed", "published", "services", "actions", "parameters", "state", "diagnostics",
                         "diagnostics_endpoints"})

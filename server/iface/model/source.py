@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import struct
 from array import array
 from bisect import bisect_right
 from dataclasses import dataclass, field
@@ -37,17 +36,16 @@ class Span:
 
 
 class AnchoredSpan(Span):
-    """A span of a chunk that may move: offsets kept relative to the chunk's ``anchor``.
+    """A span that moves with another: its offsets are kept relative to its ``anchor``.
 
-    The anchor is the one span the chunk records, where the chunk begins (``ChunkResult.anchor``); it
-    is itself relative to the base of a block of chunks (``syntax.edits.EditCache``). Moving a chunk
-    is one addition to its anchor, and moving every chunk after an edit one addition per block.
+    Spans of the model made by the parser are relative to their chunk's result (``ChunkResult.anchor``),
+    which is relative to the chunk, which is relative to the base of a block of chunks
+    (``syntax.edits.EditCache``): moving every chunk after an edit is one addition per block.
     """
 
     __slots__ = ("anchor",)
-    # The offsets relative to the anchor are kept in the two slots of ``Span``, which the properties below
-    # shadow: an anchored span is a plain one plus its anchor, not two slots more (16 bytes of some 23,000
-    # spans at 10k lines).
+    # The offsets relative to the anchor are kept in the two slots of ``Span`` (``_start``, ``_end`` below),
+    # which the ``start`` and ``end`` properties shadow: one slot more than a plain span, not three.
     _start: Any = Span.__dict__["start"]
     _end: Any = Span.__dict__["end"]
 
@@ -55,6 +53,21 @@ class AnchoredSpan(Span):
         self.anchor = anchor
         self._start = start - anchor.start
         self._end = end - anchor.start
+
+    @classmethod
+    def relative(cls, start: int, end: int, anchor: Span) -> AnchoredSpan:
+        """The span at ``start``..``end`` counted from where ``anchor`` is (the parser's offsets in a chunk)."""
+        span = cls.__new__(cls)
+        span.anchor = anchor
+        span._start = start
+        span._end = end
+        return span
+
+    def __getstate__(self) -> tuple[Span, int, int]:
+        return self.anchor, self._start, self._end
+
+    def __setstate__(self, state: tuple[Span, int, int]) -> None:
+        self.anchor, self._start, self._end = state
 
     @property
     def start(self) -> int:
@@ -74,78 +87,16 @@ class AnchoredSpan(Span):
     def end(self, value: int) -> None:
         self._end = value - self.anchor.start
 
-    def rebase(self, anchor: Span) -> None:
+    def keep_relative_to(self, anchor: Span) -> None:
         """Keep the same offsets, relative to ``anchor`` from now on."""
         start, end = self.start, self.end
         self.anchor = anchor
         self.start, self.end = start, end
 
-    def pin(self, anchor: Span) -> None:
+    def move_to_start_of(self, anchor: Span) -> None:
         """Put this span, empty, where ``anchor`` starts, and move it with ``anchor`` from now on."""
         self.anchor = anchor
         self._start = self._end = 0
-
-
-_REL_START = AnchoredSpan.__dict__["_start"]
-_REL_END = AnchoredSpan.__dict__["_end"]
-_ANCHOR = AnchoredSpan.__dict__["anchor"]
-_new = object.__new__
-#: Two sealed 2-byte offsets (``SpanTable.seal``), in the machine's order as ``array`` writes them.
-_PAIR16 = struct.Struct("=hh").unpack_from
-
-
-class SpanTable(AnchoredSpan):
-    """The spans of one chunk's model, kept as offsets rather than as an object each.
-
-    A chunk's result is its table (``syntax.parse.ChunkResult``), pinned to the chunk: the offsets are
-    relative to where the table starts, so moving the chunk moves them all. A node made by the parser keeps
-    the table and the index of its first span (``model.nodes.spanned``) and makes a span object only when
-    one is read: some 23,000 span objects of 56 bytes at 10k lines become 4 bytes each.
-    """
-
-    __slots__ = ("offsets",)
-    offsets: Any  # a list while the chunk is parsed, then bytes or an array (``seal``)
-
-    def __init__(self) -> None:  # noqa: D107
-        super().__init__(0, 0, ORIGIN)
-        self.offsets = []
-
-    def add(self, start: int, end: int) -> int:
-        """Record the span [start, end); its index. Spans are added while the table is at offset 0."""
-        offsets = self.offsets
-        offsets.append(start)
-        offsets.append(end)
-        return (len(offsets) >> 1) - 1
-
-    def put(self, k: int, start: int, end: int) -> None:
-        """Set the span at index ``k`` (while the table is at offset 0)."""
-        self.offsets[2 * k] = start
-        self.offsets[2 * k + 1] = end
-
-    def seal(self, length: int) -> None:
-        """Keep the offsets, all within [0, ``length``], in as little memory as they fit: in most chunks
-        2 bytes each, in one bytes object."""
-        offsets = self.offsets
-        try:
-            if length < 1 << 15:
-                self.offsets = array("h", offsets).tobytes()
-            else:
-                self.offsets = array("i" if length < 1 << 31 else "q", offsets)
-        except OverflowError:  # an offset beyond the chunk: kept as it is, never lost
-            self.offsets = array("q", offsets)
-
-    def at(self, k: int) -> AnchoredSpan:
-        """The span at index ``k``, relative to this table: it moves when the table does."""
-        offsets = self.offsets
-        if offsets.__class__ is bytes:
-            start, end = _PAIR16(offsets, k << 2)
-        else:
-            start, end = offsets[2 * k], offsets[2 * k + 1]
-        span = _new(AnchoredSpan)
-        _ANCHOR.__set__(span, self)
-        _REL_START.__set__(span, start)
-        _REL_END.__set__(span, end)
-        return span
 
 
 #: The anchor of spans not (yet) placed relative to anything else; never moved.

@@ -22,7 +22,7 @@ from .codes import diag
 from .component import ComponentSpec, RosRef, describe
 from .keywords import node_keywords
 from .qosmap import check_downgrades
-from .view import NodeView
+from .template_data import NodeView
 
 
 def _ros_type(text: str) -> RosType:

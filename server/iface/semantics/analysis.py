@@ -27,7 +27,7 @@ from ..model.source import Source
 from ..model.walk import all_consts, bodies
 from ..syntax.edits import Change
 from .resolve import break_cycles, resolve_item, settle_typedefs, unknown_types
-from .sets import SetFindings, derive
+from .sets import SetFindings, fill_sets
 from .suggest import Suggester
 from .validate import (
     RULES,
@@ -45,18 +45,6 @@ from .validate import (
 #: What a unit is made for: a definition or a wiring statement (model nodes hash by identity: the keys of
 #: ``Analysis.units``).
 Part = m.Definition | m.Wiring
-#: The names a unit uses, as kept (see ``_pack``).
-Uses = str | tuple[str, ...]
-
-
-def _pack(uses: set[str]) -> Uses:
-    """The names an item uses, as kept: one name itself, else a tuple (empty: the one empty tuple)."""
-    return next(iter(uses)) if len(uses) == 1 else tuple(uses)
-
-
-def _names(uses: Uses) -> tuple[str, ...]:
-    """The names of ``Unit.uses``."""
-    return (uses,) if isinstance(uses, str) else uses
 
 
 @dataclass(slots=True, eq=False)
@@ -64,9 +52,8 @@ class Unit:
     """One definition or wiring statement and what it found."""
 
     item: Part
-    #: Every name the item looks up (types and named values, with their parts): one name itself (most items
-    #: look up one), else a tuple (see ``_names``).
-    uses: Uses
+    #: Every name the item looks up (types and named values, with their parts).
+    uses: tuple[str, ...]
     #: Its named types that name nothing, in order.
     unknown: Sequence[m.NamedType]
     #: ``unknown-type`` findings of ``unknown``.
@@ -79,45 +66,23 @@ class Unit:
     edges: tuple[object, ...] = ()
 
 
-@dataclass(slots=True, eq=False)
-class Quiet:
-    """What is kept of a quiet struct with edges: the names it uses, its edges."""
-
-    uses: Uses
-    edges: tuple[object, ...]
-
-
-#: What ``Analysis.units`` keeps of an item: its ``Unit``, or when the unit is quiet (no finding, nothing
-#: unknown: most are) only the names it uses (with a struct's edges, a ``Quiet``), made into a unit again when
-#: read (``_unit``).
-Kept = Unit | Quiet | Uses
-
-
-def _unit(x: Part, kept: Kept) -> Unit:
-    """The unit of ``x`` from what is kept of it."""
-    if isinstance(kept, Unit):
-        return kept
-    if isinstance(kept, Quiet):
-        return Unit(x, kept.uses, (), (), (), (), kept.edges)
-    return Unit(x, kept, (), (), (), (), ())
-
-
 class Analysis:
     """What one document's last compile found, per item (the memo of ``analyse``)."""
 
     def __init__(self) -> None:
         self.context: object = None
-        self.units: dict[Part, Kept] = {}
-        #: The items that use a name (see ``_use``).
-        self.users: Users = {}
-        #: The names defined more than once: their definitions, in the order of the text (a name defined once
-        #: is found in ``symbols``: see ``_defined``).
-        self.twice: dict[str, tuple[m.Definition, ...]] = {}
+        #: The unit of every definition and wiring statement.
+        self.units: dict[Part, Unit] = {}
+        #: The items that use a name (a list: most names have one or two users, and a set is some 200 bytes).
+        self.users: dict[str, list[Part]] = {}
+        #: Every name's definitions, in the order of the text (more than one: a duplicate).
+        self.definitions: dict[str, tuple[m.Definition, ...]] = {}
+        #: The ``duplicate-definition`` findings of each name defined more than once.
         self.duplicates: dict[str, list[Diagnostic]] = {}
         #: The symbol table of the last interface (its ``symbols``, the same dict).
         self.symbols: dict[str, m.Definition] = {}
         #: Units with a finding, by their item.
-        self.noisy: dict[Part, Unit] = {}
+        self.with_findings: dict[Part, Unit] = {}
         #: Units with a named type that names nothing, by their item.
         self.unknown: dict[Part, Unit] = {}
         #: The source the kept findings are attached to.
@@ -137,54 +102,25 @@ class Analysis:
         self.iface = last
 
 
-#: The items that use a name: the item itself, a tuple of a few, or a set of more (most names have one or two
-#: users, and a set is some 200 bytes).
-Users = dict[str, Part | tuple[Part, ...] | set[Part]]
-_FEW = 8
-
-
-def _use(users: Users, name: str, x: Part) -> None:
+def _use(users: dict[str, list[Part]], name: str, x: Part) -> None:
     """Record that the item ``x`` uses ``name``."""
-    had = users.get(name)
-    if had is None:
-        users[name] = x
-    elif isinstance(had, tuple):
-        if x not in had:
-            users[name] = (*had, x) if len(had) < _FEW else {*had, x}
-    elif isinstance(had, set):
-        had.add(x)
-    elif had is not x:
-        users[name] = (had, x)
+    had = users.setdefault(name, [])
+    if x not in had:
+        had.append(x)
 
 
-def _unuse(users: Users, name: str, x: Part) -> None:
+def _unuse(users: dict[str, list[Part]], name: str, x: Part) -> None:
     """Forget that the item ``x`` uses ``name``."""
     had = users.get(name)
-    if had is x:
-        del users[name]
-    elif isinstance(had, tuple):
-        if x in had:
-            rest = tuple(y for y in had if y is not x)
-            users[name] = rest[0] if len(rest) == 1 else rest
-    elif isinstance(had, set):
-        had.discard(x)
+    if had is not None and x in had:
+        had.remove(x)
+        if not had:
+            del users[name]
 
 
-def _users(users: Users, name: str) -> Collection[Part]:
+def _users(users: dict[str, list[Part]], name: str) -> Collection[Part]:
     """The items that use ``name``."""
-    had = users.get(name)
-    if had is None:
-        return ()
-    return had if isinstance(had, (tuple, set)) else (had,)
-
-
-def _defined(an: Analysis, name: str) -> tuple[m.Definition, ...]:
-    """The definitions of ``name`` the last compile found, in the order of the text."""
-    same = an.twice.get(name)
-    if same is not None:
-        return same
-    d = an.symbols.get(name)
-    return () if d is None else (d,)
+    return users.get(name, ())
 
 
 def _value_names(v: m.Value | None, out: set[str]) -> None:
@@ -230,82 +166,136 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     checks, checks of resolved definitions, file rules, recursion): sorting by place keeps that order
     between findings at one place.
     """
-    src = iface.source
-    robot = is_robot(iface)
-    context = (robot, src.path, tuple((p, id(i)) for p, i in iface.included.items()),
-               tuple(e.name for e in iface.externals))
     keep = an is not None
+    robot = is_robot(iface)
     if an is None:
         an = Analysis()
-    elif an.context != context:
-        an.reset()
-    an.context = context
-    last, an.iface = an.iface, iface
-    defs = iface.definitions
-    units = an.units
-    items: list[Part]
-    told = change is not None and bool(units)
-    if not units:  # a first compile
-        removed = []
-        added = [*defs, *iface.wirings]
-    elif told:  # the edit says what it changed
-        assert change is not None
-        removed = [_unit(x, units.pop(x)) for x in change[1] if isinstance(x, _UNITS) and x in units]
-        added = [x for x in change[2] if isinstance(x, _UNITS)]
-    else:
-        items = [*defs, *iface.wirings]
-        present = dict.fromkeys(items)
-        removed = [_unit(x, units.pop(x)) for x in units.keys() - present.keys()]
-        added = list(present.keys() - units.keys())
-        if last is not None and _reordered(last, iface, units):
-            removed, added = [], [*defs, *iface.wirings]
-            an.reset()  # an item moved past another (a chunk found by its text): every unit again
-            an.context = context
-            an.iface = iface
-            units = an.units
-    if (_structural(an, removed, added)):
-        an.reset()
-        an.context = context
-        units = an.units
-        removed = []
-        added = [*defs, *iface.wirings]
-    first = not units
+    last = _start(an, iface, robot)
+    removed, added, edit_known = _what_changed(an, iface, last, change)
+    first = not an.units
     added.sort(key=_START)
+    src = iface.source
     if an.source is not None and an.source is not src:
         _rehome_all(an, src)
     an.source = src
-    # ---- definitions by name: duplicates and the symbol table -------------------------------------
-    #: The names whose definitions the edit changed: their definitions now.
+    changed = _update_definitions(an, src, removed, added)
+    rebound, names_changed = _update_symbols(an, iface, removed, added, changed, first, edit_known)
+    fresh = _resolve(an, iface, added, rebound, first, keep, robot)
+    if first:
+        an.cycle_members = set()
+        an.cycles = list(break_cycles(iface, an.cycle_members))
+        settle_typedefs(iface)
+    if names_changed or any(u.unknown for u in fresh):
+        _report_unknown(an, iface)
+    _update_sets(an, iface, removed, added, fresh, first)
+    for u in fresh:
+        if not isinstance(u.item, m.Wiring):
+            u.checked = definition_findings(iface, u.item) or ()
+    if robot:
+        _recursion(iface, an, removed, fresh, first, keep)
+    else:
+        an.recursion = []
+    for u in fresh:
+        if u.unresolved or u.local or u.checked:
+            an.with_findings[u.item] = u
+        else:
+            an.with_findings.pop(u.item, None)
+    return _findings(an, iface, robot)
+
+
+def _start(an: Analysis, iface: m.Interface, robot: bool) -> m.Interface | None:
+    """Begin a compile of ``iface``: forget everything when what its items are checked against changed (the
+    file's path, its includes, its externals, whether it describes a robot); the last interface."""
+    context = (robot, iface.source.path, tuple((p, id(i)) for p, i in iface.included.items()),
+               tuple(e.name for e in iface.externals))
+    if an.context != context:
+        an.reset()
+    an.context = context
+    last, an.iface = an.iface, iface
+    return last
+
+
+def _what_changed(an: Analysis, iface: m.Interface, last: m.Interface | None,
+                  change: Change | None) -> tuple[list[Unit], list[Part], bool]:
+    """The units of the items gone (taken out of ``an.units``) and the items new, and whether the edit said
+    which they are (``change``); every item is new when the edit changed what the units cannot follow."""
+    units = an.units
+    every = [*iface.definitions, *iface.wirings]
+    edit_known = change is not None and bool(units)
+    removed: list[Unit]
+    if not units:  # a first compile
+        removed, added = [], every
+    elif edit_known:  # the edit says what it changed
+        assert change is not None
+        removed = [units.pop(x) for x in change[1] if isinstance(x, _UNITS) and x in units]
+        added = [x for x in change[2] if isinstance(x, _UNITS)]
+    else:
+        present = dict.fromkeys(every)
+        removed = [units.pop(x) for x in units.keys() - present.keys()]
+        added = list(present.keys() - units.keys())
+        if last is not None and _reordered(last, iface, units):
+            _start_over(an, iface)  # an item moved past another (a chunk found by its text): every unit again
+            removed, added = [], every
+    if _structural(an, removed, added):
+        _start_over(an, iface)
+        removed, added = [], every
+    return removed, added, edit_known
+
+
+def _start_over(an: Analysis, iface: m.Interface) -> None:
+    """Forget every unit: the compile is made as a first one."""
+    context = an.context
+    an.reset()
+    an.context = context
+    an.iface = iface
+
+
+def _update_definitions(an: Analysis, src: Source, removed: list[Unit],
+                        added: list[Part]) -> dict[str, tuple[m.Definition, ...]]:
+    """Update every name's definitions and the duplicates among them; the names whose definitions the
+    edit changed, with their definitions now."""
     changed: dict[str, tuple[m.Definition, ...]] = {}
     for u in removed:
-        for n in _names(u.uses):
+        for n in u.uses:
             _unuse(an.users, n, u.item)
-        an.noisy.pop(u.item, None)
+        an.with_findings.pop(u.item, None)
         an.unknown.pop(u.item, None)
         if not isinstance(u.item, m.Wiring):
             n = u.item.name
-            changed[n] = tuple(d for d in (changed[n] if n in changed else _defined(an, n)) if d is not u.item)
+            before = changed[n] if n in changed else an.definitions.get(n, ())
+            changed[n] = tuple(d for d in before if d is not u.item)
     for x in added:
         if not isinstance(x, m.Wiring):
             n = x.name
-            changed[n] = (*(changed[n] if n in changed else _defined(an, n)), x)
-    for n, same in an.twice.items():  # two chunks of one text may swap their model objects between versions
+            changed[n] = (*(changed[n] if n in changed else an.definitions.get(n, ())), x)
+    for n in an.duplicates:  # two chunks of one text may swap their model objects between versions
+        same = an.definitions[n]
         if n not in changed and same != tuple(sorted(same, key=_START)):
             changed[n] = same
     for n, same in changed.items():
+        if not same:
+            an.definitions.pop(n, None)
         if len(same) < 2:
-            an.twice.pop(n, None)
             an.duplicates.pop(n, None)
+            if same:
+                an.definitions[n] = same
             continue
-        same = changed[n] = an.twice[n] = tuple(sorted(same, key=_START))
+        same = changed[n] = an.definitions[n] = tuple(sorted(same, key=_START))
         head = same[0]
         an.duplicates[n] = [make("duplicate-definition", f"'{d.name}' is already defined", src, d.name_span,
                                  related=[Related(src, head.name_span, f"first definition of '{d.name}'")])
                             for d in same[1:]]
+    return changed
+
+
+def _update_symbols(an: Analysis, iface: m.Interface, removed: list[Unit], added: list[Part],
+                    changed: dict[str, tuple[m.Definition, ...]], first: bool, edit_known: bool) -> tuple[list[str], bool]:
+    """Give ``iface`` its symbol table (first definition of each name); the names that now mean another
+    definition, and whether a name came, went or changed between a constant and a type."""
     was = {n: an.symbols.get(n) for n in changed}
-    if first or (changed and not (told and _in_place(removed, added, changed))):
+    if first or (changed and not (edit_known and _in_place(removed, added, changed))):
         symbols: dict[str, m.Definition] = {}
-        for d in defs:
+        for d in iface.definitions:
             if d.name not in symbols:
                 symbols[d.name] = d
         an.symbols = symbols
@@ -317,7 +307,14 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     rebound = [n for n in changed if an.symbols.get(n) is not was[n]]
     names_changed = any(isinstance(an.symbols.get(n), m.Const) != isinstance(was[n], m.Const)
                         or (n in an.symbols) != (was[n] is not None) for n in rebound)
-    # ---- resolve what is new, and what uses a name that now means another definition ----------------
+    return rebound, names_changed
+
+
+def _resolve(an: Analysis, iface: m.Interface, added: list[Part], rebound: list[str], first: bool, keep: bool,
+             robot: bool) -> list[Unit]:
+    """Resolve what is new, and what uses a name that now means another definition; their new units."""
+    src = iface.source
+    units = an.units
     redo = dict.fromkeys(added)
     for n in rebound:
         for x in _users(an.users, n):
@@ -327,17 +324,17 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
     for x in todo:
         uses: set[str] = set()
         unknown = resolve_item(iface, x, uses if keep else None)
-        old = None if (kept := units.get(x)) is None else _unit(x, kept)
+        old = units.get(x)
         if isinstance(x, m.Wiring):
             local = old.local if old is not None else (wiring_findings(src, x) if robot else [])
         else:
             if keep:
                 _named_values(x, uses)
             local = old.local if old is not None else local_findings(src, x, robot)
-        unit = Unit(x, _pack(uses), unknown or (), (), local or (), (), old.edges if old is not None else ())
+        unit = Unit(x, tuple(uses), unknown or (), (), local or (), (), old.edges if old is not None else ())
         if keep:
             if old is not None:
-                for n in _names(old.uses):
+                for n in old.uses:
                     if n not in uses:
                         _unuse(an.users, n, x)
             for n in uses:
@@ -348,52 +345,41 @@ def analyse(iface: m.Interface, an: Analysis | None = None, change: Change | Non
         else:
             an.unknown.pop(x, None)
         fresh.append(unit)
-    if first:
-        an.cycle_members = set()
-        an.cycles = list(break_cycles(iface, an.cycle_members))
-        settle_typedefs(iface)
-    # ---- unknown names: all of them again, in order, when the names in reach changed ------------------
-    if names_changed or any(u.unknown for u in fresh):
-        pending = sorted(an.unknown.values(), key=lambda u: u.item.span.start)
-        close: list[Suggester] = []
-        for u in pending:
-            u.unresolved = list(unknown_types(iface, u.unknown, close)) or ()
-    # ---- the seven sets: findings now, the sets themselves when first read ---------------------------
+    return fresh
+
+
+def _report_unknown(an: Analysis, iface: m.Interface) -> None:
+    """The ``unknown-type`` findings of every unit, again, in order (the names in reach changed)."""
+    close: list[Suggester] = []
+    for u in sorted(an.unknown.values(), key=lambda u: u.item.span.start):
+        u.unresolved = list(unknown_types(iface, u.unknown, close)) or ()
+
+
+def _update_sets(an: Analysis, iface: m.Interface, removed: list[Unit], added: list[Part], fresh: list[Unit],
+                 first: bool) -> None:
+    """The findings of the seven sets now; the sets themselves are made when first read."""
     if first and not removed:
         an.sets.update(iface, [], added, [])
     else:
         new = set(added)
         an.sets.update(iface, [u.item for u in removed], [u.item for u in fresh if u.item in new],
                        [u.item for u in fresh if u.item not in new and isinstance(u.item, m.Wiring)])
-    iface.defer_sets(_fill_sets)
-    # ---- checks of resolved definitions -----------------------------------------------------------
-    for u in fresh:
-        if not isinstance(u.item, m.Wiring):
-            u.checked = definition_findings(iface, u.item) or ()
-    # ---- recursion over the struct graph ----------------------------------------------------------
-    if robot:
-        _recursion(iface, an, removed, fresh, first, keep)
-    else:
-        an.recursion = []
-    for u in fresh:
-        if u.unresolved or u.local or u.checked:
-            an.noisy[u.item] = u
-        else:
-            an.noisy.pop(u.item, None)
-            if keep and not u.unknown:  # quiet: only the names it uses (and its edges) are kept
-                units[u.item] = Quiet(u.uses, u.edges) if u.edges else u.uses
-    # ---- the findings, in the order of a whole-file pass --------------------------------------------
-    noisy = list(an.noisy.values())
+    iface.defer_sets(fill_sets)
+
+
+def _findings(an: Analysis, iface: m.Interface, robot: bool) -> list[Diagnostic]:
+    """Every finding, in the order of a whole-file pass."""
+    with_findings = list(an.with_findings.values())
     out: list[Diagnostic] = []
     for found in an.duplicates.values():
         out.extend(found)
-    for u in noisy:
+    for u in with_findings:
         out.extend(u.unresolved)
     out.extend(an.cycles)
     out.extend(an.sets.findings())
-    for u in noisy:
+    for u in with_findings:
         out.extend(u.local)
-    for u in noisy:
+    for u in with_findings:
         out.extend(u.checked)
     for fn, robot_only in RULES:
         if fn is not recursion and (robot or not robot_only):
@@ -408,13 +394,13 @@ def _rehome_all(an: Analysis, src: Source) -> None:
     an.cycles = [rehome(d, src) for d in an.cycles]
     an.recursion = [rehome(d, src) for d in an.recursion]
     an.sets.rehome(lambda d: rehome(d, src))
-    for u in an.noisy.values():
+    for u in an.with_findings.values():
         u.unresolved = [rehome(d, src) for d in u.unresolved]
         u.local = [rehome(d, src) for d in u.local]
         u.checked = [rehome(d, src) for d in u.checked]
 
 
-def _reordered(last: m.Interface, iface: m.Interface, kept: dict[Part, Kept]) -> bool:
+def _reordered(last: m.Interface, iface: m.Interface, kept: dict[Part, Unit]) -> bool:
     """True when the items kept from the ``last`` version are not in the order they had there."""
     for before, now in ((last.definitions, iface.definitions), (last.wirings, iface.wirings)):
         old = [x for x in before if x in kept]
@@ -430,12 +416,6 @@ def _in_place(removed: list[Unit], added: list[Part], changed: dict[str, tuple[m
     gone = [u.item.name for u in removed if not isinstance(u.item, m.Wiring)]
     come = [x.name for x in added if not isinstance(x, m.Wiring)]
     return gone == come and all(len(same) == 1 for same in changed.values())
-
-
-def _fill_sets(iface: m.Interface) -> None:
-    """Make the seven sets of ``iface`` (their findings were made with the rest)."""
-    for _ in derive(iface):
-        pass
 
 
 def _structural(an: Analysis, removed: list[Unit], added: list[Part]) -> bool:

@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Related, make
 from ..model.walk import resolve_typedefs
 
 
-def derive(iface: m.Interface) -> Iterator[Diagnostic]:
-    """Fill the seven sets of ``iface``; report wiring that names the wrong kind of thing."""
-    src = iface.source
+def fill_sets(iface: m.Interface) -> None:
+    """Fill the seven sets of ``iface`` (its findings are ``SetFindings``')."""
     iface.subscribed, iface.published = [], []
     iface.services, iface.actions = [], []
     iface.parameters, iface.state, iface.diagnostics = [], [], []
@@ -19,18 +18,11 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
     wired_calls = False
     called: set[int] = set()
     for w in iface.wirings:
-        target = w.type.target
-        if isinstance(target, m.Typedef):
-            real = resolve_typedefs(w.type)
-            target = real.target if isinstance(real, m.NamedType) else target
+        target = wiring_target(w)
         if w.direction in ("publishes", "subscribes"):
-            if target is not None and not isinstance(target, m.Struct):
-                done = "published" if w.direction == "publishes" else "subscribed to"
-                yield make("wrong-kind", f"'{w.type.name}' is a {target.kind}, not a message: "
-                           f"only messages are {done} on topics", src, w.type.span)
-                continue
-            ep = m.Endpoint(w.direction, w.topic, target, w)
-            (iface.published if w.direction == "publishes" else iface.subscribed).append(ep)
+            if target is None or isinstance(target, m.Struct):
+                ep = m.Endpoint(w.direction, w.topic, target, w)
+                (iface.published if w.direction == "publishes" else iface.subscribed).append(ep)
             continue
         wired_calls = True
         if isinstance(target, m.Service) and target.is_diagnostics:
@@ -42,11 +34,6 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
             iface.actions.append(m.Endpoint(w.direction, w.topic, target, w))
         elif isinstance(target, m.Service) or target is None:
             iface.services.append(m.Endpoint(w.direction, w.topic, target, w))
-        else:
-            done = "provided" if w.direction == "provides" else "called"
-            yield make("wrong-kind", f"'{w.type.name}' is a {getattr(target, 'kind', 'definition')}, "
-                       f"not a service or action: only those are {done}", src, w.type.span)
-    implicit: list[m.Definition] = []
     for d in iface.definitions:
         if isinstance(d, m.Struct):
             if d.kind == "configuration":
@@ -56,17 +43,9 @@ def derive(iface: m.Interface) -> Iterator[Diagnostic]:
         elif isinstance(d, m.Service) and d.is_diagnostics:
             if id(d) not in called and all(e.definition is not d for e in iface.diagnostics_endpoints):
                 _add_delta(iface, m.Endpoint("provides", d.name, d, None))
-                yield _unwired_delta(iface, d)
         elif not wired_calls and iface.component is None and isinstance(d, (m.Service, m.Action)):
-            implicit.append(d)
             ep = m.Endpoint("provides", d.name, d, None)
             (iface.actions if isinstance(d, m.Action) else iface.services).append(ep)
-    if implicit and iface.source.path.endswith(".iface"):
-        names = ", ".join(d.name for d in implicit)
-        yield make("implicit-provides",
-                   f"nothing is wired with provides/calls, so the component provides {names} "
-                   "under their own names", src, implicit[0].name_span)
-    yield from _wiring_checks(iface)
 
 
 def interface_package(iface: m.Interface) -> bool:
@@ -95,45 +74,12 @@ def _unwired_delta(iface: m.Interface, d: m.Service) -> Diagnostic:
                 f"\"/name\"` to choose the name)", iface.source, d.name_span, name=d.name)
 
 
-def _wiring_checks(iface: m.Interface) -> Iterator[Diagnostic]:
-    src = iface.source
-    by_topic: dict[tuple[str, str], m.Wiring] = {}
-    seen: dict[tuple[str, str, str], m.Wiring] = {}
-    for w in iface.wirings:
-        key3 = (w.direction, w.type.name, w.topic)
-        if key3 in seen:
-            yield make("duplicate-wiring", f"'{w.direction} {w.type.name} on \"{w.topic}\"' is stated twice",
-                       src, w.span, related=[Related(src, seen[key3].span, "first stated here")])
-            continue
-        seen[key3] = w
-        channel = "topic" if w.direction in ("publishes", "subscribes") else "service"
-        first = by_topic.get((channel, w.topic))
-        if first is None:
-            by_topic[(channel, w.topic)] = w
-            continue
-        a, b = first.type, w.type
-        same = (a.target is not None and a.target is b.target) or a.name == b.name
-        if not same:
-            yield make("topic-type-conflict",
-                       f"{channel} '{w.topic}' is used with '{b.name}' here and with '{a.name}' elsewhere",
-                       src, w.topic_span,
-                       related=[Related(src, first.topic_span, f"'{w.topic}' used with '{a.name}'")])
-    wired = {e.definition for e in (*iface.published, *iface.subscribed)}
-    if src.path.endswith(".iface") and not interface_package(iface):
-        for d in iface.definitions:
-            if isinstance(d, m.Struct) and d.kind == "message" and d not in wired:
-                yield make("message-no-direction",
-                           f"message '{d.name}' is neither published nor subscribed: it is a type "
-                           f"definition (add `publishes {d.name} on \"/topic\"` to wire it)",
-                           src, d.name_span, name=d.name)
-
-
 # ---------------------------------------------------------------------------
-# the findings of ``derive``, kept per item
+# the findings of the seven sets, kept per item
 
 
 def wiring_target(w: m.Wiring) -> m.Definition | None:
-    """What a wiring's type stands for, through typedefs (as ``derive`` reads it)."""
+    """What a wiring's type stands for, through typedefs."""
     target = w.type.target
     if isinstance(target, m.Typedef):
         real = resolve_typedefs(w.type)
@@ -166,7 +112,8 @@ def _count(counts: dict[m.Item, int], key: m.Item, by: int, touched: set[m.Item]
 
 
 class SetFindings:
-    """What ``derive`` reports, kept from small per-item facts so that an edit updates it in time that
+    """The findings of the seven sets (wiring of the wrong kind, wiring stated twice, a topic used with two
+    types, a message not wired, Δ not wired, services provided implicitly), kept from small per-item facts so that an edit updates it in time that
     follows the edit (the seven sets themselves are made when first read: ``Interface.published`` …)."""
 
     def __init__(self) -> None:
@@ -174,9 +121,9 @@ class SetFindings:
         self.facts: dict[m.Wiring, m.Definition | None] = {}
         #: wiring -> its wrong-kind finding
         self.wrong: dict[m.Wiring, Diagnostic] = {}
-        #: The wirings on one topic name (its statements and its channels are among them), keyed by the
-        #: wiring's own string: a group of one is the wiring itself (most are).
-        self.by_topic: dict[str, Group] = {}
+        #: The wirings on one topic name (its statements and its channels are among them), in the order of
+        #: the text once the topic's findings are made.
+        self.by_topic: dict[str, list[m.Wiring]] = {}
         #: topic name -> ``duplicate-wiring`` findings of its statements, ``topic-type-conflict`` of its channels
         self.statement_found: dict[str, list[Diagnostic]] = {}
         self.channel_found: dict[str, list[Diagnostic]] = {}
@@ -226,7 +173,7 @@ class SetFindings:
         for topic in [*self.statement_found, *self.channel_found]:  # a topic with findings: in order again
             if topic not in topics:
                 on = self.by_topic[topic]
-                if isinstance(on, list) and on != sorted(on, key=_start):
+                if on != sorted(on, key=_start):
                     topics.add(topic)
         for topic in topics:
             self._topic(src, topic)
@@ -309,8 +256,8 @@ class SetFindings:
 
     def _topic(self, src: m.Source, topic: str) -> None:
         """The findings of the wirings on ``topic``: statements made twice, channels used with two types."""
-        on = self.by_topic.get(topic)
-        if not isinstance(on, list):  # none, or one wiring: nothing to compare
+        on = self.by_topic.get(topic, [])
+        if len(on) < 2:  # nothing to compare
             self.statement_found.pop(topic, None)
             self.channel_found.pop(topic, None)
             return
@@ -342,28 +289,15 @@ class SetFindings:
                 kept.pop(topic, None)
 
 
-#: Wirings grouped under one key: the wiring itself while it is alone, else a list (in the order of the text
-#: once its findings are made).
-Group = m.Wiring | list[m.Wiring]
-
-
-def _regroup(groups: dict[str, Group], k: str, w: m.Wiring, by: int) -> None:
-    """Put ``w`` in the group ``k`` (``by`` > 0) or take it out; a group of one is the wiring itself (most are)."""
-    group = groups.get(k)
-    if by < 0:
-        if group is w:
-            del groups[k]
-        else:
-            assert isinstance(group, list)
-            group.remove(w)
-            if len(group) == 1:
-                groups[k] = group[0]
-    elif group is None:
-        groups[k] = w
-    elif isinstance(group, list):
-        group.append(w)
-    else:
-        groups[k] = [group, w]
+def _regroup(groups: dict[str, list[m.Wiring]], k: str, w: m.Wiring, by: int) -> None:
+    """Put ``w`` in the group ``k`` (``by`` > 0) or take it out."""
+    if by > 0:
+        groups.setdefault(k, []).append(w)
+        return
+    group = groups[k]
+    group.remove(w)
+    if not group:
+        del groups[k]
 
 
 def _channel(w: m.Wiring) -> str:

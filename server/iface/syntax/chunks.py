@@ -14,6 +14,7 @@ import re
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable
 from operator import attrgetter
+from typing import Any
 
 from ..model.source import ORIGIN, AnchoredSpan
 
@@ -43,13 +44,20 @@ class Chunk(AnchoredSpan):
 
     __slots__ = ("docs", "unterminated")
 
-    def __init__(self, start: int, end: int, docs: tuple[int | str, ...] = (), unterminated: bool = False) -> None:
+    def __init__(self, start: int, end: int, docs: tuple[tuple[int, str], ...] = (),
+                 unterminated: bool = False) -> None:
         super().__init__(start, start, ORIGIN)
         self._end = end - start
-        #: The doc comments, flat: (offset documented, text, offset, text …); a tuple is a quarter of a dict.
+        #: The doc comments: (offset documented, relative to the chunk; text) in order.
         self.docs = docs
         #: The chunk is a block comment that never closes: it runs to the end of the text and is not parsed.
         self.unterminated = unterminated
+
+    def __getstate__(self) -> tuple[Any, ...]:
+        return self.anchor, self._start, self._end, self.docs, self.unterminated
+
+    def __setstate__(self, state: tuple[Any, ...]) -> None:
+        self.anchor, self._start, self._end, self.docs, self.unterminated = state
 
     @property
     def end(self) -> int:
@@ -63,10 +71,9 @@ class Chunk(AnchoredSpan):
 
     def doc_map(self, shift: int = 0) -> dict[int, str]:
         """The doc comments by the offset they document, plus ``shift``."""
-        docs = self.docs
-        if not docs:
+        if not self.docs:
             return NO_DOCS
-        return {k + shift: v for k, v in zip(docs[::2], docs[1::2])}  # type: ignore[operator, misc]
+        return {offset + shift: text for offset, text in self.docs}
 
     def __repr__(self) -> str:
         return f"Chunk({self.start}, {self.end}, {self.docs!r}, {self.unterminated})"
@@ -225,10 +232,10 @@ def _split(text: str, begin: int, resumes: Callable[[int], bool] | None = None) 
     chunks: list[Chunk] = []
     di = 0
     for a, b in zip(cuts, cuts[1:]):
-        cd: tuple[int | str, ...] = ()
+        cd: tuple[tuple[int, str], ...] = ()
         while di < len(docs) and docs[di][0] < b:
             _, target, doc = docs[di]
-            cd += (target - a, doc)
+            cd += ((target - a, doc),)
             di += 1
         chunks.append(Chunk(a, b, cd, a == open_comment and stop < 0))
     if not chunks:

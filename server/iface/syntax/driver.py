@@ -14,6 +14,7 @@ spliced into their parent, instead of trees. Anything unexpected raises
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 from lark import Lark, Token, Tree
@@ -26,7 +27,7 @@ Reduce = Callable[[list[int], list[Any]], int]
 
 
 def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Reduce:
-    """The reduction of ``rule``: what lark's tree builder and ``transformer`` do, as one generated function.
+    """The reduction of ``rule``: what lark's tree builder and ``transformer`` do, as one function.
 
     The plan follows ``lark.parse_tree_builder``: a child is kept unless it is a filtered token (an
     anonymous string, ``_SEP``) of a rule without ``!``; a ``_rule`` child is spliced in (here it is a
@@ -43,65 +44,67 @@ def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Redu
     spliced = any(sp for _, sp in keep)
     expand1 = bool(options.expand1 and not rule.alias)
     fn = getattr(transformer, name, None) if transformer is not None else None
+    build: Callable[[list[Any]], Any] | None  # None: the list of kept children is the value
     if name.startswith("_"):
         # lark splices a helper rule's tree into its parent; here the helper's value is the list itself
         assert fn is None, f"a helper rule has a callback: {name}"
-        build = "k"
+        build = None
     elif fn is not None:
-        build = "fn(k)"
+        build = fn
     else:
-        build = "Tree(name, k)"
-    body: list[str] = []
-    whole = not spliced and len(keep) == size > 1 and not expand1
-    if whole:
-        body.append(f"k = values[-{size}:]")  # every child kept as it is: the popped slice is the list
-        body.append(f"del values[-{size - 1}:]")
-        body.append(f"del states[-{size - 1}:]")
-    elif size == 2:
-        body.append("c1 = values.pop()")
-        body.append("c0 = values[-1]")
-        body.append("states.pop()")
-    elif size > 1:
-        body.append(f"{', '.join(f'c{i}' for i in range(size))}, = values[-{size}:]")
-        body.append(f"del values[-{size - 1}:]")
-        body.append(f"del states[-{size - 1}:]")
-    elif size == 1:
-        body.append("c0 = values[-1]")
-    if expand1 and len(keep) == 1 and not spliced:
-        value = f"c{keep[0][0]}"  # a ``?rule`` of one child: the child itself
-    else:
-        if whole:
-            pass
-        elif not spliced:
-            body.append(f"k = [{', '.join(f'c{i}' for i, _ in keep)}]")
-        else:
-            first = True
-            for i, sp in keep:
-                if first:
-                    # like lark: the first spliced list is taken over, not copied (left recursion stays linear)
-                    body.append(f"k = c{i}" if sp else f"k = [c{i}]")
-                    first = False
-                else:
-                    body.append(f"k += c{i}" if sp else f"k.append(c{i})")
-        value = f"(k[0] if len(k) == 1 else {build})" if expand1 and spliced else build
-    if size == 1 and value == "c0":
-        body = []  # the child is the value: only the state changes
+        build = partial(Tree, name)
+    if size == 1 and expand1 and len(keep) == 1 and not spliced:
+        return partial(_pass_through, goto)  # a ``?rule`` of one child: the child itself
+    if not spliced and len(keep) == size > 1 and not expand1:
+        return partial(_reduce_all, goto, size, build)  # every child kept as it is
+    return partial(_reduce, goto, size, tuple(keep), spliced, expand1, build)
+
+
+def _pass_through(goto: dict[int, int], states: list[int], values: list[Any]) -> int:
+    """A rule whose value is its one child: only the state changes."""
+    s = states[-1] = goto[states[-2]]
+    return s
+
+
+def _reduce_all(goto: dict[int, int], size: int, build: Callable[[list[Any]], Any] | None,
+                states: list[int], values: list[Any]) -> int:
+    """A rule that keeps each of its ``size`` children as it is: the popped slice is the list."""
+    k = values[-size:]
+    del values[1 - size:]
+    del states[1 - size:]
+    values[-1] = k if build is None else build(k)
+    s = states[-1] = goto[states[-2]]
+    return s
+
+
+def _reduce(goto: dict[int, int], size: int, keep: tuple[tuple[int, bool], ...], spliced: bool, expand1: bool,
+            build: Callable[[list[Any]], Any] | None, states: list[int], values: list[Any]) -> int:
+    """Any other rule: the kept children, the lists of ``_rule`` children spliced in."""
     if size:
-        if body:
-            body.append(f"values[-1] = {value}")
-        body.append("s = goto[states[-2]]")
-        body.append("states[-1] = s")
+        children = values[-size:]
+        del values[-size:]
+        del states[-size:]
     else:
-        body.append(f"values.append({value})")
-        body.append("s = goto[states[-1]]")
-        body.append("states.append(s)")
-    body.append("return s")
-    source = "def reduce(states, values):\n" + "".join(f"    {line}\n" for line in body)
-    namespace: dict[str, Any] = {"fn": fn, "goto": goto, "Tree": Tree, "name": name}
-    exec(compile(source, f"<reduce {rule}>", "exec"), namespace)
-    reduce: Reduce = namespace["reduce"]
-    reduce.__doc__ = source
-    return reduce
+        children = []
+    if not spliced:
+        k = [children[i] for i, _ in keep]
+    else:
+        k = []
+        for j, (i, splice) in enumerate(keep):
+            if not splice:
+                k.append(children[i])
+            elif j == 0:
+                k = children[i]  # like lark: the first spliced list is taken over, not copied
+            else:
+                k += children[i]
+    if expand1 and len(k) == 1:
+        value = k[0]
+    else:
+        value = k if build is None else build(k)
+    values.append(value)
+    s = goto[states[-1]]
+    states.append(s)
+    return s
 
 
 #: Characters read by one ``findall`` (then on to the end of the line).

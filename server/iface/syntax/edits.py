@@ -10,7 +10,7 @@ were merged) goes to ``parse_text``, which looks at every chunk.
 Moving the chunks after an edit costs one addition per block of chunks, not one
 per chunk: each chunk's bounds are kept relative to the base of its block, about
 sqrt(n) consecutive chunks (``EditCache.blocks``), and its result's spans
-relative to the chunk (``ChunkResult.place``).
+relative to the chunk (``ChunkResult.move_with``).
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ class EditCache(ChunkCache):
         self.known: tuple[str, int, int] | None = None
 
     def block_up(self) -> None:
-        """Put the chunks, one result per chunk (pinned to it), in blocks of about sqrt(n)."""
+        """Put the chunks, one result per chunk (moving with it), in blocks of about sqrt(n)."""
         self.blocks = []
         chunks = self.split[1] if self.split is not None else []
         if len(chunks) != len(self.results):
@@ -57,9 +57,9 @@ class EditCache(ChunkCache):
             base = Span(chunks[a].start, 0)
             self.blocks.append(base)
             for ch in chunks[a:a + size]:
-                ch.rebase(base)
+                ch.keep_relative_to(base)
 
-    def place(self, chunks: list[Chunk], i: int, delta: int, middle: list[Chunk]) -> None:
+    def move_chunks(self, chunks: list[Chunk], i: int, delta: int, middle: list[Chunk]) -> None:
         """Move ``chunks[i:]`` (and so their results) by ``delta``, and put ``middle`` (at their offsets in
         the new text) in a block before them."""
         blocks = self.blocks
@@ -71,7 +71,7 @@ class EditCache(ChunkCache):
                 base = Span(chunks[i].start, 0)
                 t = i
                 while t < len(chunks) and chunks[t].anchor is block:
-                    chunks[t].rebase(base)
+                    chunks[t].keep_relative_to(base)
                     t += 1
                 at += 1
                 blocks.insert(at, base)
@@ -81,7 +81,7 @@ class EditCache(ChunkCache):
         if middle:
             base = Span(middle[0].start, 0)
             for ch in middle:
-                ch.rebase(base)
+                ch.keep_relative_to(base)
             blocks.insert(at, base)
 
 
@@ -116,10 +116,10 @@ def _reuse(text: str, cache: EditCache, known: tuple[str, int, int] | None = Non
         r = parser.parse(text[ch.start:ch.end], ch.doc_map())
         if r.open_at_end:
             return None
-        r.place(ch)
+        r.move_with(ch)
         middle.append(r)
     cut = old_chunks[k].start if k < len(old_chunks) else len(text)
-    cache.place(old_chunks, i, len(text) - len(old_text), fresh)
+    cache.move_chunks(old_chunks, i, len(text) - len(old_text), fresh)
     # the items before the change start before it (the others are further on, moved or gone): a binary search
     before = bisect_left(prev.items, cut, key=_START)
     behind = len(prev.items) - before - sum(len(r.items) for r in old[k:i])

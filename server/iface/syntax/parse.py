@@ -20,12 +20,11 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 from lark.parsers.lalr_analysis import Shift
 
 from ..model import nodes as m
-from ..model.source import AnchoredSpan, Span, SpanTable
+from ..model.source import ORIGIN, AnchoredSpan, Span
 from .chunks import Chunk, split
 from .grammar import build_parser, terminal_descriptions
 from .driver import Driver
 from .lexer import FastScanner, ScanError
-from .oldgen import file_as_old
 from .transform import ModelBuilder
 
 _CLOSERS = ("RBRACE", "RPAR", "RSQB", "MORETHAN")
@@ -45,43 +44,30 @@ class Problem:
     data: dict[str, Any] = field(default_factory=dict)
 
 
-class ChunkResult(SpanTable):
-    """What one chunk of text parsed to, and the table its model's spans are kept in (one object: a result
-    is made for every definition of a file).
+@dataclass(slots=True, eq=False)
+class ChunkResult:
+    """What one chunk of text parsed to: its model items and syntax problems.
 
-    It is pinned to the start of the ``Chunk`` it was parsed from (``place``): moving the chunk moves every
-    span of the result. The chunk's text is not kept: it is the ``length`` characters at ``base`` of the text
-    it is placed in.
+    Every span of the result is relative to ``anchor``, which is moved with the ``Chunk`` it was parsed from
+    (``move_with``): moving the chunk moves every span of the result. The chunk's text is not kept: it is the
+    ``length`` characters at ``base`` of the text it is placed in.
     """
 
-    __slots__ = ("_items", "problems", "length", "open_at_end")
-
-    def __init__(self, items: Sequence[Any] = (), problems: Sequence[Problem] = (), length: int = 0,
-                 open_at_end: bool = False) -> None:  # noqa: D107
-        super().__init__()
-        self.items = items
-        self.problems = problems
-        self.length = length
-        self.open_at_end = open_at_end
+    length: int
+    items: tuple[Any, ...] = ()
+    problems: tuple[Problem, ...] = ()
+    #: The chunk ends inside an open body (the parser closed it): what follows may belong to it.
+    open_at_end: bool = False
+    anchor: AnchoredSpan = field(default_factory=lambda: AnchoredSpan(0, 0, ORIGIN))
 
     @property
     def base(self) -> int:
         """Where the chunk starts in the text."""
-        return self.start
+        return self.anchor.start
 
-    @property
-    def items(self) -> Sequence[Any]:
-        """The model items the chunk parsed to, in order (mostly one, kept without a sequence around it)."""
-        items = self._items
-        return items if isinstance(items, (list, tuple)) else (items,)
-
-    @items.setter
-    def items(self, items: Sequence[Any]) -> None:
-        self._items = items[0] if len(items) == 1 and not isinstance(items[0], (list, tuple)) else items
-
-    def place(self, chunk: Span) -> None:
+    def move_with(self, chunk: Span) -> None:
         """Put every span of the result where ``chunk`` starts, and move them with ``chunk`` from now on."""
-        self.pin(chunk)
+        self.anchor.move_to_start_of(chunk)
 
 
 @dataclass(slots=True, eq=False)
@@ -107,22 +93,22 @@ class _ChunkParser:
         self.lock = threading.Lock()
         self.driver: Driver | None = None
 
-    def parse_clean(self, text: str, docs: dict[int, str]) -> ChunkResult | None:
-        """What a text that has no problem at all parses to, read by the fast scanner; else None."""
+    def parse_clean(self, text: str, docs: dict[int, str], anchors: tuple[Span, ...] = ()) -> ChunkResult | None:
+        """What a text that has no problem at all parses to, read by the fast scanner; else None. Its spans
+        are relative to ``anchors`` (where its chunks start: they are never moved), else to the result."""
         with self.lock:
             if self.driver is None:
                 self.driver = Driver(self.parser, self.builder, FastScanner(self.parser))
             b = self.builder
-            result = ChunkResult(length=len(text))
-            b.reset(docs, result)
+            result = ChunkResult(len(text))
+            b.reset(docs, list(anchors) or [result.anchor])
             try:
                 items = self.driver.parse(text)
             except (ScanError, UnexpectedInput, RecursionError):
                 return None
             if b.problems or not isinstance(items, list):
                 return None
-            result.seal(len(text))
-            result.items = items
+            result.items = tuple(items)
             return result
 
     def parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
@@ -132,8 +118,8 @@ class _ChunkParser:
 
     def _parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
         b = self.builder
-        result = ChunkResult(length=len(text))
-        b.reset(docs, result)
+        result = ChunkResult(len(text))
+        b.reset(docs, [result.anchor])
         problems: list[Problem] = []
         open_at_end = False
         errors = 0
@@ -142,7 +128,7 @@ class _ChunkParser:
             nonlocal errors
             # one report per chunk: what follows inside it is usually an echo of the first
             if not problems:
-                problems.append(Problem("syntax-error", message, b.anchored(start, max(end, start)), data or {}))
+                problems.append(Problem("syntax-error", message, b.span(start, max(end, start)), data or {}))
             errors += 1
 
         def on_error(e: UnexpectedInput) -> bool:
@@ -177,16 +163,15 @@ class _ChunkParser:
             parsed = []
             if not problems:
                 pos = getattr(e, "pos_in_stream", None) or len(text)
-                problems.append(Problem("syntax-error", "cannot parse this definition", b.anchored(pos, pos)))
+                problems.append(Problem("syntax-error", "cannot parse this definition", b.span(pos, pos)))
         except RecursionError:
             parsed = []
-            problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.anchored(0, 0)))
+            problems.append(Problem("nesting-too-deep", "the text is nested too deeply to read", b.span(0, 0)))
         for code, message, span in b.problems:
             problems.append(Problem(code, message, span))
-        result.items = parsed if isinstance(parsed, list) else ()
-        result.problems = problems or ()
+        result.items = tuple(parsed) if isinstance(parsed, list) else ()
+        result.problems = tuple(problems)
         result.open_at_end = open_at_end
-        result.seal(len(text))
         return result
 
 
@@ -394,11 +379,9 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         docs: dict[int, str] = {}
         for ch in chunks:
             docs.update(ch.doc_map(ch.start))
-        clean = parser.parse_clean(text, docs)
+        clean = parser.parse_clean(text, docs, tuple(Span(ch.start, ch.start) for ch in chunks))
         if clean is not None:
-            file_as_old()  # the model outlives the young collections that would traverse it
-            found = clean.items
-            return ParseResult(found if isinstance(found, list) else list(found), [], [clean])
+            return ParseResult(list(clean.items), [], [clean])
     results: list[ChunkResult] = []
     i = 0
     n = len(chunks)
@@ -408,9 +391,9 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
         same = pool.get(ctext)
         r = same.pop() if same else None
         if r is None and ch.unterminated:
-            r = ChunkResult(length=len(ctext))
-            r.problems = [Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', so the rest of "
-                                  "the file is comment", AnchoredSpan(0, 2, r))]
+            r = ChunkResult(len(ctext))
+            r.problems = (Problem("syntax-error", "unterminated comment: '/*' has no closing '*/', so the rest of "
+                                  "the file is comment", AnchoredSpan.relative(0, 2, r.anchor)),)
         if r is None:
             r = parser.parse(ctext, ch.doc_map())
         # a chunk left open is joined with what follows it now, whether it was parsed now or in an
@@ -419,7 +402,7 @@ def parse_text(text: str, cache: ChunkCache | None = None) -> ParseResult:
             merged = _merge(parser, text, chunks, i)
             if merged is not None:
                 r, i = merged
-        r.place(ch)
+        r.move_with(ch)
         results.append(r)
         i += 1
     if cache is not None:

@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Callable, Sequence
+from bisect import bisect_right
+from collections.abc import Sequence
 from typing import Any
 
 from lark import Token
 
 from ..model import nodes as m
-from ..model.source import AnchoredSpan, Span, SpanTable
+from ..model.source import ORIGIN, AnchoredSpan, Span
 
 #: Containers nested deeper than this are refused (and not modelled).
 MAX_TYPE_DEPTH = 64
@@ -128,36 +129,40 @@ class ModelBuilder:
         self.docs: dict[int, str] = {}
         self.problems: list[tuple[str, str, Span]] = []
         self._depth: dict[int, int] = {}
-        self.reset({}, SpanTable())
+        self.reset({}, [AnchoredSpan(0, 0, ORIGIN)])
 
-    def reset(self, docs: dict[int, str], table: SpanTable) -> None:
-        """Start a new chunk whose doc comments are ``docs`` (by the offset they document).
+    def reset(self, docs: dict[int, str], anchors: list[Span]) -> None:
+        """Start a new text whose doc comments are ``docs`` (by the offset they document).
 
-        Every node's spans go to ``table``, new and empty, relative to where the chunk starts.
+        Every span made is relative to the last of ``anchors`` (in text order, the first at 0) that starts at
+        or before it: a chunk's result, or each chunk of a whole text. Offsets from a near anchor are small
+        numbers, most of them ints Python shares, where offsets into a long text are an object each.
         """
-        self.table = table
-        self._offsets: list[int] = table.offsets
-        #: ``span(start, end)``: record a node's span [start, end) in the table; its index, which the node keeps
-        self.span: Callable[[int, int], Any] = table.add
+        self.anchors = anchors
+        self.anchor_starts = [a.start for a in anchors]
         self.docs = docs
         self.problems = []
         self._depth = {}
 
-    def tok_span(self, tok: Token) -> Any:
-        """Record the span of one token of a node; its index."""
+    def span(self, start: int, end: int) -> AnchoredSpan:
+        """The span [start, end) of the text, relative to its anchor (so that it moves with it)."""
+        i = bisect_right(self.anchor_starts, start) - 1
+        base = self.anchor_starts[i]
+        return AnchoredSpan.relative(start - base, end - base, self.anchors[i])
+
+    def tok_span(self, tok: Token) -> AnchoredSpan:
+        """The span of one token."""
         return self.span(tok.start_pos, tok.end_pos)
 
-    def _start(self, x: Any) -> int:
-        """Where a token or a node made for this chunk starts (read from the table: no span is made)."""
-        return x.start_pos if type(x) is Token else self._offsets[2 * x._k]
+    @staticmethod
+    def _start(x: Any) -> int:
+        """Where a token or a node made for this chunk starts."""
+        return x.start_pos if type(x) is Token else x.span.start
 
-    def _end(self, x: Any) -> int:
+    @staticmethod
+    def _end(x: Any) -> int:
         """Where a token or a node made for this chunk ends."""
-        return x.end_pos if type(x) is Token else self._offsets[2 * x._k + 1]
-
-    def anchored(self, start: int, end: int) -> AnchoredSpan:
-        """A span object of its own (a problem's, a field id's), relative to the chunk likewise."""
-        return AnchoredSpan(start, end, self.table)
+        return x.end_pos if type(x) is Token else x.span.end
 
     # ---- document ----------------------------------------------------------
     def start(self, children: list[Any]) -> list[Any]:
@@ -166,7 +171,7 @@ class ModelBuilder:
     # ---- headers ---------------------------------------------------------------
     def include(self, c: list[Any]) -> m.Include:
         lit = c[1]
-        return m.Include(self._decode(lit), self.span(c[0].start_pos, lit.end_pos), self.tok_span(lit), _t=self.table)
+        return m.Include(self._decode(lit), self.span(c[0].start_pos, lit.end_pos), self.tok_span(lit))
 
     def cpp_include(self, c: list[Any]) -> m.Include:
         inc = self.include(c)
@@ -178,7 +183,7 @@ class ModelBuilder:
         ann = c[3] if len(c) > 3 else ()
         value = self._decode(name) if name.type == "LITERAL" else _text(name)
         end = self._end(ann[-1]) if ann else name.end_pos
-        return m.Namespace(_text(scope), value, self.span(c[0].start_pos, end), ann, _t=self.table)
+        return m.Namespace(_text(scope), value, self.span(c[0].start_pos, end), ann)
 
     def component(self, c: list[Any]) -> m.ComponentDecl:
         name = c[1]
@@ -193,25 +198,25 @@ class ModelBuilder:
                 ann = x
                 end = self._ann_end
         return m.ComponentDecl(_text(name), self.span(c[0].start_pos, end), self.tok_span(name),
-                               version, ann, self.docs.get(c[0].start_pos), _t=self.table)
+                               version, ann, self.docs.get(c[0].start_pos))
 
     def external(self, c: list[Any]) -> m.External:
-        return m.External(_text(c[1]), self.span(c[0].start_pos, c[1].end_pos), _t=self.table)
+        return m.External(_text(c[1]), self.span(c[0].start_pos, c[1].end_pos))
 
     def wiring(self, c: list[Any]) -> m.Wiring:
         d, name, topic = c[0], c[1], c[2]
         ann = c[3] if len(c) > 3 else ()
         end = self._ann_end if ann else topic.end_pos
-        return m.Wiring(_text(d), m.NamedType(_text(name), self.tok_span(name), _t=self.table), self._decode(topic),
+        return m.Wiring(_text(d), m.NamedType(_text(name), self.tok_span(name)), self._decode(topic),
                         self.span(d.start_pos, end), self.tok_span(topic), ann,
-                        self.docs.get(d.start_pos), _t=self.table)
+                        self.docs.get(d.start_pos))
 
     # ---- definitions -------------------------------------------------------------
     def const(self, c: list[Any]) -> m.Const:
         kw, ftype, name = c[0], self._type(c[1]), c[2]
         value = c[4]
         return m.Const(_text(name), ftype, value, self.span(kw.start_pos, self._end(value)),
-                       self.tok_span(name), (), self.docs.get(kw.start_pos), _t=self.table)
+                       self.tok_span(name), (), self.docs.get(kw.start_pos))
 
     member_const = const
 
@@ -220,7 +225,7 @@ class ModelBuilder:
         ann = c[3] if len(c) > 3 and isinstance(c[3], list) else ()
         end = self._ann_end if ann else name.end_pos
         return m.Typedef(_text(name), ftype, self.span(kw.start_pos, end), self.tok_span(name), ann,
-                         self.docs.get(kw.start_pos), _t=self.table)
+                         self.docs.get(kw.start_pos))
 
     def enum_value(self, c: list[Any]) -> m.EnumValue:
         name = c[0]
@@ -235,7 +240,7 @@ class ModelBuilder:
                 ann = x
                 end = self._ann_end
         ev = m.EnumValue(_text(name), value if value is not None else 0, self.span(name.start_pos, end),
-                         self.tok_span(name), value is not None, ann, self.docs.get(name.start_pos), _t=self.table)
+                         self.tok_span(name), value is not None, ann, self.docs.get(name.start_pos))
         return ev
 
     def enum(self, c: list[Any]) -> m.Enum:
@@ -248,15 +253,15 @@ class ModelBuilder:
             nxt = v.value + 1
         ann, end = self._body_tail(c)
         return m.Enum(_text(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
-                      self.docs.get(kw.start_pos), _t=self.table)
+                      self.docs.get(kw.start_pos))
 
     def senum(self, c: list[Any]) -> m.Senum:
         kw, name = c[0], c[1]
-        values = [m.Value("string", sys.intern(self._decode(t)), self.tok_span(t), _text(t), _t=self.table)
+        values = [m.Value("string", sys.intern(self._decode(t)), self.tok_span(t), _text(t))
                   for t in c[3:] if isinstance(t, Token) and t.type == "LITERAL"]
         ann, end = self._body_tail(c)
         return m.Senum(_text(name), self.span(kw.start_pos, end), self.tok_span(name), values, ann,
-                       self.docs.get(kw.start_pos), _t=self.table)
+                       self.docs.get(kw.start_pos))
 
     def struct(self, c: list[Any]) -> m.Struct:
         kw, name = c[0], c[1]
@@ -264,7 +269,7 @@ class ModelBuilder:
         consts = [x for x in c if isinstance(x, m.Const)]
         ann, end = self._body_tail(c)
         return m.Struct(_text(kw), _text(name), self.span(kw.start_pos, end), self.tok_span(name),
-                        fields, consts, ann, self.docs.get(kw.start_pos), _t=self.table)
+                        fields, consts, ann, self.docs.get(kw.start_pos))
 
     def section(self, c: list[Any]) -> m.Section:
         name = c[0]
@@ -272,14 +277,14 @@ class ModelBuilder:
         consts = [x for x in c if isinstance(x, m.Const)]
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "RBRACE")
         return m.Section(_text(name), self.span(name.start_pos, end), self.tok_span(name), fields, consts,
-                         False, self.docs.get(name.start_pos), _t=self.table)
+                         False, self.docs.get(name.start_pos))
 
     def service(self, c: list[Any]) -> m.Service:
         kw, name = c[0], c[1]
         at = self.span(0, 0)
-        svc = m.Service(_text(name), at, self.tok_span(name), doc=self.docs.get(kw.start_pos), _t=self.table)
+        svc = m.Service(_text(name), at, self.tok_span(name), doc=self.docs.get(kw.start_pos))
         if len(c) > 3 and isinstance(c[2], Token) and c[2].type == "EXTENDS":
-            svc.extends = m.NamedType(_text(c[3]), self.tok_span(c[3]), _t=self.table)
+            svc.extends = m.NamedType(_text(c[3]), self.tok_span(c[3]))
         for x in c:
             if isinstance(x, m.Function):
                 svc.functions.append(x)
@@ -290,13 +295,13 @@ class ModelBuilder:
             elif isinstance(x, m.Const):
                 svc.consts.append(x)
         svc.annotations, end = self._body_tail(c)
-        self.table.put(at, kw.start_pos, end)
+        at.start, at.end = kw.start_pos, end
         return svc
 
     def action(self, c: list[Any]) -> m.Action:
         kw, name = c[0], c[1]
         at = self.span(0, 0)
-        act = m.Action(_text(name), at, self.tok_span(name), doc=self.docs.get(kw.start_pos), _t=self.table)
+        act = m.Action(_text(name), at, self.tok_span(name), doc=self.docs.get(kw.start_pos))
         for x in c:
             if isinstance(x, m.Field):
                 act.flat_fields.append(x)
@@ -305,7 +310,7 @@ class ModelBuilder:
             elif isinstance(x, m.Const):
                 act.consts.append(x)
         act.annotations, end = self._body_tail(c)
-        self.table.put(at, kw.start_pos, end)
+        at.start, at.end = kw.start_pos, end
         return act
 
     def throws(self, c: list[Any]) -> _Tagged:
@@ -337,7 +342,7 @@ class ModelBuilder:
                 end = self._ann_end
         start = self._start(first)
         return m.Function(_text(name), returns, self.span(start, end), self.tok_span(name), params,
-                          throws, oneway, ann, self.docs.get(start), _t=self.table)
+                          throws, oneway, ann, self.docs.get(start))
 
     # ---- fields --------------------------------------------------------------------
     def field(self, c: list[Any]) -> m.Field:
@@ -347,7 +352,7 @@ class ModelBuilder:
         fid = fid_span = None
         if type(first) is Token and first.type == "INT":
             fid = self._int(first)
-            fid_span = self.anchored(first.start_pos, first.end_pos)
+            fid_span = self.span(first.start_pos, first.end_pos)
             i = 1
         start = self._start(first)
         req = None
@@ -373,7 +378,7 @@ class ModelBuilder:
                 default = x
                 end = self._end(x)
         return m.Field(_text(name), ftype, self.span(start, end), self.tok_span(name), fid, fid_span,
-                       req, default, ann, self.docs.get(start), reference, _t=self.table)
+                       req, default, ann, self.docs.get(start), reference)
 
     flat_field = field
 
@@ -383,13 +388,13 @@ class ModelBuilder:
         if type(x) is not Token:
             return x
         if x.type == "BASE_TYPE":
-            return m.BaseType(m.BASE_ALIASES[str(x)], self.tok_span(x), _text(x), _t=self.table)
-        return m.NamedType(_text(x), self.tok_span(x), _t=self.table)
+            return m.BaseType(m.BASE_ALIASES[str(x)], self.tok_span(x), _text(x))
+        return m.NamedType(_text(x), self.tok_span(x))
 
     def bounded_string(self, c: list[Any]) -> m.BaseType:
         kw, bound = c[0], c[1]
         t = m.BaseType(m.BASE_ALIASES[str(kw)], self.span(kw.start_pos, bound.end_pos), _text(kw),
-                       self._int(bound), _t=self.table)
+                       self._int(bound))
         if t.name not in m.STRING_TYPES:
             self.problems.append(("bounds-misuse", f"only string and wstring take a bound, not {kw}", t.span))
         return t
@@ -421,19 +426,19 @@ class ModelBuilder:
     def map_type(self, c: list[Any]) -> Any:
         types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
-        t = m.MapType(types[0], types[1], self.span(c[0].start_pos, end), _t=self.table)
+        t = m.MapType(types[0], types[1], self.span(c[0].start_pos, end))
         return self._container(t, types[0], types[1])
 
     def set_type(self, c: list[Any]) -> Any:
         types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
-        t = m.SetType(types[0], self.span(c[0].start_pos, end), _t=self.table)
+        t = m.SetType(types[0], self.span(c[0].start_pos, end))
         return self._container(t, types[0])
 
     def list_type(self, c: list[Any]) -> Any:
         types = self._element_types(c)
         end = next(x.end_pos for x in reversed(c) if isinstance(x, Token) and x.type == "MORETHAN")
-        t = m.ArrayType(types[0], self.span(c[0].start_pos, end), "unbounded", None, True, _t=self.table)
+        t = m.ArrayType(types[0], self.span(c[0].start_pos, end), "unbounded", None, True)
         return self._container(t, types[0])
 
     def unbounded_array(self, c: list[Any]) -> _Tagged:
@@ -454,36 +459,36 @@ class ModelBuilder:
                 t.annotations = x
             else:
                 kind, size, end = x
-                arr = m.ArrayType(t, self.span(self._start(t), end), kind, size, _t=self.table)
+                arr = m.ArrayType(t, self.span(self._start(t), end), kind, size)
                 t = self._container(arr, t)
         return t
 
     # ---- values --------------------------------------------------------------------
     def int_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("int", self._int(tok), self.tok_span(tok), _text(tok), _t=self.table)
+        return m.Value("int", self._int(tok), self.tok_span(tok), _text(tok))
 
     def double_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("double", self._double(tok), self.tok_span(tok), _text(tok), _t=self.table)
+        return m.Value("double", self._double(tok), self.tok_span(tok), _text(tok))
 
     def string_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
         # annotation values repeat (units, ranges, qos settings): one string for each distinct value and spelling
-        return m.Value("string", sys.intern(self._decode(tok)), self.tok_span(tok), _text(tok), _t=self.table)
+        return m.Value("string", sys.intern(self._decode(tok)), self.tok_span(tok), _text(tok))
 
     def name_value(self, c: list[Any]) -> m.Value:
         tok = c[0]
-        return m.Value("name", _text(tok), self.tok_span(tok), _text(tok), _t=self.table)
+        return m.Value("name", _text(tok), self.tok_span(tok), _text(tok))
 
     def list_value(self, c: list[Any]) -> m.Value:
         items = [x for x in c if isinstance(x, m.Value)]
-        return self._nested(m.Value("list", items, self.span(c[0].start_pos, c[-1].end_pos), _t=self.table), items)
+        return self._nested(m.Value("list", items, self.span(c[0].start_pos, c[-1].end_pos)), items)
 
     def map_value(self, c: list[Any]) -> m.Value:
         items = [x for x in c if isinstance(x, m.Value)]
         pairs = list(zip(items[0::2], items[1::2]))
-        return self._nested(m.Value("map", pairs, self.span(c[0].start_pos, c[-1].end_pos), _t=self.table), items)
+        return self._nested(m.Value("map", pairs, self.span(c[0].start_pos, c[-1].end_pos)), items)
 
     def _nested(self, v: m.Value, items: list[m.Value]) -> m.Value:
         """A list or map value; nested deeper than types may be, it is refused and kept empty."""
@@ -503,7 +508,7 @@ class ModelBuilder:
         key = c[0]
         value = c[1] if len(c) > 1 else None
         end = self._end(value) if value is not None else key.end_pos
-        return m.Annotation(_text(key), value, self.span(key.start_pos, end), _t=self.table)
+        return m.Annotation(_text(key), value, self.span(key.start_pos, end))
 
     def annotations(self, c: list[Any]) -> list[m.Annotation]:
         # the end of the last annotation list seen, read by the enclosing rule
@@ -517,7 +522,7 @@ class ModelBuilder:
         value = decode_literal(str(tok), found)
         for offset, length, message in found:
             start = (tok.start_pos or 0) + offset
-            self.problems.append(("invalid-escape", message, self.anchored(start, start + length)))
+            self.problems.append(("invalid-escape", message, self.span(start, start + length)))
         return value
 
     def _int(self, tok: Token) -> int:
@@ -527,7 +532,7 @@ class ModelBuilder:
             return value
         lo, hi = m.INT_LITERAL
         self.problems.append(("number-out-of-range", f"the integer {shorten(str(tok))} is beyond every integer type "
-                              f"(the widest, i64 and u64, span {lo}..{hi})", self.anchored(tok.start_pos, tok.end_pos)))
+                              f"(the widest, i64 and u64, span {lo}..{hi})", self.span(tok.start_pos, tok.end_pos)))
         return lo - 1 if str(tok).startswith("-") else hi + 1
 
     def _double(self, tok: Token) -> float:
@@ -536,7 +541,7 @@ class ModelBuilder:
         if value is not None:
             return value
         self.problems.append(("number-out-of-range", f"the number {shorten(str(tok))} is beyond float64 "
-                              f"(at most ±{m.FLOAT64_MAX:.6g}): it would be infinity", self.anchored(tok.start_pos, tok.end_pos)))
+                              f"(at most ±{m.FLOAT64_MAX:.6g}): it would be infinity", self.span(tok.start_pos, tok.end_pos)))
         return -m.FLOAT64_MAX if str(tok).startswith("-") else m.FLOAT64_MAX
 
     # ---- helpers ---------------------------------------------------------------------

@@ -100,8 +100,7 @@ def _topics(project: object, snap: object) -> list[tuple[str, str, str]]:
     if index is not None:
         for t in index.topics():
             found.setdefault(t)
-    flat = getattr(snap, "topics", ())  # topic, type name, topic, type name, ...
-    for topic, type_name in zip(flat[::2], flat[1::2]):
+    for topic, type_name in getattr(snap, "topics", ()):
         found.setdefault((topic, type_name, ""))
     return list(found)
 

@@ -11,7 +11,7 @@ from ...emit.ros2.package import RosPackage
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef, schema_type
 from ..qosmap import node_qos
-from ..view import NodeView, type_aliases
+from ..template_data import NodeView, type_aliases
 
 #: Names the runtime defines in the base class's scope: a type alias must not take them.
 _TAKEN = frozenset({"ComponentNode", "Json", "Type", "ParamSpec", "Gate", "StateError", "Info"})

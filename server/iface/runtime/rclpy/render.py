@@ -10,7 +10,7 @@ from typing import Any
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, Member, ParamSpec, RosRef
 from ..qosmap import node_qos
-from ..view import NodeView, type_aliases
+from ..template_data import NodeView, type_aliases
 
 #: Names the generated modules define, import or use themselves (the builtins their code raises or imports).
 _TAKEN = frozenset({"Any", "ComponentNode", "HandlerSpec", "ParamSpec", "DEFAULT_TIMEOUT_SEC", "annotations",
