@@ -1,0 +1,50 @@
+"""``iface_runtime_cpp``: the C++ node machinery as one ament_cmake package that every rclcpp component links.
+
+It holds what each component package held before (``iface_runtime.hpp``/``.cpp``): the state document,
+parameter checks, work transactions, the lifecycle, Δ, and the protocol services of ``iface_msgs``
+(``~/save_state``, ``~/restore_state``, ``~/control``, ``~/describe``). It exports the library target
+``iface_runtime_cpp::iface_runtime_cpp``; a component package keeps only its base class, its entry point,
+its launch and parameter files and the user's ``node.cpp``.
+
+One copy of the library per process: two components in one container share it (no symbol is defined
+twice), and their protocol services have the same types.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ...emit.base import GeneratedFile, TemplateSet, header_lines
+from .. import protocol
+from .render import cpp_str
+
+PACKAGE = "iface_runtime_cpp"
+TEMPLATES = Path(__file__).parent / "templates" / "shared"
+#: What the library uses in its public headers (exported to the components) and privately.
+PUBLIC_DEPENDS = ("diagnostic_msgs", "iface_msgs", "rcl_interfaces", "rclcpp", "rclcpp_action", "rclcpp_lifecycle")
+PRIVATE_DEPENDS = ("ament_index_cpp", "lifecycle_msgs")
+#: The CMake targets of the public dependencies.
+_TARGETS = {"rclcpp": "rclcpp::rclcpp", "rclcpp_action": "rclcpp_action::rclcpp_action",
+            "rclcpp_lifecycle": "rclcpp_lifecycle::rclcpp_lifecycle"}
+
+
+def package_files(runtime_version: str, protocol_version: str) -> list[GeneratedFile]:
+    """The files of ``iface_runtime_cpp/`` (paths relative to the output folder)."""
+    templates = TemplateSet(TEMPLATES, "rclcpp_runtime", filters={"cpp": cpp_str})
+    source = f"iface {PACKAGE} {runtime_version}"
+    depends = sorted(PUBLIC_DEPENDS + PRIVATE_DEPENDS)
+    ctx = {"runtime_version": runtime_version, "protocol_version": protocol_version,
+           "state_format": protocol.STATE_FORMAT, "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
+           "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC),
+           "commands": [protocol.STATUS, protocol.PAUSE, protocol.RESUME, protocol.SAVE],
+           "depends": depends, "exported": list(PUBLIC_DEPENDS),
+           "public_depends": [_TARGETS.get(d, f"${{{d}_TARGETS}}") for d in PUBLIC_DEPENDS]}
+    files = [("package.xml", "package.xml.j2", header_lines("<!--", source, end=" -->")),
+             ("CMakeLists.txt", "CMakeLists.txt.j2", header_lines("#", source)),
+             ("include/iface_runtime_cpp/iface_runtime.hpp", "iface_runtime.hpp.j2", header_lines("//", source)),
+             ("src/iface_runtime.cpp", "iface_runtime.cpp.j2", header_lines("//", source))]
+    return [GeneratedFile(f"{PACKAGE}/{path}", templates.render(name, header=header.rstrip("\n"), **ctx))
+            for path, name, header in files]
+
+
+__all__ = ["PACKAGE", "package_files"]
