@@ -120,11 +120,11 @@ def main() -> int:
                 probe.wait_ready(node, 30)
                 answer = probe.call(Describe, f"/{node}/describe", Describe.Request(), idempotent=True)
                 described[node] = (answer.component, answer.version, answer.runtime)
-                check(json.loads(answer.interface)["component"]["name"] == answer.component,
+                check(json.loads(answer.interface_json)["component"]["name"] == answer.component,
                       f"{node}: the interface of ~/describe is not {answer.component}'s")
-            check(described == {"counter_one": ("counter", "1.0.0", "iface_runtime_cpp"),
-                                "counter_two": ("counter", "2.0.0", "iface_runtime_cpp"),
-                                "em": ("every_member", "2.1.0", "iface_runtime_cpp")}, str(described))
+            check(described == {"counter_one": ("counter", "1.0.0", "rclcpp"),
+                                "counter_two": ("counter", "2.0.0", "rclcpp"),
+                                "em": ("every_member", "2.1.0", "rclcpp")}, str(described))
             check(container.proc.poll() is None, "the container has exited")
             return f"{'; '.join(out)}; ~/describe: {described}"
 

@@ -20,7 +20,6 @@ May import: what ``runtime`` may (``model``, ``syntax``, ``semantics``, ``text``
 from __future__ import annotations
 
 import dataclasses
-import json
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -31,7 +30,7 @@ from ...emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ...emit.ros2 import render_package
 from ...emit.ros2.render import FILTERS as ROS2_FILTERS
 from ...emit.ros2.render import xml
-from ...forms.jsonform import to_json
+from ...emit.json import render as render_json
 from ...semantics.compile import Compilation
 from .. import protocol
 from ..codes import diag
@@ -109,7 +108,7 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         text = read_user_file(path)
         if text is not None:
             result.diagnostics.extend(check_user_source(spec, path, text, strict=bool(options.get("check"))))
-    interface_json = json.dumps(to_json(comp.interface), sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    interface_json = render_json(comp)
     result.files = sorted_files([*render_package(pkg, ros2), *component_files(spec, v, templates, ros2, interface_json),
                                  *shared.package_files("1.0.0", "1")])
     return result
