@@ -36,7 +36,8 @@ from .. import protocol
 from ..codes import diag
 from ..component import ComponentSpec
 from ..nodepkg import launch_text, prepare, protocol_refs, read_user_file
-from . import shared
+from ..shared import shared_files
+from . import library
 from .render import CppPackage, build, cpp_comment, cpp_double, cpp_str
 from .usercode import check_user_source
 
@@ -44,7 +45,7 @@ TEMPLATES = Path(__file__).parent / "templates"
 FILTERS: dict[str, Callable[..., Any]] = {"cpp": cpp_str, "cstr": lambda s: cpp_str(s)[1:-1], "comment": cpp_comment,
                                           "cppdouble": cpp_double, "xml": xml}
 #: What every component package needs to build and run, beside the message packages it uses.
-RUNTIME_DEPENDS = (shared.PACKAGE, "rclcpp", "rclcpp_action", "rclcpp_components", "rclcpp_lifecycle")
+RUNTIME_DEPENDS = (library.PACKAGE, "rclcpp", "rclcpp_action", "rclcpp_components", "rclcpp_lifecycle")
 #: The user's file, relative to the component package.
 USER_FILE = "src/node.cpp"
 
@@ -108,9 +109,10 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         text = read_user_file(path)
         if text is not None:
             result.diagnostics.extend(check_user_source(spec, path, text, strict=bool(options.get("check"))))
+    shared, result.notes = shared_files("rclcpp", out if isinstance(out, str) else None)
     interface_json = render_json(comp)
-    result.files = sorted_files([*render_package(pkg, ros2), *component_files(spec, v, templates, ros2, interface_json),
-                                 *shared.package_files("1.0.0", "1")])
+    result.files = sorted_files([*shared, *render_package(pkg, ros2),
+                                 *component_files(spec, v, templates, ros2, interface_json)])
     return result
 
 

@@ -14,37 +14,39 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ...emit.base import GeneratedFile, TemplateSet, header_lines
+from ...emit.base import GeneratedFile, TemplateSet
 from .. import protocol
+from ..shared import LICENSE, MAINTAINER, SharedPackage, generated_header
 from .render import cpp_str
 
 PACKAGE = "iface_runtime_cpp"
+#: The library's version: its major number is the protocol's; raise the minor one with every change.
+VERSION = f"{protocol.PROTOCOL_VERSION}.0.0"
 TEMPLATES = Path(__file__).parent / "templates" / "shared"
 #: What the library uses in its public headers (exported to the components) and privately.
-PUBLIC_DEPENDS = ("diagnostic_msgs", "iface_msgs", "rcl_interfaces", "rclcpp", "rclcpp_action", "rclcpp_lifecycle")
+PUBLIC_DEPENDS = ("diagnostic_msgs", protocol.PACKAGE, "rcl_interfaces", "rclcpp", "rclcpp_action", "rclcpp_lifecycle")
 PRIVATE_DEPENDS = ("ament_index_cpp", "lifecycle_msgs")
-#: The CMake targets of the public dependencies.
+#: The CMake targets of the public dependencies that are not message packages.
 _TARGETS = {"rclcpp": "rclcpp::rclcpp", "rclcpp_action": "rclcpp_action::rclcpp_action",
             "rclcpp_lifecycle": "rclcpp_lifecycle::rclcpp_lifecycle"}
 
 
-def package_files(runtime_version: str, protocol_version: str) -> list[GeneratedFile]:
-    """The files of ``iface_runtime_cpp/`` (paths relative to the output folder)."""
+def package() -> SharedPackage:
+    """``iface_runtime_cpp/``: package.xml, CMakeLists.txt, the header and the source (paths under the output folder)."""
     templates = TemplateSet(TEMPLATES, "rclcpp_runtime", filters={"cpp": cpp_str})
-    source = f"iface {PACKAGE} {runtime_version}"
-    depends = sorted(PUBLIC_DEPENDS + PRIVATE_DEPENDS)
-    ctx = {"runtime_version": runtime_version, "protocol_version": protocol_version,
+    ctx = {"runtime_version": VERSION, "protocol_version": protocol.PROTOCOL_VERSION,
            "state_format": protocol.STATE_FORMAT, "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
            "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC),
            "commands": [protocol.STATUS, protocol.PAUSE, protocol.RESUME, protocol.SAVE],
-           "depends": depends, "exported": list(PUBLIC_DEPENDS),
-           "public_depends": [_TARGETS.get(d, f"${{{d}_TARGETS}}") for d in PUBLIC_DEPENDS]}
-    files = [("package.xml", "package.xml.j2", header_lines("<!--", source, end=" -->")),
-             ("CMakeLists.txt", "CMakeLists.txt.j2", header_lines("#", source)),
-             ("include/iface_runtime_cpp/iface_runtime.hpp", "iface_runtime.hpp.j2", header_lines("//", source)),
-             ("src/iface_runtime.cpp", "iface_runtime.cpp.j2", header_lines("//", source))]
-    return [GeneratedFile(f"{PACKAGE}/{path}", templates.render(name, header=header.rstrip("\n"), **ctx))
-            for path, name, header in files]
+           "depends": sorted(PUBLIC_DEPENDS + PRIVATE_DEPENDS), "exported": list(PUBLIC_DEPENDS),
+           "public_depends": [_TARGETS.get(d, f"${{{d}_TARGETS}}") for d in PUBLIC_DEPENDS],
+           "maintainer": MAINTAINER, "license": LICENSE}
+    files = [("package.xml", "package.xml.j2", generated_header("<!--", " -->")),
+             ("CMakeLists.txt", "CMakeLists.txt.j2", generated_header("#")),
+             ("include/iface_runtime_cpp/iface_runtime.hpp", "iface_runtime.hpp.j2", generated_header("//")),
+             ("src/iface_runtime.cpp", "iface_runtime.cpp.j2", generated_header("//"))]
+    return SharedPackage(PACKAGE, VERSION, tuple(
+        GeneratedFile(f"{PACKAGE}/{path}", templates.render(name, header=header, **ctx)) for path, name, header in files))
 
 
-__all__ = ["PACKAGE", "package_files"]
+__all__ = ["PACKAGE", "VERSION", "package"]
