@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
 from rclcpp_drive import Process  # noqa: E402
-from rosdrive import Probe, Report, check  # noqa: E402
+from rosdrive import Probe, Protocol, Report, check  # noqa: E402
 
 CONTAINER = "iface_container"
 
@@ -69,8 +69,10 @@ def main() -> int:
         return p
 
     def status(node: str) -> Any:
-        request = ComponentControl.Request(command=ComponentControl.Request.STATUS, timeout_sec=5.0)
-        return probe.call(ComponentControl, f"/{node}/control", request, timeout=30, idempotent=True)
+        """~/control STATUS, with the types ``node`` serves it with (iface_msgs; a Python node's may differ)."""
+        types = probe.wait_until(lambda: dict(probe.node.get_service_names_and_types()).get(f"/{node}/control"),
+                                 30, f"/{node}/control in the graph")
+        return Protocol(probe, types[0].split("/")[0]).control(node, ComponentControl.Request.STATUS)
 
     def handover(old: str, new: str, old_iface: str, new_iface: str, log: str) -> dict[str, Any]:
         cmd = [cfg["python"], "-m", "iface", "handover", old, new, "--old", old_iface, "--new", new_iface,

@@ -67,10 +67,17 @@ def main() -> int:
     a.logs.mkdir(parents=True, exist_ok=True)
     report = Report(a.out)
     from counter_msgs.msg import Count
-    from counter_msgs.srv import ComponentControl, Reset
+    from counter_msgs.srv import Reset
+    from iface_msgs.srv import ComponentControl
 
     probe = Probe()
-    proto = Protocol(probe, "counter_msgs")
+    proto = Protocol(probe, "iface_msgs")  # the C++ nodes'; the Python node's types are read from the graph
+
+    def protocol_of(node: str) -> Protocol:
+        """The protocol of ``node`` through the types it serves ~/save_state with."""
+        types = probe.wait_until(lambda: dict(probe.node.get_service_names_and_types()).get(f"/{node}/save_state"),
+                                 30, f"/{node}/save_state in the graph")
+        return Protocol(probe, types[0].split("/")[0])
     cpp = [cfg["cpp_executable"]]
     started: list[Process] = []
 
@@ -83,8 +90,7 @@ def main() -> int:
         probe.wait_ready(node, 30)
 
     def status(node: str) -> Any:
-        request = ComponentControl.Request(command=ComponentControl.Request.STATUS, timeout_sec=5.0)
-        return probe.call(ComponentControl, f"/{node}/control", request, timeout=30)
+        return protocol_of(node).control(node, ComponentControl.Request.STATUS)
 
     def count_of(node: str) -> int:
         return int(proto.save(node)["values"]["count"])
@@ -270,13 +276,14 @@ def main() -> int:
             up(old_name)
             up(new_name)
             probe.wait_until(lambda: len(counts) >= 5, 30, "counts from the Python counter")
-            proto.control(old_name, ComponentControl.Request.PAUSE)
-            text = probe.call(proto.save_t, f"/{old_name}/save_state", proto.save_t.Request(timeout_sec=5.0)).state
+            py = protocol_of(old_name)
+            py.control(old_name, ComponentControl.Request.PAUSE)
+            text = probe.call(py.save_t, f"/{old_name}/save_state", py.save_t.Request(timeout_sec=5.0)).state
             probe.transition(new_name, "configure")
             answer = proto.restore(new_name, text)
             check(answer.success, answer.message)
             cpp_text = probe.call(proto.save_t, f"/{new_name}/save_state", proto.save_t.Request(timeout_sec=5.0)).state
-            proto.control(old_name, ComponentControl.Request.RESUME)
+            py.control(old_name, ComponentControl.Request.RESUME)
             mine, theirs = json.loads(cpp_text), json.loads(text)
             expected = text.replace(json.dumps(theirs["version"]), json.dumps(mine["version"])).replace(
                 json.dumps(theirs["interface_hash"]), json.dumps(mine["interface_hash"]))
@@ -312,9 +319,10 @@ def main() -> int:
 
         def back() -> str:
             doc = proto.save(new_name)
-            answer = proto.restore(old_name, doc)
+            answer = protocol_of(old_name).restore(old_name, doc)
             check(answer.success, answer.message)
-            check(count_of(old_name) == doc["values"]["count"], "the Python node did not take the count")
+            check(int(protocol_of(old_name).save(old_name)["values"]["count"]) == doc["values"]["count"],
+                  "the Python node did not take the count")
             return f"{answer.message}"
 
         report.step("state: saved from the C++ node, restored into the Python node", back)

@@ -2,13 +2,15 @@
 
 ``iface-lsp generate robot_arm.iface --target rclcpp --out src`` writes
 
-- ``src/<interface package>/``: the ``ros2`` target's package plus the protocol services, as the
-  ``rclpy`` target does (``iface.runtime.nodepkg``);
-- ``src/<component>/``: ``package.xml``, ``CMakeLists.txt``, ``config/<node>.params.yaml``,
-  ``launch/<node>.launch.py``, ``include/<component>/base.hpp`` (the generated lifecycle-node
-  base class) and ``iface_runtime.hpp`` (the machinery, the same for every component),
-  ``src/base.cpp``, ``src/iface_runtime.cpp``, ``src/main.cpp``, and ``src/node.cpp``, the
-  user's class, written once and never overwritten.
+- ``src/<interface package>/``: the ``ros2`` target's package, as the ``rclpy`` target does
+  (``iface.runtime.nodepkg``);
+- ``src/iface_msgs/`` and ``src/iface_runtime_cpp/``, the shared packages (``iface.runtime.shared``;
+  the library from ``library``), once per output folder;
+- ``src/<component>/``: ``package.xml``, ``CMakeLists.txt`` (a component library registered with
+  ``rclcpp_components_register_node``, and the executable), ``config/<node>.params.yaml``,
+  ``launch/<node>.launch.py``, ``include/<component>/base.hpp`` (the generated lifecycle-node base
+  class), ``src/base.cpp``, ``src/main.cpp``, and ``src/node.cpp``, the user's class, written once and
+  never overwritten.
 
 The node is the rclpy target's node in C++: the same description (``iface.runtime.component``),
 node and service names, command line, parameter checks and state document (docs/runtime.md).

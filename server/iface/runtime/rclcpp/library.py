@@ -22,7 +22,7 @@ from .render import cpp_str
 PACKAGE = "iface_runtime_cpp"
 #: The library's version: its major number is the protocol's; raise the minor one with every change.
 VERSION = f"{protocol.PROTOCOL_VERSION}.0.0"
-TEMPLATES = Path(__file__).parent / "templates" / "shared"
+TEMPLATES = Path(__file__).parent / "templates"
 #: What the library uses in its public headers (exported to the components) and privately.
 PUBLIC_DEPENDS = ("diagnostic_msgs", protocol.PACKAGE, "rcl_interfaces", "rclcpp", "rclcpp_action", "rclcpp_lifecycle")
 PRIVATE_DEPENDS = ("ament_index_cpp", "lifecycle_msgs")
@@ -41,8 +41,8 @@ def package() -> SharedPackage:
            "depends": sorted(PUBLIC_DEPENDS + PRIVATE_DEPENDS), "exported": list(PUBLIC_DEPENDS),
            "public_depends": [_TARGETS.get(d, f"${{{d}_TARGETS}}") for d in PUBLIC_DEPENDS],
            "maintainer": MAINTAINER, "license": LICENSE}
-    files = [("package.xml", "package.xml.j2", generated_header("<!--", " -->")),
-             ("CMakeLists.txt", "CMakeLists.txt.j2", generated_header("#")),
+    files = [("package.xml", "library.package.xml.j2", generated_header("<!--", " -->")),
+             ("CMakeLists.txt", "library.CMakeLists.txt.j2", generated_header("#")),
              ("include/iface_runtime_cpp/iface_runtime.hpp", "iface_runtime.hpp.j2", generated_header("//")),
              ("src/iface_runtime.cpp", "iface_runtime.cpp.j2", generated_header("//"))]
     return SharedPackage(PACKAGE, VERSION, tuple(
