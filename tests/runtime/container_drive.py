@@ -18,6 +18,7 @@ import argparse
 import itertools
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -145,7 +146,16 @@ def main() -> int:
             check(status("counter_one").lifecycle_state == 2, "counter 1.0 is not inactive")
             check(status("counter_two").lifecycle_state == 3, "counter 2.0 is not active")
             check(container.proc.poll() is None, "the container has exited")
-            return f"{moved}; count {before} carried from 1.0 to 2.0 in one process; {done}"
+            # NEW continues OLD's schedule: its first tick is due one period (0.1 s) after OLD's last.
+            found = re.search(r"\[counter_two\]: schedule: the restored state's last tick was at ([\d.]+); the first "
+                              r"tick is due at ([\d.]+) \(period ([\d.]+) s", container.log())
+            check(found, "counter 2.0 did not say that it continues counter 1.0's schedule")
+            last, due, period = (float(x) for x in found.groups())
+            check(period == 0.1 and abs(due - (last + period)) < 1e-5, found.group(0))
+            at = {v: when for when, v in counts}
+            gap = (at[before + 1] - at[before]) * 1000
+            return (f"{moved}; count {before} carried from 1.0 to 2.0 in one process; {done}; 2.0's first tick due "
+                    f"{period:g} s after 1.0's last; /count {before} -> {before + 1}: {gap:.0f} ms apart")
 
         report.step("container: handover from counter 1.0 to 2.0 inside the container", in_container)
 

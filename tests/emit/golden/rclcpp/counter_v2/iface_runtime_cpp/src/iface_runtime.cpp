@@ -814,7 +814,7 @@ std::string join(const std::vector<std::string> & items, const std::string & sep
 
 std::string save_document(
   const std::string & component, const std::string & version, const std::string & interface_hash,
-  const Schema & schema, const MessageTypes & types, const Json::Object & values)
+  const Schema & schema, const MessageTypes & types, const Json::Object & values, const Json::Object & extra)
 {
   Json::Object schema_json, types_json;
   for (const auto & [name, type] : schema) {
@@ -827,7 +827,7 @@ std::string save_document(
     }
     types_json[base] = Json::object(std::move(f));
   }
-  Json::Object doc;
+  Json::Object doc = extra;
   doc["format"] = Json::string(STATE_FORMAT);
   doc["component"] = Json::string(component);
   doc["version"] = Json::string(version);
@@ -1368,12 +1368,66 @@ void ComponentNode::report_status(const std::string & level, const std::string &
   status_ = std::make_pair(value, message);
 }
 
+namespace
+{
+
+//! Now on the system clock, in seconds (the schedule of a state document is on this clock).
+double wall_now()
+{
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
 rclcpp::TimerBase::SharedPtr ComponentNode::create_work_timer(double period_sec, std::function<void()> callback)
 {
-  auto timer = create_wall_timer(
-    std::chrono::duration<double>(period_sec), [this, callback] {work(callback, "timer");}, main_group);
-  keep(timer);
-  return timer;
+  auto entry = std::make_shared<WorkTimer>();
+  entry->period = period_sec;
+  entry->callback = std::move(callback);
+  std::weak_ptr<WorkTimer> weak = entry;
+  entry->timer = create_wall_timer(
+    std::chrono::duration<double>(period_sec), [this, weak] {
+      if (auto t = weak.lock()) {
+        tick(*t);
+      }
+    }, main_group);
+  keep(entry->timer);
+  keep(entry);
+  work_timers_.push_back(entry);
+  return entry->timer;
+}
+
+void ComponentNode::tick(WorkTimer & t)
+{
+  const double now = wall_now();
+  if (work(t.callback, "timer")) {
+    last_tick_ = now;
+  }
+}
+
+void ComponentNode::continue_schedule()
+{
+  const double last = continue_after_.exchange(0.0);
+  if (!(last > 0)) {
+    return;
+  }
+  const double now = wall_now();
+  for (const auto & entry : work_timers_) {
+    // The first tick one period after the last tick of the state's node, then every period from there.
+    const double due = last + entry->period;
+    entry->timer->cancel();
+    std::weak_ptr<WorkTimer> weak = entry;
+    entry->first = create_wall_timer(
+      std::chrono::duration<double>(std::max(0.0, due - now)), [this, weak] {
+        if (auto t = weak.lock()) {
+          t->first->cancel();
+          t->timer->reset();
+          tick(*t);
+        }
+      }, main_group);
+    RCLCPP_INFO(get_logger(), "schedule: the restored state's last tick was at %.6f; the first tick is due at %.6f "
+      "(period %.6f s, in %.6f s)", last, due, entry->period, due - now);
+  }
 }
 
 void ComponentNode::failed(const std::string & what, const std::string & error)
@@ -1389,15 +1443,15 @@ void ComponentNode::failed(const std::string & what, const std::string & error)
   RCLCPP_ERROR(get_logger(), "%s", line.c_str());
 }
 
-void ComponentNode::work(const std::function<void()> & body, const std::string & what)
+bool ComponentNode::work(const std::function<void()> & body, const std::string & what)
 {
   if (!active_) {
     std::lock_guard<std::mutex> lock(lock_);
     ++dropped_inactive_;
-    return;
+    return false;
   }
   if (!gate_.enter()) {
-    return;
+    return false;
   }
   try {
     body();
@@ -1405,6 +1459,7 @@ void ComponentNode::work(const std::function<void()> & body, const std::string &
     failed(what, e.what());
   }
   gate_.leave();
+  return true;
 }
 
 void ComponentNode::serve(
@@ -1438,6 +1493,7 @@ void ComponentNode::destroy_members()
     it->reset();
   }
   entities_.clear();
+  work_timers_.clear();
   forget_members();
 }
 
@@ -1507,6 +1563,7 @@ ComponentNode::CallbackReturn ComponentNode::on_activate(const rclcpp_lifecycle:
   if (result != CallbackReturn::SUCCESS) {
     return result;
   }
+  continue_schedule();
   active_ = true;
   try {
     on_active();
@@ -1620,6 +1677,19 @@ private:
   bool was_paused_;
 };
 
+//! The last tick of the node that saved ``document`` (its "schedule"), if it says.
+std::optional<double> schedule_of(const std::string & document)
+{
+  const Json doc = Json::parse(document);
+  const Json * schedule = doc.kind() == Json::Kind::Object ? doc.find("schedule") : nullptr;
+  const Json * last = schedule != nullptr && schedule->kind() == Json::Kind::Object ? schedule->find("last_tick") :
+    nullptr;
+  if (last == nullptr || last->kind() != Json::Kind::Number || !(last->as_double() > 0)) {
+    return std::nullopt;
+  }
+  return last->as_double();
+}
+
 double effective(double timeout)
 {
   return timeout > 0 ? timeout : DEFAULT_TIMEOUT_SEC;
@@ -1630,8 +1700,14 @@ double effective(double timeout)
 std::string ComponentNode::save_state(double timeout_sec)
 {
   Quiet quiet(gate_, timeout_sec);
+  Json::Object extra;
+  if (const double last = last_tick_; last > 0) {
+    Json::Object schedule;
+    schedule["last_tick"] = Json::floating(last);
+    extra["schedule"] = Json::object(std::move(schedule));
+  }
   return save_document(info_.component, info_.version, info_.interface_hash, info_.state_schema, message_types(),
-           state_values());
+           state_values(), extra);
 }
 
 Restored ComponentNode::restore_state(const std::string & document, double timeout_sec)
@@ -1643,6 +1719,7 @@ Restored ComponentNode::restore_state(const std::string & document, double timeo
         message_types());
     set_state_values(values);
     report = r;
+    continue_after_ = schedule_of(document).value_or(0.0);
   }
   state_restored();
   return report;

@@ -271,7 +271,7 @@ struct Restored
 //! The state document of values (keys sorted, no spaces) with the component's identity.
 std::string save_document(
   const std::string & component, const std::string & version, const std::string & interface_hash,
-  const Schema & schema, const MessageTypes & types, const Json::Object & values);
+  const Schema & schema, const MessageTypes & types, const Json::Object & values, const Json::Object & extra = {});
 //! Check a document against this component; its values and what restoring it does, or StateError.
 std::pair<Json::Object, Restored> read_document(
   const std::string & text, const std::string & component, const std::string & interface_hash,
@@ -646,7 +646,21 @@ protected:
   void keep_service(rclcpp::ServiceBase::SharedPtr service) {services_.push_back(std::move(service));}
 
 private:
-  void work(const std::function<void()> & body, const std::string & what);
+  //! A work timer: its period, its callback, the timer, and the one-shot that continues a restored schedule.
+  struct WorkTimer
+  {
+    double period = 0.0;
+    std::function<void()> callback;
+    rclcpp::TimerBase::SharedPtr timer;
+    rclcpp::TimerBase::SharedPtr first;
+  };
+  //! One tick of a work timer, as a work transaction; notes the time it ran.
+  void tick(WorkTimer & t);
+  //! On activate after a restore: each work timer's first tick one period after the last tick of the node
+  //! that saved the state (its document's "schedule"), not one period after this activation.
+  void continue_schedule();
+  //! Run body as a work transaction; false when it did not run (inactive or paused).
+  bool work(const std::function<void()> & body, const std::string & what);
   void serve(
     const std::string & name, bool is_work, const std::function<void()> & body,
     const std::function<void()> & reset);
@@ -696,6 +710,11 @@ private:
   std::atomic<bool> active_{false};
   std::atomic<bool> finalized_{false};
   std::vector<std::shared_ptr<void>> entities_;
+  std::vector<std::shared_ptr<WorkTimer>> work_timers_;
+  //! When the last work timer tick ran (system clock, seconds; 0: none yet).
+  std::atomic<double> last_tick_{0.0};
+  //! The restored document's last tick, until the next activation continues from it (0: none).
+  std::atomic<double> continue_after_{0.0};
   std::vector<rclcpp::ServiceBase::SharedPtr> services_;
   std::mutex goals_mutex_;
   std::vector<std::thread> goals_;
