@@ -22,7 +22,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..emit.base import GeneratedFile, TemplateSet, header_lines
+from ..emit.base import GeneratedFile, TemplateSet
 from ..emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ..emit.ros2 import render_package
 from ..emit.ros2.package import RosConst, RosField, RosInterface, RosPackage, RosSection, RosType
@@ -115,9 +115,17 @@ def msgs_package() -> SharedPackage:
     return SharedPackage(pkg.name, pkg.version, tuple(files))
 
 
+def runtime_py_package() -> SharedPackage:
+    """``iface_runtime_py``: the rclpy components' runtime (ament_python)."""
+    from .rclpy.runtime_package import NAME, VERSION, runtime_files
+
+    return SharedPackage(NAME, VERSION, tuple(runtime_files(MAINTAINER, LICENSE)))
+
+
 #: Every shared package, with the targets that write it (the C++ runtime adds its own).
 PACKAGES: list[SharedEntry] = [
     SharedEntry(protocol.PACKAGE, ("rclpy", "rclcpp"), msgs_package),
+    SharedEntry("iface_runtime_py", ("rclpy",), runtime_py_package),
 ]
 
 
@@ -179,10 +187,5 @@ def shared_files(target: str, out: str | None) -> tuple[list[GeneratedFile], lis
     return files, lines
 
 
-def generated_header(comment: str, end: str = "") -> str:
-    """The "generated — do not edit" header of a shared package's file."""
-    return header_lines(comment, SOURCE_NAME, end=end).rstrip("\n")
-
-
 __all__ = ["PACKAGES", "Placement", "SharedEntry", "SharedPackage", "msgs_package", "packages_for", "place",
-           "shared_files"]
+           "runtime_py_package", "shared_files"]
