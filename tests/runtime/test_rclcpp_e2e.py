@@ -203,7 +203,7 @@ try:
     for node in ("em_py", "em_cpp"):
         answer = proto.restore(node, json.dumps(doc) if not texts else texts[-1])
         assert answer.success, answer.message
-        texts.append(probe.call(proto.save_t, f"/{node}/save_state", proto.save_t.Request(timeout_sec=5.0)).state)
+        texts.append(proto.save_raw(node).state)
     out["documents"] = texts
 finally:
     for proc in procs:
