@@ -278,7 +278,9 @@ def main() -> int:
             proto.control(old_name, ComponentControl.Request.RESUME)
             mine, theirs = json.loads(cpp_text), json.loads(text)
             expected = text.replace(json.dumps(theirs["version"]), json.dumps(mine["version"])).replace(
-                json.dumps(theirs["interface_hash"]), json.dumps(mine["interface_hash"]))
+                json.dumps(theirs["interface_hash"]), json.dumps(mine["interface_hash"])).replace(
+                '"schedule":' + json.dumps(theirs["schedule"], separators=(",", ":"), sort_keys=True),
+                '"schedule":' + json.dumps(mine["schedule"], separators=(",", ":"), sort_keys=True))
             check(cpp_text == expected, f"C++ {cpp_text} vs Python {text}")
             probe.transition(new_name, "cleanup")
             return f"Python saved {text}; the C++ node wrote the same bytes (but its version and hash)"
