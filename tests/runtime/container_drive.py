@@ -147,8 +147,8 @@ def main() -> int:
             check(status("counter_two").lifecycle_state == 3, "counter 2.0 is not active")
             check(container.proc.poll() is None, "the container has exited")
             # NEW continues OLD's schedule: its first tick is due one period (0.1 s) after OLD's last.
-            found = re.search(r"\[counter_two\]: schedule: the restored state's last tick was at ([\d.]+); the first "
-                              r"tick is due at ([\d.]+) \(period ([\d.]+) s", container.log())
+            found = re.search(r"\[counter_two\]: schedule: timer 'tick' continues the restored state's 'tick': last tick "
+                              r"at ([\d.]+), the first tick due at ([\d.]+) \(period ([\d.]+) s", container.log())
             check(found, "counter 2.0 did not say that it continues counter 1.0's schedule")
             last, due, period = (float(x) for x in found.groups())
             check(period == 0.1 and abs(due - (last + period)) < 1e-5, found.group(0))

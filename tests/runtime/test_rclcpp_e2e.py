@@ -64,9 +64,9 @@ def rclcpp_env(venv: Path) -> dict[str, str] | None:
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
 
 
-def overlay(env: dict[str, str], ws: Path) -> dict[str, str]:
-    """``env`` with the workspace ``ws`` sourced on top (its install/local_setup.bash)."""
-    script = f'set +u; . "{ws}/install/local_setup.bash" >/dev/null && env -0'
+def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> dict[str, str]:
+    """``env`` with the workspace ``ws`` sourced on top (its install/local_setup.bash; setup.bash: with its underlays)."""
+    script = f'set +u; . "{ws}/install/{script}" >/dev/null && env -0'
     dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=env).stdout
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
 
@@ -174,7 +174,7 @@ def every_member_cpp(workspaces: dict[str, Any], ros_workspace: Any) -> tuple[Pa
     done = generate(DATA / "every_member.iface", gen, "--target", "rclcpp")
     assert done.returncode == 0, done.stderr
     component_only(gen, "every_member")
-    env = overlay(overlay(workspaces["env"], ros_workspace.path), workspaces["ws_cpp"])
+    env = overlay(overlay(workspaces["env"], ros_workspace.path, "setup.bash"), workspaces["ws_cpp"])
     ws = root / "ws_every_member"
     ws.mkdir()
     ok, tail, seconds = build_cpp(venv, env, gen, ws)
@@ -280,7 +280,7 @@ try:
     for node in ("em_py", "em_cpp"):
         answer = proto.restore(node, json.dumps(doc) if not texts else texts[-1])
         assert answer.success, answer.message
-        texts.append(probe.call(proto.save_t, f"/{node}/save_state", proto.save_t.Request(timeout_sec=5.0)).state)
+        texts.append(proto.save_raw(node).state)
     out["documents"] = texts
 finally:
     for proc in procs:

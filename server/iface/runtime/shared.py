@@ -22,7 +22,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..emit.base import GeneratedFile, TemplateSet, header_lines
+from ..emit.base import GeneratedFile, TemplateSet
 from ..emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ..emit.ros2 import render_package
 from ..emit.ros2.package import RosConst, RosField, RosInterface, RosPackage, RosSection, RosType
@@ -115,6 +115,13 @@ def msgs_package() -> SharedPackage:
     return SharedPackage(pkg.name, pkg.version, tuple(files))
 
 
+def runtime_py_package() -> SharedPackage:
+    """``iface_runtime_py``: the rclpy components' runtime (ament_python)."""
+    from .rclpy.runtime_package import NAME, VERSION, runtime_files
+
+    return SharedPackage(NAME, VERSION, tuple(runtime_files(MAINTAINER, LICENSE)))
+
+
 def runtime_cpp_package() -> SharedPackage:
     """``iface_runtime_cpp``: the C++ node machinery (``iface.runtime.rclcpp.library``)."""
     from .rclcpp.library import package
@@ -125,6 +132,7 @@ def runtime_cpp_package() -> SharedPackage:
 #: Every shared package, with the targets that write it.
 PACKAGES: list[SharedEntry] = [
     SharedEntry(protocol.PACKAGE, ("rclpy", "rclcpp"), msgs_package),
+    SharedEntry("iface_runtime_py", ("rclpy",), runtime_py_package),
     SharedEntry("iface_runtime_cpp", ("rclcpp",), runtime_cpp_package),
 ]
 
@@ -187,10 +195,5 @@ def shared_files(target: str, out: str | None) -> tuple[list[GeneratedFile], lis
     return files, lines
 
 
-def generated_header(comment: str, end: str = "") -> str:
-    """The "generated — do not edit" header of a shared package's file."""
-    return header_lines(comment, SOURCE_NAME, end=end).rstrip("\n")
-
-
 __all__ = ["PACKAGES", "Placement", "SharedEntry", "SharedPackage", "msgs_package", "packages_for", "place",
-           "shared_files"]
+           "runtime_py_package", "shared_files"]

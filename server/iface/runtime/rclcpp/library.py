@@ -14,9 +14,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ...emit.base import GeneratedFile, TemplateSet
+from ...emit.base import GeneratedFile, TemplateSet, header_lines
 from .. import protocol
-from ..shared import LICENSE, MAINTAINER, SharedPackage, generated_header
+from ..shared import LICENSE, MAINTAINER, SOURCE_NAME, SharedPackage
 from .render import cpp_str
 
 PACKAGE = "iface_runtime_cpp"
@@ -29,6 +29,11 @@ PRIVATE_DEPENDS = ("ament_index_cpp", "lifecycle_msgs")
 #: The CMake targets of the public dependencies that are not message packages.
 _TARGETS = {"rclcpp": "rclcpp::rclcpp", "rclcpp_action": "rclcpp_action::rclcpp_action",
             "rclcpp_lifecycle": "rclcpp_lifecycle::rclcpp_lifecycle"}
+
+
+def generated_header(comment: str, end: str = "") -> str:
+    """The "generated — do not edit" header of the library's files."""
+    return header_lines(comment, SOURCE_NAME, end=end).rstrip("\n")
 
 
 def package() -> SharedPackage:

@@ -814,7 +814,7 @@ std::string join(const std::vector<std::string> & items, const std::string & sep
 
 std::string save_document(
   const std::string & component, const std::string & version, const std::string & interface_hash,
-  const Schema & schema, const MessageTypes & types, const Json::Object & values, const Json::Object & extra)
+  const Schema & schema, const MessageTypes & types, const Json::Object & values, const Json::Object & schedule)
 {
   Json::Object schema_json, types_json;
   for (const auto & [name, type] : schema) {
@@ -827,11 +827,13 @@ std::string save_document(
     }
     types_json[base] = Json::object(std::move(f));
   }
-  Json::Object doc = extra;
+  Json::Object doc;
   doc["format"] = Json::string(STATE_FORMAT);
   doc["component"] = Json::string(component);
   doc["version"] = Json::string(version);
   doc["interface_hash"] = Json::string(interface_hash);
+  doc["protocol_version"] = Json::string("1");
+  doc["schedule"] = Json::object(schedule);
   doc["schema"] = Json::object(std::move(schema_json));
   doc["types"] = Json::object(std::move(types_json));
   doc["values"] = Json::object(values);
@@ -1371,17 +1373,25 @@ void ComponentNode::report_status(const std::string & level, const std::string &
 namespace
 {
 
-//! Now on the system clock, in seconds (the schedule of a state document is on this clock).
-double wall_now()
+//! Now on the system clock, in nanoseconds (the schedule of a state document is on this clock, as Python's
+//! time.time_ns()).
+int64_t wall_now_ns()
 {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+    std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
 
-rclcpp::TimerBase::SharedPtr ComponentNode::create_work_timer(double period_sec, std::function<void()> callback)
+rclcpp::TimerBase::SharedPtr ComponentNode::create_work_timer(
+  double period_sec, std::function<void()> callback, const std::string & name)
 {
   auto entry = std::make_shared<WorkTimer>();
+  std::size_t taken = 0;
+  for (const auto & other : work_timers_) {
+    taken += other->name == name || other->name.rfind(name + "#", 0) == 0;
+  }
+  entry->name = taken == 0 ? name : name + "#" + std::to_string(taken);
   entry->period = period_sec;
   entry->callback = std::move(callback);
   std::weak_ptr<WorkTimer> weak = entry;
@@ -1399,34 +1409,44 @@ rclcpp::TimerBase::SharedPtr ComponentNode::create_work_timer(double period_sec,
 
 void ComponentNode::tick(WorkTimer & t)
 {
-  const double now = wall_now();
-  if (work(t.callback, "timer")) {
-    last_tick_ = now;
+  if (work(t.callback, "timer " + t.name)) {
+    t.last_ns = wall_now_ns();
   }
 }
 
 void ComponentNode::continue_schedule()
 {
-  const double last = continue_after_.exchange(0.0);
-  if (!(last > 0)) {
-    return;
+  std::map<std::string, int64_t> schedule;
+  {
+    std::lock_guard<std::mutex> lock(lock_);
+    schedule.swap(restored_schedule_);
   }
-  const double now = wall_now();
+  const int64_t now = wall_now_ns();
   for (const auto & entry : work_timers_) {
+    // The timer of the same name; with one timer on each side, that one.
+    auto found = schedule.find(entry->name);
+    if (found == schedule.end() && schedule.size() == 1 && work_timers_.size() == 1) {
+      found = schedule.begin();
+    }
+    if (found == schedule.end()) {
+      continue;
+    }
     // The first tick one period after the last tick of the state's node, then every period from there.
+    const double last = static_cast<double>(found->second) / 1e9;
     const double due = last + entry->period;
     entry->timer->cancel();
     std::weak_ptr<WorkTimer> weak = entry;
     entry->first = create_wall_timer(
-      std::chrono::duration<double>(std::max(0.0, due - now)), [this, weak] {
+      std::chrono::duration<double>(std::max(0.0, due - static_cast<double>(now) / 1e9)), [this, weak] {
         if (auto t = weak.lock()) {
           t->first->cancel();
           t->timer->reset();
           tick(*t);
         }
       }, main_group);
-    RCLCPP_INFO(get_logger(), "schedule: the restored state's last tick was at %.6f; the first tick is due at %.6f "
-      "(period %.6f s, in %.6f s)", last, due, entry->period, due - now);
+    RCLCPP_INFO(get_logger(), "schedule: timer '%s' continues the restored state's '%s': last tick at %.6f, the "
+      "first tick due at %.6f (period %.6f s, in %.6f s)", entry->name.c_str(), found->first.c_str(), last, due,
+      entry->period, due - static_cast<double>(now) / 1e9);
   }
 }
 
@@ -1677,17 +1697,25 @@ private:
   bool was_paused_;
 };
 
-//! The last tick of the node that saved ``document`` (its "schedule"), if it says.
-std::optional<double> schedule_of(const std::string & document)
+//! When each work timer of the node that saved ``document`` last ran (its "schedule": name -> ns).
+std::map<std::string, int64_t> schedule_of(const std::string & document)
 {
+  std::map<std::string, int64_t> out;
   const Json doc = Json::parse(document);
   const Json * schedule = doc.kind() == Json::Kind::Object ? doc.find("schedule") : nullptr;
-  const Json * last = schedule != nullptr && schedule->kind() == Json::Kind::Object ? schedule->find("last_tick") :
-    nullptr;
-  if (last == nullptr || last->kind() != Json::Kind::Number || !(last->as_double() > 0)) {
-    return std::nullopt;
+  if (schedule == nullptr || schedule->kind() != Json::Kind::Object) {
+    return out;
   }
-  return last->as_double();
+  for (const auto & [name, last] : schedule->fields()) {
+    if (last.is_integer() && last.as_double() > 0) {
+      try {
+        out[name] = std::stoll(last.text());
+      } catch (const std::exception &) {
+        // not an int64: not a time this runtime writes
+      }
+    }
+  }
+  return out;
 }
 
 double effective(double timeout)
@@ -1700,14 +1728,14 @@ double effective(double timeout)
 std::string ComponentNode::save_state(double timeout_sec)
 {
   Quiet quiet(gate_, timeout_sec);
-  Json::Object extra;
-  if (const double last = last_tick_; last > 0) {
-    Json::Object schedule;
-    schedule["last_tick"] = Json::floating(last);
-    extra["schedule"] = Json::object(std::move(schedule));
+  Json::Object schedule;
+  for (const auto & entry : work_timers_) {
+    if (const int64_t last = entry->last_ns; last > 0) {
+      schedule[entry->name] = Json::integer(last);
+    }
   }
   return save_document(info_.component, info_.version, info_.interface_hash, info_.state_schema, message_types(),
-           state_values(), extra);
+           state_values(), schedule);
 }
 
 Restored ComponentNode::restore_state(const std::string & document, double timeout_sec)
@@ -1719,7 +1747,9 @@ Restored ComponentNode::restore_state(const std::string & document, double timeo
         message_types());
     set_state_values(values);
     report = r;
-    continue_after_ = schedule_of(document).value_or(0.0);
+    auto schedule = schedule_of(document);
+    std::lock_guard<std::mutex> lock(lock_);
+    restored_schedule_ = std::move(schedule);
   }
   state_restored();
   return report;

@@ -271,7 +271,7 @@ struct Restored
 //! The state document of values (keys sorted, no spaces) with the component's identity.
 std::string save_document(
   const std::string & component, const std::string & version, const std::string & interface_hash,
-  const Schema & schema, const MessageTypes & types, const Json::Object & values, const Json::Object & extra = {});
+  const Schema & schema, const MessageTypes & types, const Json::Object & values, const Json::Object & schedule = {});
 //! Check a document against this component; its values and what restoring it does, or StateError.
 std::pair<Json::Object, Restored> read_document(
   const std::string & text, const std::string & component, const std::string & interface_hash,
@@ -427,8 +427,11 @@ public:
   virtual std::map<std::string, std::string> diagnostic_values() {return {};}
   //! Set the level ("ok", "warn", "error") and message /diagnostics shows; ("ok", "") clears it.
   void report_status(const std::string & level, const std::string & message);
-  //! A timer whose calls are work transactions, run only while active; destroyed on cleanup.
-  rclcpp::TimerBase::SharedPtr create_work_timer(double period_sec, std::function<void()> callback);
+  //! A timer whose calls are work transactions, run only while active; destroyed on cleanup. After a
+  //! hand-over it continues the schedule of the node it replaced: its first call comes one period after
+  //! that node's last call of the timer of the same name (Python names a timer after its callback).
+  rclcpp::TimerBase::SharedPtr create_work_timer(
+    double period_sec, std::function<void()> callback, const std::string & name = "timer");
   //! Work transactions in user code (a thread of its own): Transaction t(gate()) throws Paused while paused.
   Gate & gate() {return gate_;}
   bool is_active() const {return active_;}
@@ -649,7 +652,9 @@ private:
   //! A work timer: its period, its callback, the timer, and the one-shot that continues a restored schedule.
   struct WorkTimer
   {
+    std::string name;
     double period = 0.0;
+    std::atomic<int64_t> last_ns{0};
     std::function<void()> callback;
     rclcpp::TimerBase::SharedPtr timer;
     rclcpp::TimerBase::SharedPtr first;
@@ -711,10 +716,8 @@ private:
   std::atomic<bool> finalized_{false};
   std::vector<std::shared_ptr<void>> entities_;
   std::vector<std::shared_ptr<WorkTimer>> work_timers_;
-  //! When the last work timer tick ran (system clock, seconds; 0: none yet).
-  std::atomic<double> last_tick_{0.0};
-  //! The restored document's last tick, until the next activation continues from it (0: none).
-  std::atomic<double> continue_after_{0.0};
+  //! The restored document's schedule, until the next activation continues from it.
+  std::map<std::string, int64_t> restored_schedule_;
   std::vector<rclcpp::ServiceBase::SharedPtr> services_;
   std::mutex goals_mutex_;
   std::vector<std::thread> goals_;
