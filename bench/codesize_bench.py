@@ -70,8 +70,11 @@ def build_time(folder: Path, component: str, venv: Path) -> float | None:
     ws = Path(tempfile.mkdtemp(prefix="codesize-ws-"))
     shutil.copytree(folder, ws / "src")
     source = f"set +u; source {env_sh}" + (f"; source {cpp_env}" if cpp_env.is_file() else "")
+    # Shared libraries (the runtime and component libraries) link lttng-ust through the runtime's link folder,
+    # executables libpython too (../shared/ros2-runtime/README.md, "Link flags").
     base = "colcon --log-base log build --base-paths src --build-base build --install-base install " \
-           "--cmake-args -DBUILD_TESTING=OFF"
+           "--cmake-args -DBUILD_TESTING=OFF \"-DCMAKE_EXE_LINKER_FLAGS=$ROS2_RUNTIME_CXX_LDFLAGS\" " \
+           "\"-DCMAKE_SHARED_LINKER_FLAGS=$ROS2_RUNTIME_CXX_SHARED_LDFLAGS\""
     deps = subprocess.run(["bash", "-c", f"{source}; cd {ws} && {base} --packages-up-to {component} "
                            f"--packages-skip {component}"], capture_output=True, text=True, timeout=3600, check=False)
     if deps.returncode != 0:

@@ -11,8 +11,10 @@ back and forth. For each rate it prints the median and p95 of
 - the critical section (pause → save → restore → deactivate → activate, as ``handover`` reports it);
 - the whole command (``python -m iface handover``: start-up, compat, preparation, switch);
 
-and how many counts were lost or repeated (0 expected). Python → Python here; a C++ NEW is added by
-the rclcpp runtime's bench option when it exists (``--new-runtime``).
+and how many counts were lost or repeated (0 expected). Python → Python by default; with
+``--new-runtime rclcpp`` the second instance is the C++ counter (examples/counter.iface with
+tests/runtime/data/counter_node.cpp, built with iface_runtime_cpp on top of the Python workspace), so
+the hand-overs alternate Python → C++ and C++ → Python.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ sys.path.insert(0, str(ROOT / "server"))
 
 COUNTER = ROOT / "examples" / "counter.iface"
 USER = ROOT / "tests" / "runtime" / "data" / "counter_node.py"
+USER_CPP = ROOT / "tests" / "runtime" / "data" / "counter_node.cpp"
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -44,7 +47,7 @@ def percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, max(0, int(round(q * len(ordered) + 0.5)) - 1))]
 
 
-def measure(rate: float, handovers: int, python: str, logs: Path) -> dict[str, Any]:
+def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | None = None) -> dict[str, Any]:
     """In the ROS environment: start two counters and hand over ``handovers`` times; the figures."""
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
@@ -64,7 +67,8 @@ def measure(rate: float, handovers: int, python: str, logs: Path) -> dict[str, A
     names = ("counter_a", "counter_b")
     procs = []
     for i, name in enumerate(names):
-        cmd = [python, "-m", "counter", *(["--activate"] if i == 0 else []), "--ros-args", "-r", f"__node:={name}",
+        start_cmd = [cpp] if cpp and i == 1 else [python, "-m", "counter"]
+        cmd = [*start_cmd, *(["--activate"] if i == 0 else []), "--ros-args", "-r", f"__node:={name}",
                "-p", f"rate_hz:={rate}"]
         procs.append(subprocess.Popen(cmd, stdout=open(logs / f"{name}-{rate:g}.log", "w"),  # noqa: SIM115
                                       stderr=subprocess.STDOUT, start_new_session=True))
@@ -117,6 +121,41 @@ def measure(rate: float, handovers: int, python: str, logs: Path) -> dict[str, A
             "lost": lost, "repeated": repeated, "counts": len(arrivals)}
 
 
+def overlay(env: dict[str, str], ws: Path) -> dict[str, str]:
+    """``env`` with the workspace ``ws`` sourced on top."""
+    script = f'set +u; . "{ws}/install/local_setup.bash" >/dev/null && env -0'
+    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=env).stdout
+    return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+
+
+def build_cpp_counter(venv: Path, root: Path) -> tuple[str | None, str]:
+    """The C++ counter 1.0 and iface_runtime_cpp, built on the Python workspace (counter_msgs, iface_msgs):
+    the executable's path, or None and why."""
+    from tests.runtime.ros import environment, generate
+
+    gen = root / "gen_cpp"
+    done = generate(COUNTER, gen, "--target", "rclcpp")
+    if done.returncode != 0:
+        return None, done.stderr
+    for package in gen.iterdir():
+        if package.name not in ("counter", "iface_runtime_cpp"):
+            shutil.rmtree(package)
+    shutil.copyfile(USER_CPP, gen / "counter" / "src" / "node.cpp")
+    ws = root / "ws_cpp"
+    shutil.copytree(gen, ws / "src")
+    script = (f'set +u; . "{venv}/cpp/cpp-env.sh" >/dev/null && colcon --log-base log build --base-paths src '
+              '--build-base build --install-base install --cmake-args -DBUILD_TESTING=OFF '
+              '"-DCMAKE_EXE_LINKER_FLAGS=$ROS2_RUNTIME_CXX_LDFLAGS" '
+              '"-DCMAKE_SHARED_LINKER_FLAGS=$ROS2_RUNTIME_CXX_SHARED_LDFLAGS"')
+    start = time.monotonic()
+    done = subprocess.run(["bash", "-c", script], env=environment(venv, root / "ws"), cwd=ws, capture_output=True,
+                          text=True, timeout=3600, check=False)
+    if done.returncode != 0:
+        return None, done.stdout[-1500:] + done.stderr[-1500:]
+    print(f"built iface_runtime_cpp + the C++ counter in {time.monotonic() - start:.0f} s")
+    return str(ws / "install" / "counter" / "lib" / "counter" / "counter"), ""
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--handovers", type=int, default=20)
@@ -124,9 +163,12 @@ def main() -> int:
     ap.add_argument("--measure", type=float, help=argparse.SUPPRESS)
     ap.add_argument("--python", help=argparse.SUPPRESS)
     ap.add_argument("--logs", type=Path, help=argparse.SUPPRESS)
+    ap.add_argument("--new-runtime", choices=("rclpy", "rclcpp"), default="rclpy",
+                    help="the second instance's runtime: rclcpp alternates Python -> C++ and C++ -> Python")
+    ap.add_argument("--cpp", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.measure is not None:
-        print(json.dumps(measure(args.measure, args.handovers, args.python, args.logs)))
+        print(json.dumps(measure(args.measure, args.handovers, args.python, args.logs, args.cpp)))
         return 0
     from tests.runtime.ros import build, environment, generate, runtime_venv
 
@@ -148,13 +190,22 @@ def main() -> int:
         print(f"handover_bench: the counter did not build:\n{tail}", file=sys.stderr)
         return 3
     print(f"built counter + iface_msgs + iface_runtime_py in {seconds:.0f} s; logs in {logs}")
+    cpp: str | None = None
+    if args.new_runtime == "rclcpp":
+        cpp, why = build_cpp_counter(venv, root)
+        if cpp is None:
+            print(f"handover_bench: the C++ counter did not build: {why}", file=sys.stderr)
+            return 3
     print(f"{'rate':>6} {'n':>3} {'silence median':>15} {'p95':>8} {'critical median':>16} {'p95':>8} "
           f"{'command median':>15} {'p95':>8} {'lost':>5} {'repeated':>8}")
     for rate in args.rates:
         env = environment(venv, ws, root / "ros-log")
         env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
+        if cpp is not None:
+            env = overlay(env, root / "ws_cpp")
         run = subprocess.run([sys.executable, __file__, "--measure", str(rate), "--handovers", str(args.handovers),
-                              "--python", sys.executable, "--logs", str(logs)], env=env, capture_output=True,
+                              "--python", sys.executable, "--logs", str(logs),
+                              *(["--cpp", cpp] if cpp else [])], env=env, capture_output=True,
                              text=True, timeout=600 + 60 * args.handovers, check=False)
         if run.returncode != 0:
             print(f"handover_bench: {rate:g} Hz failed: {run.stderr[-1500:]}", file=sys.stderr)
