@@ -55,7 +55,7 @@ def main() -> int:
     a.logs.mkdir(parents=True, exist_ok=True)
     report = Report(a.out)
     from counter_msgs.msg import Count, Parity
-    from counter_msgs.srv import ComponentControl
+    from iface_msgs.srv import ComponentControl
 
     probe = Probe()
     counts: list[int] = []
@@ -123,7 +123,12 @@ def main() -> int:
                                          cfg["package"])
             check(code == 0, f"exit {code}: {err[-1500:]}")
             result.update(record)
-            return f"{record['result']}: {[s['step'] for s in record['steps']]}"
+            names = [s["step"] for s in record["steps"]]
+            check(names.index("prepare") < names.index("pause OLD"), f"not prepared before OLD paused: {names}")
+            check(names.index("deactivate OLD") < names.index("activate NEW"), f"both active at once: {names}")
+            critical = record.get("critical_section_ms")
+            check(isinstance(critical, (int, float)) and critical > 0, f"critical section {critical!r}")
+            return f"{record['result']}: {names}; critical section {critical} ms"
 
         def carried() -> str:
             before, after = result["state_before"], result["state_after"]

@@ -19,10 +19,12 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
-#include "robot_arm/iface_runtime.hpp"
+#include "iface_runtime_cpp/iface_runtime.hpp"
+#include "rclcpp_components/register_node_macro.hpp"
 #include "robot_arm_msgs/action/follow_trajectory.hpp"
 #include "robot_arm_msgs/msg/joint_command.hpp"
 #include "robot_arm_msgs/msg/joint_state.hpp"
@@ -160,13 +162,16 @@ private:
   std::shared_ptr<rclcpp_lifecycle::LifecyclePublisher<JointState>> pub_joint_state_;
 };
 
-//! The user's node, made by ROBOT_ARM_COMPONENT(Class) in src/node.cpp.
-std::shared_ptr<RobotArmBase> make_node(const rclcpp::NodeOptions & options);
+//! The user's node, made by ROBOT_ARM_COMPONENT(Class) in src/node.cpp (the executable calls it; the
+//! component library is built with hidden symbols, so two versions of it load into one container).
+__attribute__((visibility("default"))) std::shared_ptr<RobotArmBase> make_node(
+  const rclcpp::NodeOptions & options);
 
 }  // namespace robot_arm
 
-//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace):
-//! a class that does not match robot_arm.iface stops the build here with the reason.
+//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace) and
+//! registers it as the rclcpp component robot_arm::RobotArm: a class that does not match
+//! robot_arm.iface stops the build here with the reason.
 #define ROBOT_ARM_COMPONENT(Class) \
   static_assert( \
     std::is_base_of_v<::robot_arm::RobotArmBase, Class>, \
@@ -177,9 +182,13 @@ std::shared_ptr<RobotArmBase> make_node(const rclcpp::NodeOptions & options);
     "the missing ones are listed below as pure virtual functions of robot_arm::RobotArmBase " \
     "(include/robot_arm/base.hpp); a handler whose 'override' overrides nothing handles a member the " \
     "interface no longer has"); \
+  static_assert( \
+    std::string_view(#Class) == "robot_arm::RobotArm", \
+    "robot_arm: the component class is registered as robot_arm::RobotArm (CMakeLists.txt): name it so"); \
   std::shared_ptr<::robot_arm::RobotArmBase> robot_arm::make_node(const rclcpp::NodeOptions & options) \
   { \
     return std::make_shared<Class>(options); \
-  }
+  } \
+  RCLCPP_COMPONENTS_REGISTER_NODE(Class)
 
 #endif  // ROBOT_ARM__BASE_HPP_
