@@ -250,7 +250,8 @@ def test_handlers_of_one_kind_with_one_last_segment_use_the_whole_name(tmp_path:
 
 def test_a_definition_named_like_a_protocol_service_is_its_own(tmp_path: Path) -> None:
     """The protocol's SaveState is iface_msgs/srv/SaveState, so the interface package may have one of its own."""
-    files, diags = _generated(HEAD + "service SaveState { request {} response { bool mine } }\n", tmp_path)
+    files, diags = _generated(HEAD + "service SaveState { request {} response { bool mine } }\n"
+                              'publishes M on "/x"\n', tmp_path)
     assert not any("runtime-name-clash" in d for d in diags)
     own = files["c_msgs/srv/SaveState.srv"]
     assert "bool mine" in own and "bool mine" not in files["iface_msgs/srv/SaveState.srv"]
