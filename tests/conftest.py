@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import io
 import os
 import signal
 import subprocess
 import sys
+from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
@@ -55,6 +57,16 @@ def in_two_processes(code: str, *args: str) -> tuple[str, str]:
 def generated_in_two_processes(target: str, paths: list[Path]) -> tuple[str, str]:
     """What ``target`` generates for each of ``paths``, in two processes under different hash seeds."""
     return in_two_processes(_GENERATE, target, *(str(p) for p in paths))
+
+
+def run_main(*args: str) -> subprocess.CompletedProcess[str]:
+    """Run ``iface-lsp ARGS`` in this process (``iface.cli.main``: no interpreter start) and capture its output."""
+    from iface.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        code = main(list(args))
+    return subprocess.CompletedProcess(["iface-lsp", *args], code, out.getvalue(), err.getvalue())
 
 
 @pytest.fixture

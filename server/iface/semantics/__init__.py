@@ -7,7 +7,8 @@
 - ``validate``: the semantic checks, small per-node functions that yield located diagnostics;
 - ``analysis``: resolution and checks kept per definition and wiring, so that an edit redoes only what
   it changed;
-- ``query``: what editors ask of a compiled model (the item at an offset, references, the outline).
+- ``query``: what editors ask of a compiled model (the item at an offset, references, the outline);
+- ``systems``: a system file's instances, their annotations and start order, and its checks.
 
 May import: ``model``, ``syntax``.
 """
