@@ -62,6 +62,12 @@ action Move {
 }
 publishes Pose on "/pose"
 '''
+#: The classes of a system file (a file is a system or a component, never both).
+EVERY_SYSTEM_CLASS = '''/** A home. */
+system home version "1.0"
+include "other.iface"
+instance a : other (restart = "never")
+'''
 
 
 def _nodes(node: Any, out: list[Any]) -> list[Any]:
@@ -78,10 +84,11 @@ def _nodes(node: Any, out: list[Any]) -> list[Any]:
 
 
 def _every_class() -> dict[type, Any]:
-    comp = Workspace([]).compile_text("/every.iface", EVERY_CLASS)
     found: dict[type, Any] = {}
-    for node in _nodes(comp.interface.items, []):
-        found.setdefault(type(node), node)
+    for name, text in (("/every.iface", EVERY_CLASS), ("/home.iface", EVERY_SYSTEM_CLASS)):
+        comp = Workspace([]).compile_text(name, text)
+        for node in _nodes(comp.interface.items, []):
+            found.setdefault(type(node), node)
     return found
 
 
