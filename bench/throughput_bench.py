@@ -143,7 +143,8 @@ def main() -> int:
     if args.drive is not None:
         print(json.dumps(drive(args.drive)))
         return 0
-    from tests.runtime.ros import build, environment, generate, runtime_venv
+    os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "server"), os.environ.get("PYTHONPATH")) if p)
+    from tests.runtime.ros import build, environment, generate, runtime_venv  # generate runs this checkout's iface
 
     venv, why = runtime_venv()
     if venv is None:
