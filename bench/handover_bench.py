@@ -163,39 +163,45 @@ def main() -> int:
     ap.add_argument("--measure", type=float, help=argparse.SUPPRESS)
     ap.add_argument("--python", help=argparse.SUPPRESS)
     ap.add_argument("--logs", type=Path, help=argparse.SUPPRESS)
+    ap.add_argument("--keep", type=Path, help="build into this folder, or reuse the counter built there before")
     ap.add_argument("--new-runtime", choices=("rclpy", "rclcpp"), default="rclpy",
                     help="the second instance's runtime: rclcpp alternates Python -> C++ and C++ -> Python")
     ap.add_argument("--cpp", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.measure is not None:
-        print(json.dumps(measure(args.measure, args.handovers, args.python, args.logs, args.cpp)))
-        return 0
-    from tests.runtime.ros import build, environment, generate, runtime_venv
+        print(json.dumps(measure(args.measure, args.handovers, args.python, args.logs, args.cpp)), flush=True)
+        os._exit(0)  # rclpy's threads may abort the interpreter's own teardown ("terminate called…")
+    os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "server"), os.environ.get("PYTHONPATH")) if p)
+    from tests.runtime.ros import build, environment, generate, runtime_venv  # generate runs this checkout's iface
 
     venv, why = runtime_venv()
     if venv is None:
         print(f"handover_bench: {why}", file=sys.stderr)
         return 2
-    root = Path(tempfile.mkdtemp(prefix="handover-bench-"))
+    root = args.keep.resolve() if args.keep else Path(tempfile.mkdtemp(prefix="handover-bench-"))
     gen, ws, logs = root / "gen", root / "ws", root / "logs"
-    ws.mkdir()
-    logs.mkdir()
-    done = generate(COUNTER, gen)
-    if done.returncode != 0:
-        print(done.stderr, file=sys.stderr)
-        return 3
-    shutil.copyfile(USER, gen / "counter" / "counter" / "node.py")
-    ok, tail, seconds = build(venv, gen, ws)
-    if not ok:
-        print(f"handover_bench: the counter did not build:\n{tail}", file=sys.stderr)
-        return 3
-    print(f"built counter + iface_msgs + iface_runtime_py in {seconds:.0f} s; logs in {logs}")
+    if not (ws / "install" / "counter").is_dir():
+        ws.mkdir(parents=True, exist_ok=True)
+        done = generate(COUNTER, gen)
+        if done.returncode != 0:
+            print(done.stderr, file=sys.stderr)
+            return 3
+        shutil.copyfile(USER, gen / "counter" / "counter" / "node.py")
+        ok, tail, seconds = build(venv, gen, ws)
+        if not ok:
+            print(f"handover_bench: the counter did not build:\n{tail}", file=sys.stderr)
+            return 3
+        print(f"built counter + iface_msgs + iface_runtime_py in {seconds:.0f} s")
+    logs.mkdir(exist_ok=True)
+    print(f"logs in {logs}")
     cpp: str | None = None
     if args.new_runtime == "rclcpp":
-        cpp, why = build_cpp_counter(venv, root)
-        if cpp is None:
-            print(f"handover_bench: the C++ counter did not build: {why}", file=sys.stderr)
-            return 3
+        cpp = str(root / "ws_cpp" / "install" / "counter" / "lib" / "counter" / "counter")
+        if not Path(cpp).is_file():
+            cpp, why = build_cpp_counter(venv, root)
+            if cpp is None:
+                print(f"handover_bench: the C++ counter did not build: {why}", file=sys.stderr)
+                return 3
     print(f"{'rate':>6} {'n':>3} {'silence median':>15} {'p95':>8} {'critical median':>16} {'p95':>8} "
           f"{'command median':>15} {'p95':>8} {'lost':>5} {'repeated':>8}")
     for rate in args.rates:
@@ -207,7 +213,7 @@ def main() -> int:
                               "--python", sys.executable, "--logs", str(logs),
                               *(["--cpp", cpp] if cpp else [])], env=env, capture_output=True,
                              text=True, timeout=600 + 60 * args.handovers, check=False)
-        if run.returncode != 0:
+        if run.returncode != 0 or not run.stdout.strip():
             print(f"handover_bench: {rate:g} Hz failed: {run.stderr[-1500:]}", file=sys.stderr)
             return 3
         r = json.loads(run.stdout.strip().splitlines()[-1])
@@ -219,7 +225,8 @@ def main() -> int:
               f"{statistics.median(c):>13.1f} ms {percentile(c, 0.95):>5.1f} ms {statistics.median(w):>12.0f} ms "
               f"{percentile(w, 0.95):>5.0f} ms {r['lost']:>5} {r['repeated']:>8}"
               + (f"  ({r['refused']} refused)" if r["refused"] else ""))
-    shutil.rmtree(root / "ws" / "build", ignore_errors=True)
+    if not args.keep:
+        shutil.rmtree(root, ignore_errors=True)
     return 0
 
 

@@ -139,30 +139,35 @@ def main() -> int:
     ap.add_argument("--messages", type=int, default=5000)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--drive", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--keep", type=Path, help="build into this folder, or reuse the relay built there before")
     args = ap.parse_args()
     if args.drive is not None:
-        print(json.dumps(drive(args.drive)))
-        return 0
-    from tests.runtime.ros import build, environment, generate, runtime_venv
+        print(json.dumps(drive(args.drive)), flush=True)
+        os._exit(0)  # rclpy's threads may abort the interpreter's own teardown ("terminate called…")
+    os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "server"), os.environ.get("PYTHONPATH")) if p)
+    from tests.runtime.ros import build, environment, generate, runtime_venv  # generate runs this checkout's iface
 
     venv, why = runtime_venv()
     if venv is None:
         print(f"throughput_bench: {why}", file=sys.stderr)
         return 2
-    root = Path(tempfile.mkdtemp(prefix="throughput-bench-"))
-    (root / "relay.iface").write_text(RELAY_IFACE, encoding="utf-8")
+    root = args.keep.resolve() if args.keep else Path(tempfile.mkdtemp(prefix="throughput-bench-"))
     gen, ws = root / "gen", root / "ws"
-    ws.mkdir()
-    done = generate(root / "relay.iface", gen)
-    if done.returncode != 0:
-        print(done.stderr, file=sys.stderr)
-        return 3
-    (gen / "relay" / "relay" / "node.py").write_text(RELAY_USER, encoding="utf-8")
+    seconds = 0.0
+    if not (ws / "install" / "relay").is_dir():
+        root.mkdir(parents=True, exist_ok=True)
+        (root / "relay.iface").write_text(RELAY_IFACE, encoding="utf-8")
+        ws.mkdir()
+        done = generate(root / "relay.iface", gen)
+        if done.returncode != 0:
+            print(done.stderr, file=sys.stderr)
+            return 3
+        (gen / "relay" / "relay" / "node.py").write_text(RELAY_USER, encoding="utf-8")
+        ok, tail, seconds = build(venv, gen, ws)
+        if not ok:
+            print(f"throughput_bench: the relay did not build:\n{tail}", file=sys.stderr)
+            return 3
     (root / "hand_relay.py").write_text(HAND_WRITTEN, encoding="utf-8")
-    ok, tail, seconds = build(venv, gen, ws)
-    if not ok:
-        print(f"throughput_bench: the relay did not build:\n{tail}", file=sys.stderr)
-        return 3
     env = environment(venv, ws, root / "ros-log")
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
     relays = {"generated": [sys.executable, "-m", "relay", "--activate"],
@@ -182,12 +187,13 @@ def main() -> int:
                 except subprocess.TimeoutExpired:
                     proc.kill()
                     proc.wait(timeout=10)
-            if run.returncode != 0:
+            if run.returncode != 0 or not run.stdout.strip():
                 print(f"throughput_bench: {name}: {run.stderr[-800:]}", file=sys.stderr)
                 return 3
             rate = float(run.stdout.strip().splitlines()[-1])
             best[name] = max(best.get(name, 0.0), rate)
-    shutil.rmtree(root, ignore_errors=True)
+    if not args.keep:
+        shutil.rmtree(root, ignore_errors=True)
     print(f"built in {seconds:.0f} s; {args.messages} messages, best of {args.rounds} rounds each")
     print(f"generated rclpy component: {best['generated']:8.0f} msg/s")
     print(f"hand-written lifecycle node: {best['hand-written']:6.0f} msg/s")

@@ -74,7 +74,7 @@ def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> 
 def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path) -> tuple[bool, str, float]:
     """colcon build of every package under ``generated`` against rclcpp, as docs/targets.md says."""
     start = time.monotonic()
-    shutil.copytree(generated, ws / "src")
+    shutil.copytree(generated, ws / "src")  # with iface_msgs and iface_runtime_cpp where generate wrote them
     cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
            "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
            f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
