@@ -1,0 +1,57 @@
+"""``iface-lsp verify FILES_OR_SYSTEM [--format text|json|sarif] [--timeout S]``"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .. import __version__
+from .common import UsageError, display_path
+from .live import ros_missing_line
+from .load import load_checked
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the command's arguments."""
+    p.add_argument("files", nargs="+", metavar="FILE",
+                   help="the .iface files of the running nodes (each names its node: ros2.node, else /<component>)")
+    p.add_argument("--format", choices=("text", "json", "sarif"), default="text", help="output format")
+    p.add_argument("--timeout", type=float, default=5.0, metavar="S",
+                   help="seconds to wait for discovery and for each answer (default 5)")
+    p.add_argument("-I", "--include-path", action="append", default=[], metavar="DIR",
+                   help="a folder to search for included files")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Exit 0 when every node conforms, 1 on findings (warnings included), 2 on usage, I/O or no ROS 2."""
+    if args.timeout <= 0:
+        print("iface-lsp verify: --timeout must be more than 0 seconds", file=sys.stderr)
+        return 2
+    try:
+        comps = load_checked(args.files, args.include_path, command="verify")
+    except UsageError as e:
+        print(f"iface-lsp verify: {e}", file=sys.stderr)
+        return 2
+    missing_ros = ros_missing_line("verify")
+    if missing_ros:
+        print(missing_ros, file=sys.stderr)
+        return 2
+    from ..runtime.live.graph import open_graph
+    from ..runtime.live.report import render_json, render_sarif, render_text
+    from ..runtime.live.verify import declared, read_live, verify
+
+    decls = [declared(c) for c in comps if c.interface.component is not None]
+    if not decls:
+        print("iface-lsp verify: no component in the given files (a node is declared by a `component`)",
+              file=sys.stderr)
+        return 2
+    with open_graph(args.timeout) as graph:
+        live = read_live(graph, sorted({d.node for d in decls}))
+    findings = verify(decls, live)
+    if args.format == "json":
+        sys.stdout.write(render_json(findings, display_path, len(decls)))
+    elif args.format == "sarif":
+        sys.stdout.write(render_sarif(findings, display_path, __version__))
+    else:
+        sys.stdout.write(render_text(findings, display_path, len(decls)))
+    return 1 if findings else 0
