@@ -14,6 +14,7 @@ from .ros import DATA, ROOT, build, generate, runtime_venv
 COMPONENTS = {
     "robot_arm": (ROOT / "examples" / "robot_arm.iface", DATA / "robot_arm_node.py"),
     "every_member": (DATA / "every_member.iface", DATA / "every_member_node.py"),
+    "live_probe": (DATA / "live" / "live_probe.iface", DATA / "live" / "live_probe_node.py"),
 }
 
 

@@ -67,10 +67,8 @@ def import_nodes(args: argparse.Namespace) -> int:
         absent = graph.wait_for(names)
         for name in absent:
             print(f"iface-lsp import: {name}: no such node on the graph (waited {args.timeout:g} s)", file=sys.stderr)
-        for name in names:
-            if name in absent:
-                continue
-            snap = graph.snapshot(name)
+        snaps = graph.snapshots([n for n in names if n not in absent])
+        for name, snap in snaps.items():
             if snap.describe_json:
                 got = described_files(component_name(name), snap.describe_json)
                 files += got

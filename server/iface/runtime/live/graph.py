@@ -105,28 +105,40 @@ class Graph:
         except Exception:  # the node left the graph between the two calls
             return ()
 
-    def wait_for(self, names: list[str], settle: float = 0.3) -> list[str]:
-        """Wait until every name is on the graph and what each has stops changing; the names missing at the end."""
-        deadline = time.monotonic() + self.timeout
+    def wait_for(self, names: list[str], settle: float = 0.3, grace: float = 2.0) -> list[str]:
+        """Wait until every name is on the graph and what each has stops changing; the names missing at the end.
+
+        A name still missing when others have come and the graph has not changed for ``grace`` seconds
+        is taken as not running (so a missing node costs ``grace``, not the whole timeout).
+        """
+        start = time.monotonic()
+        deadline = start + self.timeout
         missing = list(names)
+        last: set[str] = set()
+        changed = start
         while time.monotonic() < deadline:
             present = set(self.node_names())
             missing = [n for n in names if n not in present]
             if not missing:
                 break
+            if present != last:
+                last, changed = present, time.monotonic()
+            if len(missing) < len(names) and time.monotonic() - changed >= grace:
+                break
             time.sleep(0.05)
-        if missing:
+        if len(missing) == len(names):
             return missing
-        last = tuple(self._shape(n) for n in names)
+        names = [n for n in names if n not in missing]
+        shape = tuple(self._shape(n) for n in names)
         stable_since = time.monotonic()
         while time.monotonic() < deadline and time.monotonic() - stable_since < settle:
             time.sleep(0.05)
             now = tuple(self._shape(n) for n in names)
-            if now != last:
-                last, stable_since = now, time.monotonic()
-        return []
+            if now != shape:
+                shape, stable_since = now, time.monotonic()
+        return missing
 
-    def wait_for_all(self, settle: float = 0.5) -> list[str]:
+    def wait_for_all(self, settle: float = 1.0) -> list[str]:
         """Every node once the list of nodes has stopped changing for ``settle`` seconds (within the timeout)."""
         deadline = time.monotonic() + self.timeout
         last = self.node_names()
@@ -139,9 +151,24 @@ class Graph:
         self.wait_for(last, settle=0.2)
         return last
 
-    # ---- reading a node ----------------------------------------------------------------------
+    # ---- reading nodes -----------------------------------------------------------------------
     def snapshot(self, full: str) -> NodeSnapshot:
         """Everything the graph tells of the node ``full`` (``/ns/name``)."""
+        return self.snapshots([full])[full]
+
+    def snapshots(self, names: list[str]) -> dict[str, NodeSnapshot]:
+        """Snapshots of several nodes; their parameter and Describe services are asked all at once."""
+        snaps = {full: self._graph_part(full) for full in names}
+        with_params = [s for s in snaps.values() if "list_parameters" in s.own_services]
+        describing = [s for s in snaps.values() if s.own_services.get(DESCRIBE_SERVICE) == DESCRIBE_TYPE]
+        self._parameters(with_params)
+        self._describe(describing)
+        for snap in snaps.values():
+            snap.topics.sort(key=lambda t: (t.topic, t.role))
+            snap.endpoints.sort(key=lambda e: (e.kind, e.name, e.role))
+        return snaps
+
+    def _graph_part(self, full: str) -> NodeSnapshot:
         from rclpy.action import graph as action_graph
 
         ns, _, name = full.rpartition("/")
@@ -149,9 +176,14 @@ class Graph:
         n = self.node
         snap = NodeSnapshot(full)
         services = {s: tuple(t) for s, t in n.get_service_names_and_types_by_node(name, ns)}
-        rels = {snap.relative(s): t for s, t in services.items()}
-        snap.lifecycle = ("lifecycle_msgs/srv/GetState",) == rels.get("get_state") or all(
-            r in rels for r in LIFECYCLE_SERVICES)
+        for s, t in services.items():
+            rel = snap.relative(s)
+            if rel is not None and len(t) == 1:
+                snap.own_services[rel] = t[0]
+        snap.lifecycle = snap.own_services.get("get_state") == "lifecycle_msgs/srv/GetState" or all(
+            r in snap.own_services for r in LIFECYCLE_SERVICES)
+        if snap.own_services.get("list_parameters") != "rcl_interfaces/srv/ListParameters":
+            snap.own_services.pop("list_parameters", None)
         for role, listing, info in (
                 ("publishes", n.get_publisher_names_and_types_by_node, n.get_publishers_info_by_topic),
                 ("subscribes", n.get_subscriber_names_and_types_by_node, n.get_subscriptions_info_by_topic)):
@@ -179,12 +211,6 @@ class Graph:
             snap.endpoints.append(NamedEndpoint("provides", "action", aname, types[0]))
         for aname, types in action_graph.get_action_client_names_and_types_by_node(n, name, ns):
             snap.endpoints.append(NamedEndpoint("calls", "action", aname, types[0]))
-        if rels.get("list_parameters") == ("rcl_interfaces/srv/ListParameters",):
-            self._parameters(snap)
-        if rels.get(DESCRIBE_SERVICE) == (DESCRIBE_TYPE,):
-            self._describe(snap)
-        snap.topics.sort(key=lambda t: (t.topic, t.role))
-        snap.endpoints.sort(key=lambda e: (e.kind, e.name, e.role))
         return snap
 
     def peers(self, topic: str) -> list[tuple[str, str, str, Qos]]:
@@ -203,78 +229,95 @@ class Graph:
                                                            _seconds(q.liveliness_lease_duration))))
         return sorted(out, key=lambda x: (x[0], x[1]))
 
-    def _call(self, srv_type: Any, service: str, request: Any) -> Any:
-        client = self.node.create_client(srv_type, service)
+    def _calls(self, calls: list[tuple[Any, str, Any]]) -> list[Any]:
+        """Call several services at once: each answer, or None when it did not come within the timeout."""
+        deadline = time.monotonic() + self.timeout
+        clients = [self.node.create_client(t, name) for t, name, _ in calls]
         try:
-            left = self.timeout
-            if not client.wait_for_service(timeout_sec=left):
-                return None
-            future = client.call_async(request)
-            self.executor.spin_until_future_complete(future, timeout_sec=self.timeout)
-            return future.result() if future.done() else None
+            futures: list[Any] = []
+            for client, (_, _, request) in zip(clients, calls, strict=True):
+                ready = client.wait_for_service(timeout_sec=max(0.0, deadline - time.monotonic()))
+                futures.append(client.call_async(request) if ready else None)
+            while time.monotonic() < deadline and not all(f is None or f.done() for f in futures):
+                self.executor.spin_once(timeout_sec=0.05)
+            return [f.result() if f is not None and f.done() else None for f in futures]
         finally:
-            self.node.destroy_client(client)
+            for client in clients:
+                self.node.destroy_client(client)
 
-    def _parameters(self, snap: NodeSnapshot) -> None:
+    def _parameters(self, snaps: list[NodeSnapshot]) -> None:
         from rcl_interfaces.srv import DescribeParameters, GetParameters, ListParameters
 
-        listed = self._call(ListParameters, f"{snap.name}/list_parameters", ListParameters.Request())
-        if listed is None:
-            snap.notes.append("its parameter services did not answer: parameters not read")
-            return
-        names = sorted(listed.result.names)
-        if not names:
-            return
-        described = self._call(DescribeParameters, f"{snap.name}/describe_parameters",
-                               DescribeParameters.Request(names=names))
-        got = self._call(GetParameters, f"{snap.name}/get_parameters", GetParameters.Request(names=names))
-        if described is None or got is None:
-            snap.notes.append("its parameter services did not answer: parameters not read")
-            return
-        overrides: dict[tuple[str, str], dict[str, Any]] = {}
-        for d, v in zip(described.descriptors, got.values, strict=True):
-            value = _value(v)
-            if d.name.startswith(QOS_OVERRIDES):
-                topic, _, rest = d.name[len(QOS_OVERRIDES):].rpartition(".")
-                topic, _, role = topic.rpartition(".")
-                overrides.setdefault((topic, role), {})[rest] = value
+        lists = self._calls([(ListParameters, f"{s.name}/list_parameters", ListParameters.Request()) for s in snaps])
+        asked: list[tuple[NodeSnapshot, list[str]]] = []
+        for snap, listed in zip(snaps, lists, strict=True):
+            if listed is None:
+                snap.notes.append("its parameter services did not answer: parameters not read")
+            elif listed.result.names:
+                asked.append((snap, sorted(listed.result.names)))
+        calls: list[tuple[Any, str, Any]] = []
+        for snap, names in asked:
+            calls.append((DescribeParameters, f"{snap.name}/describe_parameters", DescribeParameters.Request(names=names)))
+            calls.append((GetParameters, f"{snap.name}/get_parameters", GetParameters.Request(names=names)))
+        answers = self._calls(calls)
+        for i, (snap, _) in enumerate(asked):
+            described, got = answers[2 * i], answers[2 * i + 1]
+            if described is None or got is None:
+                snap.notes.append("its parameter services did not answer: parameters not read")
                 continue
-            kind = _KINDS.get(int(d.type)) or _KINDS.get(int(v.type)) or "string"
-            low = high = None
-            if d.integer_range:
-                low, high = int(d.integer_range[0].from_value), int(d.integer_range[0].to_value)
-            elif d.floating_point_range:
-                low, high = float(d.floating_point_range[0].from_value), float(d.floating_point_range[0].to_value)
-            snap.params.append(Param(d.name, kind, value, d.description, bool(d.read_only), low, high,
-                                     d.additional_constraints))
-        if overrides:
-            role_of = {"publishes": "publisher", "subscribes": "subscription"}
-            topics = []
-            for t in snap.topics:
-                o = overrides.get((t.topic, role_of[t.role]), {})
-                if o:
-                    q = t.qos
-                    history = o.get("history")
-                    depth = o.get("depth")
-                    t = TopicEndpoint(t.role, t.topic, t.type, Qos(
-                        q.reliability, q.durability, q.liveliness, q.deadline, q.lifespan, q.lease_duration,
-                        str(history).lower() if history is not None else None,
-                        int(depth) if isinstance(depth, int) else None))
-                topics.append(t)
-            snap.topics = topics
+            _read_parameters(snap, described.descriptors, got.values)
 
-    def _describe(self, snap: NodeSnapshot) -> None:
+    def _describe(self, snaps: list[NodeSnapshot]) -> None:
+        if not snaps:
+            return
         try:
             from iface_msgs.srv import Describe  # type: ignore[import-not-found]
         except ImportError:
-            snap.notes.append(f"it serves {DESCRIBE_TYPE} but iface_msgs is not installed here: read from the graph")
+            for snap in snaps:
+                snap.notes.append(f"it serves {DESCRIBE_TYPE} but iface_msgs is not installed here: read from the graph")
             return
-        answer = self._call(Describe, f"{snap.name}/{DESCRIBE_SERVICE}", Describe.Request())
-        if answer is None:
-            snap.notes.append("its Describe service did not answer: read from the graph")
-            return
-        snap.describe_json = str(answer.interface_json)
-        snap.describe_hash = str(answer.interface_hash)
+        answers = self._calls([(Describe, f"{s.name}/{DESCRIBE_SERVICE}", Describe.Request()) for s in snaps])
+        for snap, answer in zip(snaps, answers, strict=True):
+            if answer is None:
+                snap.notes.append("its Describe service did not answer: read from the graph")
+                continue
+            snap.describe_json = str(answer.interface_json)
+            snap.describe_hash = str(answer.interface_hash)
+
+
+def _read_parameters(snap: NodeSnapshot, descriptors: Any, values: Any) -> None:
+    """Parameters from the answers of describe_parameters and get_parameters; ``qos_overrides.*`` give QoS."""
+    overrides: dict[tuple[str, str], dict[str, Any]] = {}
+    for d, v in zip(descriptors, values, strict=True):
+        value = _value(v)
+        if d.name.startswith(QOS_OVERRIDES):
+            topic, _, rest = d.name[len(QOS_OVERRIDES):].rpartition(".")
+            topic, _, role = topic.rpartition(".")
+            overrides.setdefault((topic, role), {})[rest] = value
+            continue
+        kind = _KINDS.get(int(d.type)) or _KINDS.get(int(v.type)) or "string"
+        low = high = None
+        if d.integer_range:
+            low, high = int(d.integer_range[0].from_value), int(d.integer_range[0].to_value)
+        elif d.floating_point_range:
+            low, high = float(d.floating_point_range[0].from_value), float(d.floating_point_range[0].to_value)
+        snap.params.append(Param(d.name, kind, value, d.description, bool(d.read_only), low, high,
+                                 d.additional_constraints))
+    if not overrides:
+        return
+    role_of = {"publishes": "publisher", "subscribes": "subscription"}
+    topics = []
+    for t in snap.topics:
+        o = overrides.get((t.topic, role_of[t.role]), {})
+        if o:
+            q = t.qos
+            history, depth = o.get("history"), o.get("depth")
+            t = TopicEndpoint(t.role, t.topic, t.type, Qos(
+                q.reliability, q.durability, q.liveliness, q.deadline, q.lifespan, q.lease_duration,
+                str(history).lower() if history is not None else None,
+                int(depth) if isinstance(depth, int) and not isinstance(depth, bool) else None))
+        topics.append(t)
+    snap.topics = topics
 
 
 @contextmanager

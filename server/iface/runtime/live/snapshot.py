@@ -81,6 +81,8 @@ class NodeSnapshot:
     describe_hash: str = ""
     #: What could not be read (a parameter service that did not answer…).
     notes: list[str] = field(default_factory=list)
+    #: Its services inside the node (``get_state`` for ``/talker/get_state``) and their types.
+    own_services: dict[str, str] = field(default_factory=dict)
 
     @property
     def base(self) -> str:

@@ -294,9 +294,7 @@ def read_live(graph: object, nodes: list[str]) -> LiveGraph:
     live = LiveGraph()
     graph.wait_for(nodes)  # type: ignore[attr-defined]
     live.names = graph.node_names()  # type: ignore[attr-defined]
-    for n in nodes:
-        if n in live.names and n not in live.nodes:
-            live.nodes[n] = graph.snapshot(n)  # type: ignore[attr-defined]
+    live.nodes = graph.snapshots([n for n in nodes if n in live.names])  # type: ignore[attr-defined]
     topics = sorted({t.topic for s in live.nodes.values() for t in own_topics(s)})
     for topic in topics:
         live.peers[topic] = [Peer(n, r, t, q) for n, r, t, q in graph.peers(topic)]  # type: ignore[attr-defined]
