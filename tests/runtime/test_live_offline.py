@@ -155,3 +155,23 @@ def test_without_ros_the_commands_say_so_in_one_line_and_exit_2(argv: list[str])
     assert done.stdout == ""
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and "ROS 2 is not sourced" in lines[0], done.stderr
+
+
+def test_the_system_file_names_every_imported_node_and_verify_reads_its_instances(tmp_path: Path) -> None:
+    from iface.commands.live import system_text
+    from iface.runtime.live.verify import declared_all
+
+    lifer = NodeSnapshot("/lifer", lifecycle=True)
+    for snap in (talker(), lifer):
+        out = node_iface(snap)
+        (tmp_path / out.path).write_text(out.text, encoding="utf-8")
+    system = tmp_path / "room.iface"
+    system.write_text(system_text("room", [("/live/talker", "talker", "talker.iface"),
+                                           ("/lifer", "lifer", "lifer.iface")]), encoding="utf-8")
+    done = subprocess.run([sys.executable, "-m", "iface", "check", str(system)], capture_output=True, text=True,
+                          timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT / "server")})
+    assert done.returncode == 0, done.stdout + done.stderr
+    decls = declared_all([Workspace().compile_path(str(system))])
+    assert [(d.node, d.comp.interface.name) for d in decls] == [("/live/talker", "talker"), ("/lifer", "lifer")]
+    found = verify(decls, LiveGraph(["/live/talker"], {"/live/talker": talker()}))
+    assert [(f.code, Path(f.path).name, f.line) for f in found] == [("live-node-missing", "room.iface", 9)]

@@ -33,12 +33,19 @@ def described_files(name: str, interface_json: str) -> list[GeneratedFile]:
 
 
 def system_text(name: str, imported: list[tuple[str, str, str]]) -> str:
-    """The system file naming every imported node as an instance: (node, component, file)."""
+    """The system file naming every imported node as an instance: (node, component, file).
+
+    A system names nodes without a namespace: the namespace of a node in one is said in a comment.
+    """
     lines = [f"/** The running system, imported from the graph (iface-lsp import --from node --system {name}). */",
-             f"system {name} {{"]
-    for node, component, path in imported:
-        lines.append(f'    instance {component} from "{path}" as "{node}"')
-    lines.append("}")
+             f"system {name}", ""]
+    lines += [f'include "{path}"' for _, _, path in sorted(imported, key=lambda x: x[2])]
+    lines.append("")
+    for node, component, _ in imported:
+        base = node.rsplit("/", 1)[-1]
+        if node.rsplit("/", 1)[0]:
+            lines.append(f"// runs as {node}")
+        lines.append(f"instance {component} : {component}" + (f' (node = "{base}")' if base != component else ""))
     return "\n".join(lines) + "\n"
 
 

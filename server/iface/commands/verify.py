@@ -13,8 +13,9 @@ from .load import load_checked
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Declare the command's arguments."""
-    p.add_argument("files", nargs="+", metavar="FILE",
-                   help="the .iface files of the running nodes (each names its node: ros2.node, else /<component>)")
+    p.add_argument("files", nargs="+", metavar="FILE_OR_SYSTEM",
+                   help="the .iface files of the running nodes (each names its node: ros2.node, else /<component>), "
+                        "or a system file (one node per instance)")
     p.add_argument("--format", choices=("text", "json", "sarif"), default="text", help="output format")
     p.add_argument("--timeout", type=float, default=5.0, metavar="S",
                    help="seconds to wait for discovery and for each answer (default 5)")
@@ -38,11 +39,12 @@ def run(args: argparse.Namespace) -> int:
         return 2
     from ..runtime.live.graph import open_graph
     from ..runtime.live.report import render_json, render_sarif, render_text
-    from ..runtime.live.verify import declared, read_live, verify
+    from ..runtime.live.verify import declared_all, read_live, verify
 
-    decls = [declared(c) for c in comps if c.interface.component is not None]
+    decls = declared_all(comps)
     if not decls:
-        print("iface-lsp verify: no component in the given files (a node is declared by a `component`)",
+        print("iface-lsp verify: no component or system in the given files (a node is declared by a `component` "
+              "or an `instance`)",
               file=sys.stderr)
         return 2
     with open_graph(args.timeout) as graph:

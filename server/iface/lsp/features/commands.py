@@ -246,15 +246,15 @@ class Runner:
                 await self.project.workspace_index.ready.wait()
             index = self.project.workspace_index
             comps = index.all_compilations() if index is not None else []
-        comps = [c for c in comps if c.path.endswith(".iface") and c.interface.component is not None
-                 and not c.has_errors]
-        if not comps:
-            raise CommandError("no component file without errors to verify")
+        comps = [c for c in comps if c.path.endswith(".iface") and not c.has_errors]
         from ...runtime.live.graph import open_graph
         from ...runtime.live.report import render_text
-        from ...runtime.live.verify import declared, read_live, verify
+        from ...runtime.live.verify import declared_all, read_live, verify
 
-        decls = [declared(c) for c in comps]
+        decls = declared_all(comps)
+        if not decls:
+            raise CommandError("no component or system file without errors to verify")
+        comps = [*comps, *(d.comp for d in decls)]
 
         def read() -> Any:
             with open_graph(float(timeout)) as graph:
@@ -263,7 +263,7 @@ class Runner:
         live = await asyncio.to_thread(read)
         findings = verify(decls, live)
         sources = {c.path: c.source for c in comps}
-        found: dict[str, list[Any]] = {path_to_uri(c.path): [] for c in comps}
+        found: dict[str, list[Any]] = {path_to_uri(c.path): [] for c in comps if c.path.endswith(".iface")}
         for f in findings:
             source = sources.get(f.path)
             if source is None:

@@ -77,10 +77,12 @@ class LiveGraph:
 
 @dataclass(frozen=True, slots=True)
 class Declared:
-    """A running node as a file declares it: its full name and the file's compilation."""
+    """A running node as a file declares it: its full name, the component's compilation, and where a
+    system file names it (the instance), if one does."""
 
     node: str
     comp: Compilation
+    instance: tuple[Source, Span] | None = None
 
 
 def node_name(comp: Compilation) -> str:
@@ -96,6 +98,27 @@ def node_name(comp: Compilation) -> str:
 def declared(comp: Compilation) -> Declared:
     """The node a file declares."""
     return Declared(node_name(comp), comp)
+
+
+def declared_all(comps: list[Compilation]) -> list[Declared]:
+    """The nodes the files declare: one per component file, one per instance of a system file.
+
+    An instance runs as ``/<node>`` (its ``node`` annotation), else as its component file's
+    ``ros2.node``, else as ``/<instance name>``.
+    """
+    from ...compat.systemfile import instance_compilations
+
+    out: list[Declared] = []
+    for comp in comps:
+        if getattr(comp.interface, "system", None) is not None:
+            for inst, component in instance_compilations(comp):
+                given = inst.value("node")
+                own = node_name(component)
+                node = "/" + given if given else own if own != "/" + component.interface.name else "/" + inst.name
+                out.append(Declared(node, component, (comp.source, inst.name_span)))
+        elif comp.interface.component is not None:
+            out.append(declared(comp))
+    return out
 
 
 def resolve_name(node: str, name: str) -> str:
@@ -276,8 +299,10 @@ def verify(decls: list[Declared], live: LiveGraph) -> list[Finding]:
         snap = live.nodes.get(d.node)
         if snap is None:
             c = _Checker(d, NodeSnapshot(d.node))
+            if d.instance is not None:
+                c.source = d.instance[0]
             c.at("live-node-missing", f"{d.node} is not running (declared by component {d.comp.interface.name})",
-                 c.anchor())
+                 d.instance[1] if d.instance is not None else c.anchor())
             out.extend(c.out)
             continue
         c = _Checker(d, snap)
