@@ -175,3 +175,19 @@ def test_the_system_file_names_every_imported_node_and_verify_reads_its_instance
     assert [(d.node, d.comp.interface.name) for d in decls] == [("/live/talker", "talker"), ("/lifer", "lifer")]
     found = verify(decls, LiveGraph(["/live/talker"], {"/live/talker": talker()}))
     assert [(f.code, Path(f.path).name, f.line) for f in found] == [("live-node-missing", "room.iface", 9)]
+
+
+def test_a_describe_answer_gives_the_whole_interface_exactly(tmp_path: Path) -> None:
+    """The interface_json of a Describe answer (the JSON form) is read back: compat finds it equivalent."""
+    from iface.commands.live import described_files
+    from iface.emit import generate
+
+    source = ROOT / "tests" / "runtime" / "data" / "live" / "live_probe.iface"
+    form = next(f.text for f in generate(Workspace().compile_path(str(source)), "json").files
+                if f.path.endswith(".json"))
+    files = described_files("live_probe", form)
+    assert [f.path for f in files] == ["live_probe.iface"]
+    (tmp_path / "live_probe.iface").write_text(files[0].text, encoding="utf-8")
+    done = subprocess.run([sys.executable, "-m", "iface", "compat", str(source), str(tmp_path / "live_probe.iface")],
+                          capture_output=True, text=True, timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT / "server")})
+    assert done.returncode == 0 and "verdict: equivalent" in done.stdout, done.stdout + done.stderr

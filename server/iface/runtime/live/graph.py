@@ -271,7 +271,7 @@ class Graph:
         if not snaps:
             return
         try:
-            from iface_msgs.srv import Describe  # type: ignore[import-not-found]
+            from iface_msgs.srv import Describe
         except ImportError:
             for snap in snaps:
                 snap.notes.append(f"it serves {DESCRIBE_TYPE} but iface_msgs is not installed here: read from the graph")
@@ -296,7 +296,8 @@ def _read_parameters(snap: NodeSnapshot, descriptors: Any, values: Any) -> None:
             overrides.setdefault((topic, role), {})[rest] = value
             continue
         kind = _KINDS.get(int(d.type)) or _KINDS.get(int(v.type)) or "string"
-        low = high = None
+        low: float | None = None
+        high: float | None = None
         if d.integer_range:
             low, high = int(d.integer_range[0].from_value), int(d.integer_range[0].to_value)
         elif d.floating_point_range:

@@ -9,6 +9,7 @@ Nothing here imports ROS: ``graph`` fills the ``LiveGraph``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ...compat import qos as qosrules
 from ...compat.canon import interface_hash
@@ -21,6 +22,9 @@ from ...text.printer import type_text
 from .filters import own_endpoints, own_params, own_topics
 from .snapshot import NodeSnapshot, Qos
 from .to_iface import duration_text
+
+if TYPE_CHECKING:  # reading the graph needs rclpy; comparing does not
+    from .graph import Graph
 
 #: code -> (severity, what it means); the codes are stable.
 CODES: dict[str, tuple[str, str]] = {
@@ -314,13 +318,13 @@ def verify(decls: list[Declared], live: LiveGraph) -> list[Finding]:
     return sorted(out, key=lambda f: (f.path, f.line, f.column, f.code, f.message))
 
 
-def read_live(graph: object, nodes: list[str]) -> LiveGraph:
-    """Read the declared ``nodes`` and the peers on their topics off ``graph`` (a ``graph.Graph``)."""
+def read_live(graph: Graph, nodes: list[str]) -> LiveGraph:
+    """Read the declared ``nodes`` and the peers on their topics off ``graph``."""
     live = LiveGraph()
-    graph.wait_for(nodes)  # type: ignore[attr-defined]
-    live.names = graph.node_names()  # type: ignore[attr-defined]
-    live.nodes = graph.snapshots([n for n in nodes if n in live.names])  # type: ignore[attr-defined]
+    graph.wait_for(nodes)
+    live.names = graph.node_names()
+    live.nodes = graph.snapshots([n for n in nodes if n in live.names])
     topics = sorted({t.topic for s in live.nodes.values() for t in own_topics(s)})
     for topic in topics:
-        live.peers[topic] = [Peer(n, r, t, q) for n, r, t, q in graph.peers(topic)]  # type: ignore[attr-defined]
+        live.peers[topic] = [Peer(n, r, t, q) for n, r, t, q in graph.peers(topic)]
     return live
