@@ -77,10 +77,14 @@ def import_nodes(args: argparse.Namespace) -> int:
         snaps = graph.snapshots([n for n in names if n not in absent])
         for name, snap in snaps.items():
             if snap.describe_json:
-                got = described_files(component_name(name), snap.describe_json)
-                files += got
-                instances.append((name, component_name(name), got[0].path))
-                continue
+                try:
+                    got = described_files(component_name(name), snap.describe_json)
+                except (ValueError, RecursionError) as e:  # FormError and PrintError are ValueErrors
+                    snap.notes.append(f"its Describe answer is not the iface JSON form ({e}): read from the graph")
+                else:
+                    files += got
+                    instances.append((name, component_name(name), got[0].path))
+                    continue
             imported = node_iface(snap, everything=args.all_endpoints)
             files.append(GeneratedFile(imported.path, imported.text))
             instances.append((name, imported.component, imported.path))

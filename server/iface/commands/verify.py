@@ -6,9 +6,9 @@ import argparse
 import sys
 
 from .. import __version__
-from .common import UsageError, display_path
+from ..semantics.compile import Compilation
+from .common import UsageError, check_suffix, compile_files, display_path, gather, print_diagnostics
 from .live import ros_missing_line
-from .load import load_checked
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
         print("iface-lsp verify: --timeout must be more than 0 seconds", file=sys.stderr)
         return 2
     try:
-        comps = load_checked(args.files, args.include_path, command="verify")
+        comps = _load(args.files, args.include_path)
     except UsageError as e:
         print(f"iface-lsp verify: {e}", file=sys.stderr)
         return 2
@@ -57,3 +57,17 @@ def run(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(render_text(findings, display_path, len(decls)))
     return 1 if findings else 0
+
+
+def _load(paths: list[str], include_paths: list[str]) -> list[Compilation]:
+    """Compile the files; errors stop verify, except the conflicts of a system's declared graph (``graph-*``):
+    those are what verify looks for in the running one."""
+    for p in paths:
+        check_suffix(p)
+    comps = compile_files(paths, include_paths)
+    errors = [d for d in gather(comps) if d.severity.label == "error" and not d.code.startswith("graph-")]
+    if errors:
+        print_diagnostics(errors, "text", sys.stderr)
+        raise UsageError(f"{len(errors)} error{'s' if len(errors) != 1 else ''} in the input: fix "
+                         f"{'it' if len(errors) == 1 else 'them'} before running verify")
+    return comps

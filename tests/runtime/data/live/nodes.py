@@ -5,7 +5,6 @@ Run with ROS 2 sourced and robot_arm_msgs built (its action and service types):
 process, prints ``ready`` and spins until SIGTERM/SIGINT.
 """
 
-import signal
 import sys
 
 import rclpy
@@ -74,15 +73,11 @@ def main() -> int:
     executor = MultiThreadedExecutor()
     for n in nodes:
         executor.add_node(n)
-
-    def stop(*_: object) -> None:
-        raise SystemExit(0)
-
-    signal.signal(signal.SIGTERM, stop)
+    # rclpy's own SIGINT/SIGTERM handlers shut the context down: spin then ends
     print("ready", flush=True)
     try:
         executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException, SystemExit):
+    except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
         executor.shutdown(timeout_sec=2)
