@@ -1,5 +1,6 @@
 """A system file in the editor: diagnostics (its checks and its graph's conflicts), hover, go-to, completion,
-outline and semantic tokens, over stdio (data/system/: plant.iface instantiates probe and display)."""
+outline and semantic tokens, over stdio. The files are written into the server's workspace by the fixture
+(plant.iface instantiates probe and display), so that the commands' sweep over tests/ does not run them."""
 
 from __future__ import annotations
 
@@ -14,8 +15,40 @@ from .harness import Client
 pytestmark = pytest.mark.asyncio(loop_scope="session")
 
 
+PROBE = """/** Measures and publishes readings. */
+component probe version "1.0.0"
+namespace ros2 probe_msgs
+
+message Reading { float64 value }
+
+publishes Reading on "/probe/reading" (qos.reliability = "best_effort")
+"""
+DISPLAY = """/** Shows readings. */
+component display version "1.0.0"
+namespace ros2 display_msgs
+include "probe.iface"
+
+subscribes probe.Reading on "/probe/reading" (qos.reliability = "reliable")
+subscribes probe.Reading on "/probe/other"
+"""
+PLANT = """/** A probe and its display. */
+system plant version "1.0.0"
+include "probe.iface"
+include "display.iface"
+
+/** The probe. */
+instance front : probe
+instance screen : display (after = "front", restart = "sometimes")
+instance spare : prbe
+"""
+
+
 @pytest_asyncio.fixture(scope="module", loop_scope="session")
 async def plant(client: Client) -> str:
+    folder = client.root / "system"
+    folder.mkdir(exist_ok=True)
+    for name, text in (("probe.iface", PROBE), ("display.iface", DISPLAY), ("plant.iface", PLANT)):
+        (folder / name).write_text(text, encoding="utf-8")
     uri = client.open("system/plant.iface")
     await client.wait_diagnostics(uri, 1)
     return uri
@@ -89,7 +122,7 @@ async def complete(client: Client, uri: str, text: str) -> set[str]:
 HEAD = 'system plant\ninclude "probe.iface"\ninclude "display.iface"\ninstance front : probe\n'
 
 
-async def test_completion_of_components_annotations_and_values(client: Client) -> None:
+async def test_completion_of_components_annotations_and_values(client: Client, plant: str) -> None:
     uri = client.open("system/editing.iface", HEAD)
     await client.wait_diagnostics(uri, 1)
     assert {"probe", "display"} <= await complete(client, uri, HEAD + "instance back : |")

@@ -305,20 +305,23 @@ def _system_part(hit: Hit, iface: m.Interface) -> str | None:
     inst = hit.target if isinstance(hit.target, m.Instance) else node if isinstance(node, m.Instance) else None
     if hit.kind == "instance" and inst is not None:
         after = ", ".join(a.text for a in inst.after) or "the instance declared before it"
+        snapshot = inst.value("snapshot")
+        parameters = inst.value("parameters")
         lines = [f"**instance** {_code(inst.name)} : {_code(inst.component)}",
                  f"- node: {_code('/' + inst.node)}",
                  f"- restart: {_code(inst.value('restart') or DEFAULT_RESTART)}",
-                 f"- snapshot: {_code(inst.value('snapshot')) if inst.value('snapshot') else 'on deactivate and on request'}",
+                 f"- snapshot: {_code(snapshot) if snapshot else 'on deactivate and on request'}",
                  f"- starts after: {after}"]
-        if inst.value("parameters"):
-            lines.append(f"- parameters: {_code(inst.value('parameters') or '')}")
+        if parameters:
+            lines.append(f"- parameters: {_code(parameters)}")
         return "\n".join(lines) + (f"\n\n{inst.doc}" if inst.doc else "")
     if hit.kind == "instance-component" and isinstance(node, m.Instance):
         comp = instance_component(iface, node)
         if comp is None:
             return f"no included file declares component {_code(node.component)}"
         decl = comp.component
-        return (f"**component** {_code(comp.name)}" + (f" version {_code(comp.version)}" if comp.version else "")
+        version = f" version {_code(comp.version)}" if comp.version else ""
+        return (f"**component** {_code(comp.name)}" + version
                 + f" from {_code(comp.source.path.rpartition('/')[2])}"
                 + (f"\n\n{decl.doc}" if decl is not None and decl.doc else "")
                 + f"\n\n{len(comp.subscribed)} subscribed, {len(comp.published)} published, "
