@@ -1,5 +1,6 @@
 """``iface-lsp import --from ros2|px4|json INPUT... --out DIR [--force] [-q]``, and
-``iface-lsp import --from node NODE... [--out DIR] [--all] [--all-endpoints] [--system NAME] [--timeout S]``"""
+``iface-lsp import --from node NODE... [--out DIR] [--all] [--all-endpoints] [--system NAME] [--no-describe]
+[--timeout S]``"""
 
 from __future__ import annotations
 
@@ -24,6 +25,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--all-endpoints", action="store_true",
                    help="node: keep ROS 2's own endpoints and parameters (parameter services, /rosout, lifecycle's)")
     p.add_argument("--system", metavar="NAME", help="node: also write the system file NAME.iface naming every node")
+    p.add_argument("--no-describe", action="store_true",
+                   help="node: read every node off the graph, also one that answers iface's Describe")
     p.add_argument("--timeout", type=float, default=5.0, metavar="S",
                    help="node: seconds to wait for discovery and for each answer (default 5)")
     p.add_argument("--deps", metavar="DIR",
@@ -46,8 +49,9 @@ def run(args: argparse.Namespace) -> int:
     if args.source == "node":
         from .live import import_nodes
         return import_nodes(args)
-    if args.all or args.all_endpoints or args.system:
-        print("iface-lsp import: --all, --all-endpoints and --system apply to --from node only", file=sys.stderr)
+    if args.all or args.all_endpoints or args.system or args.no_describe:
+        print("iface-lsp import: --all, --all-endpoints, --system and --no-describe apply to --from node only",
+              file=sys.stderr)
         return 2
     if not args.inputs or not args.out:
         print(f"iface-lsp import: --from {args.source} needs INPUT... and --out DIR", file=sys.stderr)

@@ -74,7 +74,7 @@ def import_nodes(args: argparse.Namespace) -> int:
         absent = graph.wait_for(names)
         for name in absent:
             print(f"iface-lsp import: {name}: no such node on the graph (waited {args.timeout:g} s)", file=sys.stderr)
-        snaps = graph.snapshots([n for n in names if n not in absent])
+        snaps = graph.snapshots([n for n in names if n not in absent], describe=not args.no_describe)
         for name, snap in snaps.items():
             if snap.describe_json:
                 try:

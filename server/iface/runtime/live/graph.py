@@ -156,11 +156,13 @@ class Graph:
         """Everything the graph tells of the node ``full`` (``/ns/name``)."""
         return self.snapshots([full])[full]
 
-    def snapshots(self, names: list[str]) -> dict[str, NodeSnapshot]:
-        """Snapshots of several nodes; their parameter and Describe services are asked all at once."""
+    def snapshots(self, names: list[str], describe: bool = True) -> dict[str, NodeSnapshot]:
+        """Snapshots of several nodes; their parameter and Describe services (unless not ``describe``) are
+        asked all at once."""
         snaps = {full: self._graph_part(full) for full in names}
         with_params = [s for s in snaps.values() if "list_parameters" in s.own_services]
-        describing = [s for s in snaps.values() if s.own_services.get(DESCRIBE_SERVICE) == DESCRIBE_TYPE]
+        describing = [s for s in snaps.values()
+                      if describe and s.own_services.get(DESCRIBE_SERVICE) == DESCRIBE_TYPE]
         self._parameters(with_params)
         self._describe(describing)
         for snap in snaps.values():
