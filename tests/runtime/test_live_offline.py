@@ -195,3 +195,21 @@ def test_a_describe_answer_gives_the_whole_interface_exactly(tmp_path: Path) -> 
 
     report = compare(Workspace().compile_path(str(source)), Workspace().compile_path(str(tmp_path / "live_probe.iface")))
     assert report.verdict == "equivalent", [f.message for f in report.findings]
+
+
+def test_declared_parameter_types_map_to_the_ros_2_types_nodes_hold(tmp_path: Path) -> None:
+    from iface.runtime.live.verify import param_kind
+
+    text = """component p
+enum Mode { A = 0 }
+typedef float64 Metres
+configuration c {
+    bool b, i32 i, u8 o, octet x, float32 f, Metres m, string s, Mode e, binary bin, uuid id,
+    float64[] fs, list<i16> ls, string[<=3] ss, bool[2] bs
+}
+"""
+    comp = compiled(tmp_path / "p.iface", text)
+    kinds = {f.name: param_kind(f) for f in comp.interface.parameters}
+    assert kinds == {"b": "bool", "i": "integer", "o": "integer", "x": "integer", "f": "double", "m": "double",
+                     "s": "string", "e": "integer", "bin": "integer_array", "id": "integer_array",
+                     "fs": "double_array", "ls": "integer_array", "ss": "string_array", "bs": "bool_array"}

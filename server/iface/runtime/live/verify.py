@@ -168,8 +168,8 @@ def param_kind(f: m.Field) -> str | None:
         return "integer" + suffix
     if isinstance(t, m.BaseType):
         name = t.name
-        if name in ("octet", "binary") and not suffix:
-            return "byte_array"
+        if name in ("binary", "uuid"):  # uint8[] and uint8[16] in ROS 2
+            return "integer_array"
         if name.startswith(("i", "u")) or name in ("char", "octet"):
             return "integer" + suffix
         kind = _KIND.get(name.split("<")[0])
@@ -240,7 +240,7 @@ class _Checker:
                 self.at("live-param-missing", f"{self.d.node} has no parameter '{f.name}'", f.name_span)
                 continue
             kind = param_kind(f)
-            if kind is not None and kind != p.kind and not (kind == "byte_array" and p.kind == "integer_array"):
+            if kind is not None and kind != p.kind and not (kind == "integer_array" and p.kind == "byte_array"):
                 self.at("live-param-type", f"parameter '{f.name}': declared {type_text(f.type)} (a ROS 2 {kind}), "
                         f"{self.d.node} holds a {p.kind}", f.name_span)
                 continue
