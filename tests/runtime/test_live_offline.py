@@ -213,3 +213,15 @@ configuration c {
     assert kinds == {"b": "bool", "i": "integer", "o": "integer", "x": "integer", "f": "double", "m": "double",
                      "s": "string", "e": "integer", "bin": "integer_array", "id": "integer_array",
                      "fs": "double_array", "ls": "integer_array", "ss": "string_array", "bs": "bool_array"}
+
+
+def test_a_component_file_given_beside_the_system_that_runs_it_is_verified_once(tmp_path: Path) -> None:
+    from iface.commands.live import system_text
+    from iface.runtime.live.verify import declared_all
+
+    out = node_iface(talker())
+    (tmp_path / out.path).write_text(out.text, encoding="utf-8")
+    (tmp_path / "room.iface").write_text(system_text("room", [("/live/talker", "talker", "talker.iface")]),
+                                         encoding="utf-8")
+    comps = [Workspace().compile_path(str(tmp_path / n)) for n in ("talker.iface", "room.iface")]
+    assert [(d.node, d.instance is not None) for d in declared_all(comps)] == [("/live/talker", True)]

@@ -114,15 +114,23 @@ def declared_all(comps: list[Compilation]) -> list[Declared]:
 
     out: list[Declared] = []
     for comp in comps:
-        if getattr(comp.interface, "system", None) is not None:
+        if comp.interface.system is not None:
             for inst, component in instance_compilations(comp):
                 given = inst.value("node")
                 own = node_name(component)
                 node = "/" + given if given else own if own != "/" + component.interface.name else "/" + inst.name
                 out.append(Declared(node, component, (comp.source, inst.name_span)))
-        elif comp.interface.component is not None:
+    for comp in comps:
+        if comp.interface.system is None and comp.interface.component is not None:
             out.append(declared(comp))
-    return out
+    seen: set[tuple[str, str]] = set()
+    unique = []
+    for d in out:  # a component file given beside a system that runs it: once, as the instance
+        key = (d.node, d.comp.path)
+        if key not in seen:
+            seen.add(key)
+            unique.append(d)
+    return unique
 
 
 def resolve_name(node: str, name: str) -> str:
