@@ -225,3 +225,25 @@ def test_a_component_file_given_beside_the_system_that_runs_it_is_verified_once(
                                          encoding="utf-8")
     comps = [Workspace().compile_path(str(tmp_path / n)) for n in ("talker.iface", "room.iface")]
     assert [(d.node, d.instance is not None) for d in declared_all(comps)] == [("/live/talker", True)]
+
+
+def test_findings_render_as_text_json_and_sarif(tmp_path: Path) -> None:
+    import json
+
+    from iface.runtime.live.report import render_json, render_sarif, render_text
+
+    d = declared_talker(tmp_path, "0..10")
+    found = verify([d], LiveGraph(["/live/talker"], {"/live/talker": talker()}))
+    assert [f.code for f in found] == ["live-param-out-of-range"]
+    text = render_text(found, str, 1).splitlines()
+    assert text[0].startswith(f"{found[0].path}:{found[0].line}:{found[0].column}: error[live-param-out-of-range]: ")
+    assert text[-1] == "verify: 1 node: 1 error, 0 warnings"
+    doc = json.loads(render_json(found, str, 1))
+    assert (doc["nodes"], doc["errors"], doc["warnings"]) == (1, 1, 0)
+    assert doc["findings"][0]["node"] == "/live/talker"
+    sarif = json.loads(render_sarif(found, str, "0"))
+    result = sarif["runs"][0]["results"][0]
+    assert sarif["version"] == "2.1.0" and result["ruleId"] == "live-param-out-of-range"
+    assert result["locations"][0]["physicalLocation"]["region"]["startLine"] == found[0].line
+    assert {r["id"] for r in sarif["runs"][0]["tool"]["driver"]["rules"]} == set(CODES)
+    assert render_text([], str, 2) == "verify: 2 nodes conform to their interfaces\n"
