@@ -28,6 +28,55 @@ from .ros import DATA, environment
 LIVE = DATA / "live"
 NODES = ["/live/talker", "/live/listener", "/live/lifer", "/live_probe"]
 STEP = 180  # seconds a CLI step may take on a loaded machine (a bound, not a measure)
+#: The declared files of the planted faults (written by the tests: no more files for the sweeps over tests/).
+FAULTS = {
+    "talker.iface": """\
+/** /live/talker as declared, with two planted faults: count's range and no /extra. */
+component talker (ros2.node = "/live/talker")
+
+external diagnostic_msgs
+external robot_arm_msgs
+external std_msgs
+
+configuration parameters {
+    /** Loop rate. */
+    float64 rate = 2.5 (unit = "Hz", range = "0.5..10"),
+    // fault: the running value is 50
+    i64 count = 5 (range = "0..10"),
+    string frame = "base" (read_only),
+    float64[] gains = [1.0, 2.0],
+    bool verbose = false
+}
+
+publishes std_msgs.String on "/chatter" (qos.reliability = "best_effort", qos.durability = "transient_local")
+subscribes std_msgs.Int32 on "/numbers"
+provides diagnostic_msgs.AddDiagnostics on "~/add"
+calls robot_arm_msgs.MoveToPose on "/arm/move_to_pose"
+provides robot_arm_msgs.FollowTrajectory on "/follow" (action)
+""",
+    "listener.iface": """\
+/** /live/listener as declared: /numbers with the wrong type. */
+component listener (ros2.node = "/live/listener")
+
+external std_msgs
+
+configuration parameters {
+    i64 threshold = 7
+}
+
+subscribes std_msgs.String on "/chatter"
+// fault: the running subscription is std_msgs/msg/Int32
+subscribes std_msgs.Float64 on "/numbers"
+""",
+    "ghost.iface": """\
+/** A node that is not running. */
+component ghost (ros2.node = "/live/ghost")
+
+external std_msgs
+
+publishes std_msgs.String on "/ghost"
+""",
+}
 
 
 def _start(cmd: list[str], env: dict[str, str], log: Path) -> subprocess.Popen[bytes]:
@@ -95,7 +144,7 @@ def test_each_imported_file_names_exactly_what_its_node_has(imported: Path) -> N
     written = sorted(p.name for p in imported.iterdir())
     assert written == ["lifer.iface", "listener.iface", "live_probe.iface", "room.iface", "talker.iface"]
     for name in ("talker", "listener", "lifer", "room"):
-        expected = (LIVE / "expected" / f"{name}.iface").read_text(encoding="utf-8")
+        expected = (LIVE / "expected" / f"{name}.iface.expected").read_text(encoding="utf-8")
         assert (imported / f"{name}.iface").read_text(encoding="utf-8") == expected, name
     from iface.commands.common import gather
 
@@ -139,7 +188,11 @@ def test_a_generated_component_imported_without_describe_is_equivalent_on_m_n_s_
 
 def test_planted_faults_are_each_found_once_with_their_code(imported: Path, live: dict[str, Any]) -> None:
     """Five faults in three files; lifer and live_probe, as imported, conform (no finding of theirs)."""
-    files = [str(LIVE / "faults" / f) for f in ("talker.iface", "listener.iface", "ghost.iface")]
+    folder = live["root"] / "faults"
+    folder.mkdir()
+    for name, text in FAULTS.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    files = [str(folder / f) for f in ("talker.iface", "listener.iface", "ghost.iface")]
     done = iface(live, "verify", *files, str(imported / "lifer.iface"), str(imported / "live_probe.iface"),
                  "--format", "json", "--timeout", "60")
     assert done.returncode == 1, done.stderr
@@ -166,7 +219,7 @@ def test_the_editor_command_publishes_verify_findings_as_diagnostics(live: dict[
     folder = live["root"] / "editor"
     folder.mkdir()
     listener = folder / "listener.iface"
-    listener.write_text((LIVE / "faults" / "listener.iface").read_text(encoding="utf-8"), encoding="utf-8")
+    listener.write_text(FAULTS["listener.iface"], encoding="utf-8")
 
     async def scenario() -> list[Any]:
         from lsprotocol import types as lsp
