@@ -60,7 +60,7 @@ def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet,
     msg_depends = sorted(set(spec.depends) | {"diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces"})
     ctx: dict[str, Any] = {
         "v": v, "header": header, "protocol": [v.cpp(r) for r in protocol_refs(spec)],
-        "state_format": protocol.STATE_FORMAT, "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
+        "state_format": protocol.STATE_FORMAT, "protocol_version": protocol.PROTOCOL_VERSION, "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
         "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC),
         "commands": [protocol.STATUS, protocol.PAUSE, protocol.RESUME, protocol.SAVE],
         "depends": sorted(set(RUNTIME_DEPENDS) | set(msg_depends)),

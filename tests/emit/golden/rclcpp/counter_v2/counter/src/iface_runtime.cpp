@@ -830,6 +830,8 @@ std::string save_document(
   doc["component"] = Json::string(component);
   doc["version"] = Json::string(version);
   doc["interface_hash"] = Json::string(interface_hash);
+  doc["protocol_version"] = Json::string("1");
+  doc["schedule"] = Json::object(Json::Object{});  // the work timers' schedule: not kept by the C++ runtime yet
   doc["schema"] = Json::object(std::move(schema_json));
   doc["types"] = Json::object(std::move(types_json));
   doc["values"] = Json::object(values);

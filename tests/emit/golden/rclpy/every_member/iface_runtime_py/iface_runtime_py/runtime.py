@@ -635,7 +635,7 @@ class ComponentNode(LifecycleNode):
             last = schedule.get(work.name)
             if last is None or work.timer is None:
                 continue
-            delay = max(0.0, (last - now) / 1e9 + work.period_sec)
+            delay = max(0.001, (last - now) / 1e9 + work.period_sec)
             work.timer.cancel()
             holder: list[Any] = []
 
