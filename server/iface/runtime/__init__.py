@@ -9,6 +9,9 @@
 - ``usercode``: reads a user module (without running it) and says where it no longer matches
   the interface.
 - ``rclpy``: the ``rclpy`` generation target (an ament_python lifecycle-node package).
+- ``system``: a system file as the component manager reads it (``system_spec``: the instances in start
+  order, each with its package, executable, node, restart policy, snapshot period and interface hash).
+- ``launch``: the ``launch`` generation target (one ROS 2 launch file for a system file).
 
 May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit``, ``compat``.
 """
