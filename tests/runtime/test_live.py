@@ -187,14 +187,15 @@ def test_a_generated_component_imported_without_describe_is_equivalent_on_m_n_s_
 
 
 def test_planted_faults_are_each_found_once_with_their_code(imported: Path, live: dict[str, Any]) -> None:
-    """Five faults in three files; lifer and live_probe, as imported, conform (no finding of theirs)."""
+    """Five faults in three files; lifer and live_probe, as imported, conform (no finding of theirs), and so
+    does live_probe declared by its own source file (its Describe hash is that file's)."""
     folder = live["root"] / "faults"
     folder.mkdir()
     for name, text in FAULTS.items():
         (folder / name).write_text(text, encoding="utf-8")
     files = [str(folder / f) for f in ("talker.iface", "listener.iface", "ghost.iface")]
     done = iface(live, "verify", *files, str(imported / "lifer.iface"), str(imported / "live_probe.iface"),
-                 "--format", "json", "--timeout", "60")
+                 str(LIVE / "live_probe.iface"), "--format", "json", "--timeout", "60")
     assert done.returncode == 1, done.stderr
     report = json.loads(done.stdout)
     codes = sorted(f["code"] for f in report["findings"])
