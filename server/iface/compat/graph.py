@@ -102,16 +102,17 @@ def port_span(port: Port) -> Span:
 
 
 def _check(code: str, port: Port, message: str) -> Diagnostic:
-    return Diagnostic(code, message, port.component.side.source, port_span(port), CHECKS[code][0])
+    data = {"instance": port.component.instance} if port.component.instance else {}
+    return Diagnostic(code, message, port.component.side.source, port_span(port), CHECKS[code][0], data=data)
 
 
 def _sender(p: Port) -> bool:
     return p.role in ("publishes", "calls")
 
 
-def build(comps: list[Compilation]) -> Graph:
-    """The graph of a system of compiled components."""
-    system = System.of(comps)
+def build(comps: list[Compilation], instances: list[tuple[str, Compilation]] | None = None) -> Graph:
+    """The graph of a system of compiled components, or of a system file's ``instances`` (name, component)."""
+    system = System.of(comps) if instances is None else System.of_instances(instances)
     ids: dict[int, str] = {}
     used: set[str] = set()
     for c in system.components:

@@ -29,11 +29,13 @@ class Component:
 
     comp: Compilation
     side: Side
+    #: The instance of a system file this is ('' for a component named on its own).
+    instance: str = ""
 
     @property
     def name(self) -> str:
-        """The component's name (its ``component`` declaration, else the file stem)."""
-        return self.side.name
+        """The instance's name, else the component's (its ``component`` declaration, else the file stem)."""
+        return self.instance or self.side.name
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,6 +98,19 @@ class System:
                 continue
             seen.add(path)
             c = Component(comp, Side(comp))
+            sys_.components.append(c)
+            for p in ports(c):
+                sys_.by_key.setdefault(p.key, []).append(p)
+        return sys_
+
+    @classmethod
+    def of_instances(cls, instances: list[tuple[str, Compilation]]) -> System:
+        """The system of a system file: one component per (instance name, its component's compilation)."""
+        sys_ = cls()
+        sides: dict[str, Side] = {}
+        for name, comp in instances:
+            side = sides.setdefault(os.path.abspath(comp.path), Side(comp))
+            c = Component(comp, side, name)
             sys_.components.append(c)
             for p in ports(c):
                 sys_.by_key.setdefault(p.key, []).append(p)

@@ -83,6 +83,18 @@ CODES: dict[str, tuple[Severity, str]] = {
     "duplicate-component": (Severity.ERROR, "More than one component declaration."),
     "param-range": (Severity.ERROR, "A configuration range that is malformed or excludes the default."),
     "missing-default": (Severity.INFORMATION, "A configuration parameter without a default value."),
+    # system files
+    "duplicate-system": (Severity.ERROR, "More than one system declaration."),
+    "system-content": (Severity.ERROR, "A system file that also declares a component, definitions or wiring."),
+    "instance-outside-system": (Severity.ERROR, "An instance in a file that declares no system."),
+    "unknown-component": (Severity.ERROR, "An instance of a component that no included file declares."),
+    "duplicate-instance": (Severity.ERROR, "Two instances with one name."),
+    "duplicate-node-name": (Severity.ERROR, "Two instances that would run under one node name."),
+    "unknown-instance-annotation": (Severity.ERROR, "An instance annotation iface does not know."),
+    "invalid-instance-annotation": (Severity.ERROR, "An instance annotation with a value iface cannot use "
+                                    "(restart, snapshot, node, package, executable, parameters)."),
+    "unknown-instance": (Severity.ERROR, "An `after` that names no instance of the system."),
+    "instance-cycle": (Severity.ERROR, "Instances that start after each other."),
 }
 
 

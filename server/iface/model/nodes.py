@@ -597,6 +597,48 @@ class External(Node):
     span: Span
 
 
+@spanned("span", "name_span")
+@dataclass(slots=True, eq=False)
+class SystemDecl(Node):
+    """``system name version "x.y"``: the file describes a system of component instances."""
+
+    name: str
+    span: Span
+    name_span: Span
+    version: str | None = None
+    annotations: Sequence[Annotation] = ()
+    doc: str | None = None
+
+
+@spanned("span", "name_span", "component_span")
+@dataclass(slots=True, eq=False)
+class Instance(Node):
+    """``instance name : component (annotations)``: one running component of a system."""
+
+    name: str
+    component: str
+    span: Span
+    name_span: Span
+    component_span: Span
+    annotations: Sequence[Annotation] = ()
+    doc: str | None = None
+
+    def value(self, key: str) -> str | None:
+        """The text of the annotation ``key`` (the last one), or None when it is not given."""
+        a = annotation(self.annotations, key)
+        return a.text if a is not None else None
+
+    @property
+    def node(self) -> str:
+        """The ROS 2 node name: the ``node`` annotation, else the instance name."""
+        return self.value("node") or self.name
+
+    @property
+    def after(self) -> list[Annotation]:
+        """The ``after`` annotations: the instances this one starts after."""
+        return [a for a in self.annotations if a.key == "after"]
+
+
 Direction = Literal["publishes", "subscribes", "provides", "calls"]
 
 
@@ -619,7 +661,7 @@ class Wiring(Node):
         return {a.key[4:]: a.text for a in self.annotations if a.key.startswith("qos.")}
 
 
-Item = Union[Definition, Include, Namespace, ComponentDecl, External, Wiring]
+Item = Union[Definition, Include, Namespace, ComponentDecl, External, Wiring, SystemDecl, Instance]
 
 
 # ---------------------------------------------------------------------------
@@ -660,6 +702,12 @@ class Interface:
     component: ComponentDecl | None = None
     #: Every component declaration, the first one being ``component`` (a second one is an error).
     component_decls: list[ComponentDecl] = field(default_factory=list)
+    #: The system declaration of a system file (the first one; a second one is an error), else None.
+    system: SystemDecl | None = None
+    #: Every system declaration, the first one being ``system``.
+    system_decls: list[SystemDecl] = field(default_factory=list)
+    #: The component instances of a system file, in declaration order.
+    instances: list[Instance] = field(default_factory=list)
     #: Definitions of this file by name (first one wins on duplicates).
     symbols: dict[str, Definition] = field(default_factory=dict)
     #: Interfaces of included files, by the prefix used to refer to them.

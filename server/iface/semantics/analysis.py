@@ -28,6 +28,7 @@ from ..model.walk import all_consts, bodies
 from ..syntax.edits import Change
 from .resolve import break_cycles, resolve_item, settle_typedefs, unknown_types
 from .sets import SetFindings, derive
+from . import systems  # noqa: F401  (registers the system file's checks)
 from .suggest import Suggester
 from .validate import (
     RULES,

@@ -368,7 +368,8 @@ def _surrogates(source: Source) -> list[Diagnostic]:
 
 #: The lists of an Interface that sort its items, and the kinds of item each holds (the rest: definitions).
 _LISTS: tuple[tuple[str, type], ...] = (("wirings", m.Wiring), ("includes", m.Include), ("namespaces", m.Namespace),
-                                       ("externals", m.External), ("component_decls", m.ComponentDecl))
+                                       ("externals", m.External), ("component_decls", m.ComponentDecl),
+                                       ("system_decls", m.SystemDecl), ("instances", m.Instance))
 _START = attrgetter("span.start")
 
 
@@ -392,6 +393,7 @@ def build_interface(source: Source, items: list[m.Item], before: m.Interface | N
         return iface
     iface.wirings, iface.includes, iface.namespaces, iface.externals = [], [], [], []
     iface.component_decls, iface.definitions, iface.component = [], [], None
+    iface.system_decls, iface.instances = [], []
     for item in items:
         if isinstance(item, m.Wiring):
             iface.wirings.append(item)
@@ -405,16 +407,28 @@ def build_interface(source: Source, items: list[m.Item], before: m.Interface | N
             iface.component_decls.append(item)
             if iface.component is None:
                 iface.component = item
+        elif isinstance(item, m.SystemDecl):
+            iface.system_decls.append(item)
+        elif isinstance(item, m.Instance):
+            iface.instances.append(item)
         else:
             if isinstance(item, m.Service):
                 normalize_service(item)
             elif isinstance(item, m.Action):
                 normalize_action(item)
             iface.definitions.append(item)
-    if iface.component is not None:
-        iface.name = iface.component.name
-        iface.version = iface.component.version
+    _name(iface)
     return iface
+
+
+def _name(iface: m.Interface) -> None:
+    """The file's name and version: its component's, or its system's, else the file stem."""
+    iface.component = iface.component_decls[0] if iface.component_decls else None
+    iface.system = iface.system_decls[0] if iface.system_decls else None
+    decl = iface.component or iface.system
+    if decl is not None:
+        iface.name = decl.name
+        iface.version = decl.version
 
 
 def _splice(iface: m.Interface, before: m.Interface, change: Change) -> bool:
@@ -442,10 +456,7 @@ def _splice(iface: m.Interface, before: m.Interface, change: Change) -> bool:
             normalize_service(item)
         elif isinstance(item, m.Action):
             normalize_action(item)
-    iface.component = iface.component_decls[0] if iface.component_decls else None
-    if iface.component is not None:
-        iface.name = iface.component.name
-        iface.version = iface.component.version
+    _name(iface)
     return True
 
 

@@ -18,7 +18,7 @@ from operator import attrgetter
 from ..model.source import ORIGIN, AnchoredSpan
 
 TOP_KEYWORDS = (
-    "include", "cpp_include", "namespace", "component", "external",
+    "include", "cpp_include", "namespace", "component", "external", "system", "instance",
     "publishes", "subscribes", "provides", "calls",
     "const", "typedef", "enum", "senum", "struct", "union", "exception",
     "message", "configuration", "state", "service", "action",

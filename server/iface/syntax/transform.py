@@ -195,6 +195,28 @@ class ModelBuilder:
         return m.ComponentDecl(_text(name), self.span(c[0].start_pos, end), self.tok_span(name),
                                version, ann, self.docs.get(c[0].start_pos), _t=self.table)
 
+    def system(self, c: list[Any]) -> m.SystemDecl:
+        name = c[1]
+        version = None
+        ann: Sequence[m.Annotation] = ()
+        end = name.end_pos
+        for x in c[2:]:
+            if isinstance(x, Token) and x.type == "LITERAL":
+                version = self._decode(x)
+                end = x.end_pos
+            elif isinstance(x, list):
+                ann = x
+                end = self._ann_end
+        return m.SystemDecl(_text(name), self.span(c[0].start_pos, end), self.tok_span(name),
+                            version, ann, self.docs.get(c[0].start_pos), _t=self.table)
+
+    def instance(self, c: list[Any]) -> m.Instance:
+        name, component = c[1], c[3]
+        ann = c[4] if len(c) > 4 else ()
+        end = self._ann_end if ann else component.end_pos
+        return m.Instance(_text(name), _text(component), self.span(c[0].start_pos, end), self.tok_span(name),
+                          self.tok_span(component), ann, self.docs.get(c[0].start_pos), _t=self.table)
+
     def external(self, c: list[Any]) -> m.External:
         return m.External(_text(c[1]), self.span(c[0].start_pos, c[1].end_pos), _t=self.table)
 
