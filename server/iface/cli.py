@@ -32,6 +32,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "impact": ("iface.commands.impact", "show what replacing one component affects"),
     "dump": ("iface.commands.dump", "print the model of a file as JSON (for debugging and goldens)"),
     "handover": ("iface.commands.handover", "replace a running component by a compatible one, moving its state"),
+    "manager": ("iface.commands.manager", "run the component manager of a system: up, watched, state kept, replaced"),
+    "system": ("iface.commands.system", "ask a running component manager: status, replace, snapshot"),
     "sign": ("iface.commands.sign", "sign a component package (ed25519), verify it, or create a key"),
 }
 

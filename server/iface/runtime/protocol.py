@@ -122,3 +122,66 @@ SERVICES: tuple[ProtocolService, ...] = (
          SrvConst("uint8", "SAVE", SAVE, "save the state (as SaveState)"))),
 )
 SERVICE_TYPES = tuple(s.type_name for s in SERVICES)
+
+
+@dataclass(frozen=True, slots=True)
+class ProtocolMessage:
+    """One protocol message type of ``iface_msgs``."""
+
+    type_name: str
+    doc: tuple[str, ...]
+    fields: tuple[SrvField, ...]
+
+
+#: The component manager's types (``iface_msgs``), served by ``/iface_manager``, not by components.
+MANAGER_MESSAGES: tuple[ProtocolMessage, ...] = (
+    ProtocolMessage(
+        "InstanceStatus", ("One instance of a managed system, as the component manager sees it.",),
+        (SrvField("string", "name", "the instance name in the system file"),
+         SrvField("string", "node", "its node's fully qualified name"),
+         SrvField("string", "state", "down, starting, inactive, active, stopped (not restarted by its policy) "
+                  "or failed (past the restart limit)"),
+         SrvField("int32", "pid", "its process id (0 while down)"),
+         SrvField("uint32", "restarts", "restarts by the manager since it started"),
+         SrvField("string", "interface_hash", "the interface hash of what runs (sha256:…)"),
+         SrvField("string", "last_snapshot", "time of its last snapshot, ISO 8601 UTC (empty: none)"),
+         SrvField("string[]", "findings", "what went wrong, oldest first"))),
+)
+MANAGER_SERVICES: tuple[ProtocolService, ...] = (
+    ProtocolService(
+        "SystemStatus", "/iface_manager/status", ("The status of every instance of the managed system.",),
+        (), (SrvField("string", "system", "the system's name"),
+             SrvField("InstanceStatus[]", "instances", "in start order"))),
+    ProtocolService(
+        "Snapshot", "/iface_manager/snapshot", ("Save the state of running instances to the state folder now.",),
+        (SrvField("string", "instance", "one instance (empty: every one)"),),
+        (SrvField("bool", "success", "every chosen instance was saved"), SrvField("string", "message"),
+         SrvField("string[]", "files", "the snapshot files written"))),
+    ProtocolService(
+        "Replace", "/iface_manager/replace",
+        ("Replace an instance by a new package and interface: compat against the rest of the system, trust,",
+         "the hand-over, then a grace period; rolled back (OLD active again with its state) when NEW fails."),
+        (SrvField("string", "instance"), SrvField("string", "new_iface", "the .iface file of NEW"),
+         SrvField("string", "package", "NEW's install folder (ws/install/<package>)"), _TIMEOUT),
+        (SrvField("bool", "success", "NEW took over"),
+         SrvField("string", "result", "replaced, refused or rolled_back"),
+         SrvField("string", "record", "the hand-over record (JSON, as `iface-lsp handover` prints)"))),
+)
+
+
+def _field_lines(fields: tuple[SrvField, ...]) -> list[str]:
+    out = []
+    for f in fields:
+        out.append(f"{f.type} {f.name}" + (f"  # {f.comment}" if f.comment else ""))
+    return out
+
+
+def interface_text(item: ProtocolMessage | ProtocolService) -> str:
+    """The ``.msg`` or ``.srv`` text of a protocol type."""
+    lines = [f"# {d}" for d in item.doc]
+    if isinstance(item, ProtocolMessage):
+        lines += _field_lines(item.fields)
+    else:
+        lines += [f"{c.type} {c.name}={c.value}" + (f"  # {c.comment}" if c.comment else "") for c in item.consts]
+        lines += [*_field_lines(item.request), "---", *_field_lines(item.response)]
+    return "\n".join(lines) + "\n"
