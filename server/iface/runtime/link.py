@@ -12,13 +12,14 @@ from __future__ import annotations
 import importlib
 import threading
 import time
+from collections.abc import Callable
 from typing import Any
 
-from . import protocol
-from .handover import GOAL
 
 #: Seconds before an unanswered idempotent request is sent again.
 RESEND = 2.0
+#: The lifecycle state (lifecycle_msgs/State id) each transition the manager asks for ends in.
+GOAL = {1: 2, 3: 3, 4: 2, 5: 4, 6: 4, 7: 4}
 
 
 class LinkError(Exception):
@@ -72,8 +73,9 @@ class Link:
             return None
         return client.call_async(_request(srv, fill))
 
-    def call(self, service: str, fill: dict[str, Any], timeout: float, idempotent: bool = True) -> Any:
-        """Call ``service`` and wait at most ``timeout`` seconds for the answer."""
+    def call(self, service: str, fill: dict[str, Any], timeout: float, idempotent: bool = True,
+             alive: Callable[[], bool] | None = None) -> Any:
+        """Call ``service`` and wait at most ``timeout`` seconds for the answer (less when ``alive()`` turns false)."""
         deadline = time.monotonic() + timeout
         srv = self.service_type(service)
         while srv is None:
@@ -99,29 +101,34 @@ class Link:
                 now = time.monotonic()
                 if now >= deadline:
                     raise LinkError(f"{service} does not answer within {timeout:g} s")
+                if alive is not None and not alive():
+                    raise LinkError(f"{service}: its process ended")
                 if idempotent and now >= resend_at:
                     break
                 done.wait(min(0.1, deadline - now))
                 done.clear()
 
     # ---- the protocol ------------------------------------------------------------------------
-    def control(self, node: str, command: int, timeout: float) -> Any:
+    def control(self, node: str, command: int, timeout: float, alive: Callable[[], bool] | None = None) -> Any:
         """``~/control`` of ``node``."""
-        return self.call(f"{node}/control", {"command": command, "timeout_sec": timeout}, timeout + 2)
+        return self.call(f"{node}/control", {"command": command, "timeout_sec": timeout}, timeout + 2, alive=alive)
 
     def lifecycle_state(self, node: str, timeout: float) -> int:
         """``node``'s lifecycle state id."""
         return int(self.call(f"{node}/get_state", {}, timeout).current_state.id)
 
-    def transition(self, node: str, transition: int, timeout: float) -> None:
+    def transition(self, node: str, transition: int, timeout: float,
+                   alive: Callable[[], bool] | None = None) -> None:
         """Ask for a lifecycle transition (sent once); LinkError when it did not happen."""
         from lifecycle_msgs.msg import Transition
 
         try:
             answer = self.call(f"{node}/change_state", {"transition": Transition(id=transition)}, timeout,
-                               idempotent=False)
+                               idempotent=False, alive=alive)
         except LinkError:
-            if self.lifecycle_state(node, timeout) == GOAL[transition]:
+            if alive is not None and not alive():
+                raise
+            if self.lifecycle_state(node, min(timeout, 3.0)) == GOAL[transition]:
                 return
             raise
         if not answer.success:
@@ -134,9 +141,10 @@ class Link:
             raise LinkError(f"{node} did not save its state: {answer.message}")
         return str(answer.state)
 
-    def restore(self, node: str, document: str, timeout: float) -> str:
+    def restore(self, node: str, document: str, timeout: float, alive: Callable[[], bool] | None = None) -> str:
         """Put ``document`` into ``node``; what it restored."""
-        answer = self.call(f"{node}/restore_state", {"state": document, "timeout_sec": timeout}, timeout + 2)
+        answer = self.call(f"{node}/restore_state", {"state": document, "timeout_sec": timeout}, timeout + 2,
+                           alive=alive)
         if not answer.success:
             raise LinkError(f"{node} refused the state: {answer.message}")
         return str(answer.message)
@@ -148,5 +156,3 @@ def _request(srv: Any, fill: dict[str, Any]) -> Any:
         setattr(request, key, value)
     return request
 
-
-__all__ = ["Link", "LinkError", "RESEND", "protocol"]

@@ -248,13 +248,13 @@ class Manager:
     def _bring_up(self, m: Managed, proc: InstanceProcess, restore: bool) -> None:
         t = self.options.call_timeout
         self._until_answers(m.path, proc)
-        self.link.transition(m.path, CONFIGURE, t)
+        self.link.transition(m.path, CONFIGURE, t, alive=proc.alive)
         m.state = "inactive"
         latest = m.store.latest() if restore else None
         if latest is not None:
-            done = self.link.restore(m.path, latest.document, t)
+            done = self.link.restore(m.path, latest.document, t, alive=proc.alive)
             self.log(f"{m.name}: restored snapshot {latest.sequence} ({done})")
-        self.link.transition(m.path, ACTIVATE, t)
+        self.link.transition(m.path, ACTIVATE, t, alive=proc.alive)
         if not proc.alive():
             raise LinkError(f"{m.path} ended while it was activated")
         m.state = "active"
@@ -268,7 +268,8 @@ class Manager:
             if not proc.alive():
                 raise LinkError(f"{node}: its process ended (exit {proc.exit_code()}) before it answered")
             try:
-                self.link.control(node, protocol.STATUS, min(2.0, max(0.1, deadline - time.monotonic())))
+                self.link.control(node, protocol.STATUS, min(2.0, max(0.1, deadline - time.monotonic())),
+                                  alive=proc.alive)
                 return
             except LinkError:
                 if time.monotonic() >= deadline:
@@ -365,7 +366,8 @@ class Manager:
     # ---- status ------------------------------------------------------------------------------------
     def status(self) -> dict[str, Any]:
         """The status as JSON data (the ``system status --format json`` form)."""
-        instances, findings = [], []
+        instances: list[dict[str, Any]] = []
+        findings: list[dict[str, str]] = []
         for m in self.instances:
             instances.append({
                 "name": m.name, "node": m.path, "state": m.state,

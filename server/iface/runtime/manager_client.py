@@ -80,7 +80,8 @@ class ManagerClient:
 
 def status_data(answer: Any) -> dict[str, Any]:
     """A SystemStatus response as the ``--format json`` form."""
-    instances, findings = [], []
+    instances: list[dict[str, Any]] = []
+    findings: list[dict[str, str]] = []
     for i in answer.instances:
         instances.append({"name": i.name, "node": i.node, "state": i.state, "pid": int(i.pid),
                           "restarts": int(i.restarts), "interface_hash": i.interface_hash,
