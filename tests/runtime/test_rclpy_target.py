@@ -82,7 +82,7 @@ def test_every_file_passes_its_parser(case: str) -> None:
 def test_the_protocol_services_are_in_the_interface_package() -> None:
     files = {f.path: f.text for f in files_of("robot_arm")}
     cmake = files["robot_arm_msgs/CMakeLists.txt"]
-    for service in protocol.SERVICES:
+    for service in protocol.COMPONENT_SERVICES:
         text = files[f"robot_arm_msgs/srv/{service.type_name}.srv"]
         request, response = rosidl_parse(text, "robot_arm_msgs", "srv", service.type_name)
         assert [f.name for f in request.fields] == [f.name for f in service.request]
@@ -97,7 +97,7 @@ def test_the_interface_package_is_the_ros2_targets_plus_the_protocol() -> None:
     comp = Workspace().compile_path(str(CASES["robot_arm"]))
     ros2 = {f.path: f.text for f in generate(comp, "ros2").files}
     rclpy = {f.path: f.text for f in generate(comp, "rclpy").files if f.path.startswith("robot_arm_msgs/")}
-    extra = {f"robot_arm_msgs/srv/{s.type_name}.srv" for s in protocol.SERVICES}
+    extra = {f"robot_arm_msgs/srv/{s.type_name}.srv" for s in protocol.COMPONENT_SERVICES}
     assert set(rclpy) == set(ros2) | extra
     different = sorted(p for p in ros2 if ros2[p] != rclpy[p])
     assert different == ["robot_arm_msgs/CMakeLists.txt"]

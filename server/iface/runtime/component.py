@@ -210,7 +210,7 @@ class ComponentSpec:
     def types(self) -> list[RosRef]:
         """Every interface type the node uses, once, sorted."""
         refs = {x.type for x in self.all_members()}
-        refs.update(RosRef(self.interface_package, "srv", s.type_name) for s in protocol.SERVICES)
+        refs.update(RosRef(self.interface_package, "srv", s.type_name) for s in protocol.COMPONENT_SERVICES)
         if self.state_type is not None:
             refs.add(self.state_type)
         return sorted(refs, key=lambda r: (r.package, r.kind, r.name))
@@ -448,7 +448,7 @@ class _Builder:
 
     def clashes(self) -> None:
         taken = {ri.name: ri for ri in self.pkg.interfaces if ri.kind == "srv"}
-        for s in protocol.SERVICES:
+        for s in protocol.COMPONENT_SERVICES:
             ri = taken.get(s.type_name)
             if ri is not None:
                 self.diags.append(diag("runtime-name-clash", f"'{s.type_name}' is the name of a service every "

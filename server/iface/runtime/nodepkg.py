@@ -34,7 +34,7 @@ def add_protocol(pkg: RosPackage, comp: Compilation) -> None:
     """Put the protocol services into the interface package."""
     src = comp.interface.source
     span = component_span(comp.interface)
-    for s in protocol.SERVICES:
+    for s in protocol.COMPONENT_SERVICES:
         def section(name: str, fields: tuple[protocol.SrvField, ...],
                     consts: tuple[protocol.SrvConst, ...] = ()) -> RosSection:
             return RosSection(name, [RosField(f.name, _ros_type(f.type), None, [f.comment] if f.comment else [],
@@ -48,7 +48,7 @@ def add_protocol(pkg: RosPackage, comp: Compilation) -> None:
 
 def protocol_refs(spec: ComponentSpec) -> list[RosRef]:
     """SaveState, RestoreState and ComponentControl in the component's interface package."""
-    return [RosRef(spec.interface_package, "srv", s.type_name) for s in protocol.SERVICES]
+    return [RosRef(spec.interface_package, "srv", s.type_name) for s in protocol.COMPONENT_SERVICES]
 
 
 def prepare(comp: Compilation, language: str) -> tuple[Result, RosPackage | None, ComponentSpec | None]:

@@ -34,6 +34,7 @@ from ...semantics.compile import Compilation
 from .. import protocol
 from ..codes import diag
 from ..component import ComponentSpec
+from ..shared import shared_files
 from ..nodepkg import launch_text, prepare, protocol_refs, read_user_file
 from .render import CppPackage, build, cpp_comment, cpp_double, cpp_str
 from .usercode import check_user_source
@@ -112,7 +113,8 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         text = read_user_file(path)
         if text is not None:
             result.diagnostics.extend(check_user_source(spec, path, text, strict=bool(options.get("check"))))
-    result.files = sorted_files([*render_package(pkg, ros2), *component_files(spec, v, templates, ros2)])
+    shared, result.notes = shared_files("rclcpp", out if isinstance(out, str) else None)
+    result.files = sorted_files([*shared, *render_package(pkg, ros2), *component_files(spec, v, templates, ros2)])
     return result
 
 

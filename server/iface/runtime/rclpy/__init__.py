@@ -32,6 +32,7 @@ from ...emit.ros2.render import xml
 from ...semantics.compile import Compilation
 from .. import protocol
 from ..component import HANDLER_PREFIXES, ComponentSpec
+from ..shared import shared_files
 from ..nodepkg import add_protocol, launch_text, prepare, protocol_refs, read_user_file
 from ..usercode import check_user_module
 from .render import PyPackage, build, doc_text, docstring, py
@@ -100,7 +101,8 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         text = read_user_file(path)
         if text is not None:
             result.diagnostics.extend(check_user_module(spec, path, text, strict=bool(options.get("check"))))
-    result.files = sorted_files([*render_package(pkg, ros2), *component_files(spec, templates, ros2)])
+    shared, result.notes = shared_files("rclpy", out if isinstance(out, str) else None)
+    result.files = sorted_files([*shared, *render_package(pkg, ros2), *component_files(spec, templates, ros2)])
     return result
 
 
