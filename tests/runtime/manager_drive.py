@@ -63,8 +63,12 @@ class Manager:
             self._log.close()
 
 
+#: Only processes whose command line holds this folder (the test's own) are looked at or stopped.
+OWN = ""
+
+
 def node_processes(node: str) -> list[int]:
-    """The pids whose command line names ``__node:=node``."""
+    """The pids of this test's processes whose command line names ``__node:=node``."""
     found = []
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
@@ -74,7 +78,7 @@ def node_processes(node: str) -> list[int]:
             state = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[0]
         except OSError:
             continue
-        if f"__node:={node}".encode() in cmd and state != "Z":
+        if f"__node:={node}".encode() in cmd and state != "Z" and OWN and OWN.encode() in b" ".join(cmd):
             found.append(int(entry))
     return found
 
@@ -86,6 +90,8 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
     ap.add_argument("--logs", type=Path, required=True)
     a = ap.parse_args()
     cfg = json.loads(a.config.read_text())
+    global OWN
+    OWN = cfg["own"]
     a.logs.mkdir(parents=True, exist_ok=True)
     flags = Path(cfg["env"]["IFACE_TEST_FLAGS"])
     report = Report(a.out)
@@ -94,6 +100,8 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
 
     probe = Probe()
     managers: list[Manager] = []
+    # stopped from outside (run_bounded's SIGTERM): still stop what this driver started
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
 
     def status() -> dict[str, Any]:
         answer = probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
@@ -259,7 +267,11 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
             check(s.interface_hash == cfg["hashes"]["thermostat"], s.interface_hash)
             check(saved("/thermostat_2")["set_point"] == 23.5, "state not carried")
             probe.wait_until(lambda: not node_processes("thermostat"), 30, "OLD's process gone")
-            return f"{s.node} pid {s.pid} active with set_point 23.5"
+            others = status()
+            for name in ("sensor", "spare"):
+                check(others[name].pid == before[name] and others[name].restarts == 0,
+                      f"{name} was restarted during the replacements: {list(others[name].findings)}")
+            return f"{s.node} pid {s.pid} active with set_point 23.5; the other instances untouched"
 
         report.step("replace accepted: NEW active with OLD's state", replaced)
 

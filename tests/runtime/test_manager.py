@@ -2,7 +2,7 @@
 
 The system (a room sensor, a thermostat after it, a spare sensor) is generated from examples/ with
 the tests' user modules (tests/runtime/data/*_node.py: each dies on activate when a flag file
-names its node), built once into one workspace with the ROS 2 runtime, and run on loopback.
+names its node), built in the session's one workspace (conftest.py), and run on loopback.
 NEW for the replacements is a signed copy of the thermostat's install folder (an equivalent
 interface: a fix of its code), an unsigned copy, and an incompatible interface. manager_drive.py
 runs the scenario in order (every wait bounded, every process stopped by its own handle).
@@ -23,8 +23,7 @@ import pytest
 
 from iface.runtime.trust import keygen, sign
 
-from .manager_pkgs import generate_system
-from .ros import ROOT, build, environment, run_bounded
+from .ros import ROOT, environment, run_bounded
 
 DRIVER = Path(__file__).parent / "manager_drive.py"
 STEPS = [
@@ -57,14 +56,9 @@ def _hash(path: Path) -> str:
 
 
 @pytest.fixture(scope="module")
-def run(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    ros_venv, ws = ros_workspace.venv, ros_workspace.path
     root = tmp_path_factory.mktemp("manager")
-    gen, ws = root / "gen", root / "ws"
-    generate_system(gen)
-    ws.mkdir()
-    ok, tail, seconds = build(ros_venv, gen, ws)
-    assert ok, f"the system's packages did not build:\n{tail}"
-    print(f"\nmanager test build: {seconds:.0f} s")
     sysdir = root / "system"
     sysdir.mkdir()
     for name in ("room_sensor", "thermostat"):
@@ -75,8 +69,8 @@ def run(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, A
         "/** Times the heater was switched. */", "/** Times the heater was switched (1.0.1: once per change). */")
     bad_text = text.replace("    i64 switches\n", "    string switches\n")
     assert new_text != text and bad_text != text
-    (root / "thermostat_new.iface").write_text(new_text, encoding="utf-8")
-    (root / "thermostat_bad.iface").write_text(bad_text, encoding="utf-8")
+    (sysdir / "thermostat_new.iface").write_text(new_text, encoding="utf-8")
+    (sysdir / "thermostat_bad.iface").write_text(bad_text, encoding="utf-8")
     for side in ("signed", "unsigned"):
         shutil.copytree(ws / "install", root / side / "install", symlinks=True)
     store = root / "store"
@@ -91,10 +85,10 @@ def run(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, A
     config = {"python": sys.executable, "system": str(sysdir / "test_room.iface"), "state": str(root / "state"),
               "store": str(store), "package": str(root / "signed" / "install" / "thermostat"),
               "unsigned": str(root / "unsigned" / "install" / "thermostat"),
-              "new_iface": str(root / "thermostat_new.iface"), "bad_iface": str(root / "thermostat_bad.iface"),
+              "new_iface": str(sysdir / "thermostat_new.iface"), "bad_iface": str(sysdir / "thermostat_bad.iface"),
               "hashes": {"sensor": _hash(sysdir / "room_sensor.iface"), "spare": _hash(sysdir / "room_sensor.iface"),
                          "thermostat": _hash(sysdir / "thermostat.iface")},
-              "env": env}
+              "own": str(root), "env": env}
     (root / "config.json").write_text(json.dumps(config))
     out, log = root / "result.json", root / "driver.log"
     code = run_bounded([str(ros_venv / "bin" / "python"), str(DRIVER), str(root / "config.json"), "--out", str(out),

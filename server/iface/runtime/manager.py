@@ -15,6 +15,7 @@ loop, snapshots and replacements; status answers read without it.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import signal
@@ -79,6 +80,7 @@ class Managed:
     heartbeat: Any = None
     heartbeat_sent: float = 0.0
     heartbeat_ok: float = 0.0
+    watched: float = 0.0
     findings: list[str] = field(default_factory=list)
 
     @property
@@ -206,8 +208,17 @@ class Manager:
     def _adopt(self, m: Managed) -> bool:
         """Manage again an instance a previous manager started, if it still runs; whether it did."""
         record = self.records.load(m.name)
-        if record is None or not processes.running(record):
-            return False
+        if record is not None and not processes.running(record):
+            self.log(f"{m.name}: recorded pid {record.pid} no longer runs")
+            record = None
+        if record is None:
+            # not recorded (a manager killed right after a start): the graph and /proc still know it
+            found = processes.find_by_node(m.node)
+            if len(found) != 1:
+                return False
+            record = dataclasses.replace(found[0], instance=m.name, iface_file=m.iface_file,
+                                         interface_hash=m.interface_hash)
+            self.records.save(record)
         m.process = InstanceProcess(record)
         m.node, m.iface_file, m.interface_hash = record.node, record.iface_file, record.interface_hash
         m.package_dir, m.generation = record.package_dir, record.generation
@@ -221,6 +232,7 @@ class Manager:
                 self.link.transition(m.path, ACTIVATE, t)
         except LinkError as e:
             m.note(f"adopted pid {record.pid} does not answer: {e}; restarting it")
+            self.log(f"{m.name}: {m.findings[-1]}")
             m.process.stop(5.0)
             return False
         m.state = "active"
@@ -310,6 +322,11 @@ class Manager:
     def _watch(self, m: Managed, now: float) -> None:
         if m.state != "active" or m.process is None:
             return
+        if now - m.watched > 2 * self.options.heartbeat_period:
+            # not watched for a while (a replacement or another restart held the lock): no heartbeat was
+            # asked for, so none is missing; the timeout runs from now
+            m.heartbeat, m.heartbeat_ok = None, now
+        m.watched = now
         if not m.process.alive():
             code = m.process.exit_code()
             if self._may_restart(m, f"process {m.process.pid} ended" + (f" (exit {code})" if code is not None else ""),

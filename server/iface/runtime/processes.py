@@ -159,10 +159,39 @@ def start(instance: str, node: str, argv: list[str], env: dict[str, str], log: P
         except OSError as e:
             raise StartError(f"cannot start {argv[0]}: {e}") from e
     stat = proc_stat(child.pid)
-    cmdline = proc_cmdline(child.pid)
-    record = ProcessRecord(instance, node, child.pid, stat[1] if stat else 0, cmdline or tuple(argv), package_dir,
+    cmdline = _settled_cmdline(child, tuple(argv))
+    record = ProcessRecord(instance, node, child.pid, stat[1] if stat else 0, cmdline, package_dir,
                            iface_file, interface_hash, generation)
     return InstanceProcess(record, child)
+
+
+def _settled_cmdline(child: subprocess.Popen[bytes], argv: tuple[str, ...]) -> tuple[str, ...]:
+    """The command line of a just started process once the kernel shows the new program's.
+
+    Right after ``Popen`` returns, ``/proc/<pid>/cmdline`` may still be empty or show the parent's
+    (the new program's memory is set up after the close-on-exec pipe that ``Popen`` waits on is closed);
+    a script's interpreter comes first (``python script args``), so it ends with ``argv``.
+    """
+    deadline = time.monotonic() + 5.0
+    while True:
+        cmdline = proc_cmdline(child.pid) or ()
+        if cmdline[-len(argv):] == argv or time.monotonic() >= deadline or child.poll() is not None:
+            return cmdline or argv
+        time.sleep(0.005)
+
+
+def find_by_node(node: str) -> list[ProcessRecord]:
+    """Running processes started for the node ``node`` (``__node:=node`` on their command line)."""
+    wanted = f"__node:={node}"
+    found = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        cmdline = proc_cmdline(int(entry))
+        stat = proc_stat(int(entry))
+        if cmdline and stat and wanted in cmdline and stat[0] not in ("Z", "X"):
+            found.append(ProcessRecord("", node, int(entry), stat[1], cmdline, "", "", "", 1))
+    return found
 
 
 class Records:
