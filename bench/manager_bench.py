@@ -1,13 +1,13 @@
 """The component manager, measured on loopback (docs/system.md):
 
-    python bench/manager_bench.py [--runs 5] [--instances 20] [--idle 30]
+    python bench/manager_bench.py [--runs 5] [--instances 20] [--idle 30] [--workspace WS]
 
 1. an instance's crash (``kill -9``) until it is active again with its state (goal <= 3 s);
 2. the silence on a 10 Hz topic across a managed replacement (``/iface_manager/replace``; goal p95 <= 250 ms);
 3. the manager's CPU with N idle instances (percent of one core over ``--idle`` seconds).
 
-Generates and builds the test system's packages once (tests/runtime), then runs itself in the ROS 2
-environment. Prints one line per figure.
+Generates and builds the test system's packages once (tests/runtime; ``--workspace`` reuses a colcon
+workspace where they are built), then runs itself in the ROS 2 environment. Prints one line per figure.
 """
 
 from __future__ import annotations
@@ -40,12 +40,15 @@ def prepare(args: argparse.Namespace) -> int:
         return 2
     root = Path(tempfile.mkdtemp(prefix="manager-bench-"))
     gen, ws = root / "gen", root / "ws"
-    generate_system(gen)
-    ws.mkdir()
-    ok, tail, seconds = build(venv, gen, ws)
-    if not ok:
-        print(f"manager_bench: build failed:\n{tail}", file=sys.stderr)
-        return 2
+    if args.workspace is not None:
+        ws = args.workspace.resolve()
+    else:
+        generate_system(gen)
+        ws.mkdir()
+        ok, tail, _ = build(venv, gen, ws)
+        if not ok:
+            print(f"manager_bench: build failed:\n{tail}", file=sys.stderr)
+            return 2
     for name in ("room_sensor", "thermostat"):
         shutil.copy(ROOT / "examples" / f"{name}.iface", root)
     (root / "idle.yaml").write_text("/**:\n  ros__parameters:\n    rate_hz: 0.1\n", encoding="utf-8")
@@ -190,6 +193,7 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--instances", type=int, default=20)
     ap.add_argument("--idle", type=float, default=30.0)
+    ap.add_argument("--workspace", type=Path, help="a colcon workspace with room_sensor, thermostat and iface_msgs built")
     ap.add_argument("--inner", type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.inner is not None:

@@ -9,6 +9,11 @@
 - ``usercode``: reads a user module (without running it) and says where it no longer matches
   the interface.
 - ``rclpy``: the ``rclpy`` generation target (an ament_python lifecycle-node package).
+- the component manager (docs/system.md): ``system`` (a system file's instances in start order),
+  ``snapshots`` (saved states on disk, atomic), ``restart`` (policy and intensity), ``processes``
+  (instance processes: started, recorded, adopted), ``link`` (calls to components over the
+  protocol), ``manager`` (``/iface_manager``), ``manager_client`` and ``status_html`` (the
+  ``system`` command's side).
 
 May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit``, ``compat``.
 """
