@@ -18,6 +18,8 @@ from typing import Any
 
 #: Seconds before an unanswered idempotent request is sent again.
 RESEND = 2.0
+#: Seconds a lifecycle transition request waits for its answer before get_state is asked.
+TRANSITION_WAIT = 1.5
 #: The lifecycle state (lifecycle_msgs/State id) each transition the manager asks for ends in.
 GOAL = {1: 2, 3: 3, 4: 2, 5: 4, 6: 4, 7: 4}
 
@@ -49,6 +51,10 @@ class Link:
                 return found
         return None
 
+    def know(self, service: str, srv: Any) -> None:
+        """Use ``srv`` as the type of ``service`` without asking the graph."""
+        self._types[service] = srv
+
     def _client(self, service: str, srv: Any) -> Any:
         with self._lock:
             client = self._clients.get(service)
@@ -74,8 +80,9 @@ class Link:
         return client.call_async(_request(srv, fill))
 
     def call(self, service: str, fill: dict[str, Any], timeout: float, idempotent: bool = True,
-             alive: Callable[[], bool] | None = None) -> Any:
-        """Call ``service`` and wait at most ``timeout`` seconds for the answer (less when ``alive()`` turns false)."""
+             alive: Callable[[], bool] | None = None, resend: float = RESEND) -> Any:
+        """Call ``service`` and wait at most ``timeout`` seconds for the answer (less when ``alive()`` turns false);
+        an idempotent request unanswered after ``resend`` seconds is sent again."""
         deadline = time.monotonic() + timeout
         srv = self.service_type(service)
         while srv is None:
@@ -93,7 +100,7 @@ class Link:
             future = client.call_async(request)
             future.add_done_callback(lambda _f: done.set())
             futures.append(future)
-            resend_at = time.monotonic() + RESEND
+            resend_at = time.monotonic() + resend
             while True:
                 answer = next((f.result() for f in futures if f.done() and f.result() is not None), None)
                 if answer is not None:
@@ -115,24 +122,44 @@ class Link:
 
     def lifecycle_state(self, node: str, timeout: float) -> int:
         """``node``'s lifecycle state id."""
-        return int(self.call(f"{node}/get_state", {}, timeout).current_state.id)
+        return int(self.call(f"{node}/get_state", {}, timeout, resend=0.5).current_state.id)
 
     def transition(self, node: str, transition: int, timeout: float,
                    alive: Callable[[], bool] | None = None) -> None:
-        """Ask for a lifecycle transition (sent once); LinkError when it did not happen."""
+        """Bring ``node`` through a lifecycle transition; LinkError when it did not happen.
+
+        The request is sent again only when ``get_state`` shows the node still in the state it
+        started from (a request a new server dropped), never while the transition may be running.
+        """
         from lifecycle_msgs.msg import Transition
 
-        try:
-            answer = self.call(f"{node}/change_state", {"transition": Transition(id=transition)}, timeout,
-                               idempotent=False, alive=alive)
-        except LinkError:
-            if alive is not None and not alive():
-                raise
-            if self.lifecycle_state(node, min(timeout, 3.0)) == GOAL[transition]:
+        deadline = time.monotonic() + timeout
+        start = self.lifecycle_state(node, min(timeout, 3.0))
+        if start == GOAL[transition]:
+            return
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise LinkError(f"{node} did not finish the transition {transition} within {timeout:g} s")
+            try:
+                answer = self.call(f"{node}/change_state", {"transition": Transition(id=transition)},
+                                   min(left, TRANSITION_WAIT), idempotent=False, alive=alive)
+            except LinkError:
+                if alive is not None and not alive():
+                    raise
+                answer = None
+            state = self.lifecycle_state(node, max(0.5, min(3.0, deadline - time.monotonic())))
+            if state == GOAL[transition]:
                 return
-            raise
-        if not answer.success:
-            raise LinkError(f"{node} refused the transition {transition}")
+            if answer is not None and not answer.success:
+                raise LinkError(f"{node} refused the transition {transition}")
+            while state != start and state != GOAL[transition] and time.monotonic() < deadline:
+                time.sleep(0.05)  # in the transition's intermediate state: wait, do not ask again
+                state = self.lifecycle_state(node, max(0.5, min(3.0, deadline - time.monotonic())))
+            if state == GOAL[transition]:
+                return
+            if state != start:
+                raise LinkError(f"{node} ended the transition {transition} in state {state}")
 
     def save(self, node: str, timeout: float) -> str:
         """``node``'s state document."""

@@ -280,8 +280,8 @@ class Manager:
             if not proc.alive():
                 raise LinkError(f"{node}: its process ended (exit {proc.exit_code()}) before it answered")
             try:
-                self.link.control(node, protocol.STATUS, min(2.0, max(0.1, deadline - time.monotonic())),
-                                  alive=proc.alive)
+                self.link.call(f"{node}/control", {"command": protocol.STATUS, "timeout_sec": 1.0},
+                               min(2.0, max(0.1, deadline - time.monotonic())), alive=proc.alive, resend=0.25)
                 return
             except LinkError:
                 if time.monotonic() >= deadline:

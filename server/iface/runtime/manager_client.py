@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import threading
 import time
 from typing import Any
 
@@ -42,9 +43,7 @@ class ManagerClient:
         from iface_msgs import srv
 
         kind = {STATUS_SERVICE: srv.SystemStatus, SNAPSHOT_SERVICE: srv.Snapshot, REPLACE_SERVICE: srv.Replace}
-        self.link._types[service] = kind[service]
-        import threading
-
+        self.link.know(service, kind[service])
         answer: list[Any] = []
         problem: list[str] = []
 
