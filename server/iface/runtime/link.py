@@ -18,8 +18,6 @@ from typing import Any
 
 #: Seconds before an unanswered idempotent request is sent again.
 RESEND = 2.0
-#: Seconds a lifecycle transition request waits for its answer before get_state is asked.
-TRANSITION_WAIT = 1.5
 #: The lifecycle state (lifecycle_msgs/State id) each transition the manager asks for ends in.
 GOAL = {1: 2, 3: 3, 4: 2, 5: 4, 6: 4, 7: 4}
 
@@ -126,40 +124,20 @@ class Link:
 
     def transition(self, node: str, transition: int, timeout: float,
                    alive: Callable[[], bool] | None = None) -> None:
-        """Bring ``node`` through a lifecycle transition; LinkError when it did not happen.
-
-        The request is sent again only when ``get_state`` shows the node still in the state it
-        started from (a request a new server dropped), never while the transition may be running.
-        """
+        """Ask for a lifecycle transition (sent once); LinkError when it did not happen."""
         from lifecycle_msgs.msg import Transition
 
-        deadline = time.monotonic() + timeout
-        start = self.lifecycle_state(node, min(timeout, 3.0))
-        if start == GOAL[transition]:
-            return
-        while True:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                raise LinkError(f"{node} did not finish the transition {transition} within {timeout:g} s")
-            try:
-                answer = self.call(f"{node}/change_state", {"transition": Transition(id=transition)},
-                                   min(left, TRANSITION_WAIT), idempotent=False, alive=alive)
-            except LinkError:
-                if alive is not None and not alive():
-                    raise
-                answer = None
-            state = self.lifecycle_state(node, max(0.5, min(3.0, deadline - time.monotonic())))
-            if state == GOAL[transition]:
+        try:
+            answer = self.call(f"{node}/change_state", {"transition": Transition(id=transition)}, timeout,
+                               idempotent=False, alive=alive)
+        except LinkError:
+            if alive is not None and not alive():
+                raise
+            if self.lifecycle_state(node, min(timeout, 3.0)) == GOAL[transition]:
                 return
-            if answer is not None and not answer.success:
-                raise LinkError(f"{node} refused the transition {transition}")
-            while state != start and state != GOAL[transition] and time.monotonic() < deadline:
-                time.sleep(0.05)  # in the transition's intermediate state: wait, do not ask again
-                state = self.lifecycle_state(node, max(0.5, min(3.0, deadline - time.monotonic())))
-            if state == GOAL[transition]:
-                return
-            if state != start:
-                raise LinkError(f"{node} ended the transition {transition} in state {state}")
+            raise
+        if not answer.success:
+            raise LinkError(f"{node} refused the transition {transition}")
 
     def save(self, node: str, timeout: float) -> str:
         """``node``'s state document."""
