@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import io
 import signal
 import subprocess
 import sys
+from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
@@ -22,6 +24,16 @@ def run_cli(*args: str, cwd: Path | None = None, stdin: str | None = None) -> su
     """Run ``python -m iface ARGS`` and capture its output."""
     return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True,
                           cwd=cwd, input=stdin, timeout=300)
+
+
+def run_main(*args: str) -> subprocess.CompletedProcess[str]:
+    """Run ``iface-lsp ARGS`` in this process (``iface.cli.main``: no interpreter start) and capture its output."""
+    from iface.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        code = main(list(args))
+    return subprocess.CompletedProcess(["iface-lsp", *args], code, out.getvalue(), err.getvalue())
 
 
 @pytest.fixture

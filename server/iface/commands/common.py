@@ -8,6 +8,7 @@ import sys
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING
 
+from ..compat.systemfile import system_findings
 from ..model.diagnostics import Diagnostic, Severity, make
 from ..model.source import Source, Span
 from ..semantics.compile import SUFFIXES, Compilation, Workspace
@@ -62,11 +63,12 @@ def compile_readable(paths: Sequence[str], include_paths: Iterable[str] = ()) ->
 
 
 def gather(comps: Sequence[Compilation]) -> list[Diagnostic]:
-    """Diagnostics of the compilations and their includes, each file once, in file order."""
+    """Diagnostics of the compilations and their includes, each file once, in file order; a system file's
+    with the conflicts of its system graph."""
     seen: set[tuple[str, int, int, str, str]] = set()
     out: list[Diagnostic] = []
     for c in comps:
-        for d in c.all_diagnostics():
+        for d in [*c.all_diagnostics(), *system_findings(c)]:
             key = (d.path, d.span.start, d.span.end, d.code, d.message)
             if key in seen:
                 continue

@@ -15,9 +15,10 @@ from collections.abc import Sequence
 from typing import Any
 
 from ..emit.base import GeneratedFile, GenerationError, Target
-from ..emit.registry import targets
+from ..emit.registry import guarded, targets
 from ..emit.write import WriteReport, write_files
 from ..model.diagnostics import Diagnostic, Severity
+from ..runtime.launch import TARGET as LAUNCH
 from .common import (
     UsageError,
     check_suffix,
@@ -81,6 +82,13 @@ def _generate(target: Target, args: argparse.Namespace,
     for f in args.files:
         check_suffix(f)
     comps = compile_files(args.files, args.include_path)
+    for comp in comps:
+        if (comp.interface.system is not None) != (target.name == LAUNCH.name):
+            raise UsageError(f"{display_path(comp.path)} is a system file: generate its launch file with "
+                             "--target launch (and each component from its own file)"
+                             if comp.interface.system is not None else
+                             f"{display_path(comp.path)} declares no system: --target launch writes a system "
+                             "file's launch file")
     diags = gather(comps)
     if has_errors(diags):
         return [], diags, 1
@@ -142,6 +150,8 @@ def _report(report: WriteReport, args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:
     """Generate, then write, list (--dry-run) or compare (--check)."""
     available = targets()
+    # the system launch target is iface's own: found even where the installed entry points predate it
+    available.setdefault(LAUNCH.name, guarded(LAUNCH))
     target = available.get(args.target)
     if target is None:
         return _fail(f"unknown target '{args.target}'; available: {', '.join(sorted(available)) or 'none'}")

@@ -267,7 +267,7 @@ def graph_json(g: Graph, display: Display) -> dict[str, Any]:
                 "check": code, "severity": CHECKS[code][0].label, "definition": definition(p)}
     return {
         "schema": GRAPH_ID,
-        "components": [{"id": g.ids[id(c)], "name": c.name, "version": c.side.iface.version,
+        "components": [{"id": g.ids[id(c)], "name": c.name, "component": c.side.name, "version": c.side.iface.version,
                         "file": display(c.comp.path), "at": component_at(c)} for c in g.components],
         "links": [{"kind": lk.kind, "set": lk.set, "name": lk.name, "type": lk.type,
                    "to_type": endpoint_type(lk.target.component.side, lk.target.endpoint),

@@ -194,6 +194,12 @@ def _item(x: m.Item) -> dict[str, Any]:
         return {"kind": "component", **_component(x)}
     if isinstance(x, m.External):
         return {"kind": "external", "name": x.name}
+    if isinstance(x, m.SystemDecl):
+        return {"kind": "system", "name": x.name, "version": x.version, "annotations": _anns(x.annotations),
+                "doc": x.doc}
+    if isinstance(x, m.Instance):
+        return {"kind": "instance", "name": x.name, "component": x.component, "annotations": _anns(x.annotations),
+                "doc": x.doc}
     if isinstance(x, m.Wiring):
         return {"kind": "wiring", "direction": x.direction, "type": x.type.name, "topic": x.topic,
                 "annotations": _anns(x.annotations), "doc": x.doc}
@@ -398,6 +404,12 @@ class _Reader:
                                    self.annotations(obj, where), doc)
         if kind == "external":
             return m.External(name(), self.span())
+        if kind == "system":
+            return m.SystemDecl(name(), self.span(), Span(0, 0), self.get(obj, "version", where, str, optional=True),
+                                self.annotations(obj, where), doc)
+        if kind == "instance":
+            return m.Instance(name(), self.get(obj, "component", where, str), self.span(), Span(0, 0), Span(0, 0),
+                              self.annotations(obj, where), doc)
         if kind == "wiring":
             direction = self.get(obj, "direction", where, str)
             if direction not in ("publishes", "subscribes", "provides", "calls"):

@@ -13,7 +13,8 @@ from typing import Literal
 from ..syntax.chunks import TOP_KEYWORDS
 
 Where = Literal["top", "type", "member", "member-name", "wiring-type", "wiring-on", "topic", "annotation-key",
-                "annotation-value", "value", "dotted", "namespace-scope", "none"]
+                "annotation-value", "value", "dotted", "namespace-scope", "instance-component",
+                "instance-annotation-key", "instance-annotation-value", "none"]
 
 _TOP = re.compile(r"^(?:%s)\b" % "|".join(TOP_KEYWORDS), re.M)
 _TOKEN = re.compile(r"""
@@ -54,6 +55,8 @@ class Context:
     string_start: int | None = None
     #: For a default value: the type written before the field name.
     value_type: str | None = None
+    #: For an instance annotation's value: its key.
+    key: str | None = None
 
 
 def _chunk_start(text: str, offset: int) -> int:
@@ -123,6 +126,9 @@ def context_at(text: str, offset: int) -> Context:
                   tokens=statement, string_start=string_start)
     if string_start is not None:
         before = statement[:-1]
+        if parens > 0 and statement and statement[0] == "instance" and len(before) >= 2 and before[-1] == "=":
+            ctx.where, ctx.key = "instance-annotation-value", before[-2]
+            return ctx
         if len(before) >= 3 and before[0] in DIRECTIONS and before[-1] == "on":
             ctx.where = "topic"
             ctx.direction, ctx.wired_type = before[0], before[1]
@@ -131,6 +137,13 @@ def context_at(text: str, offset: int) -> Context:
         ctx.where = "dotted"
     if parens > 0:
         inner = statement[_last_index(statement, "(") + 1:]
+        if statement and statement[0] == "instance":
+            tail = inner[_last_index(inner, ",") + 1:] if "," in inner else inner
+            if tail and tail[-1] == "=":
+                ctx.where, ctx.key = "instance-annotation-value", tail[-2] if len(tail) > 1 else None
+            else:
+                ctx.where = "instance-annotation-key"
+            return ctx
         if statement and statement[0] in DIRECTIONS and len(statement) > 1:
             ctx.direction, ctx.wired_type = statement[0], statement[1]
         tail = inner[_last_index(inner, ",") + 1:] if "," in inner else inner
@@ -164,6 +177,9 @@ def _top(ctx: Context, statement: list[str]) -> Context:
         ctx.where = "top"
         return ctx
     first = words[0]
+    if first == "instance" and len(words) == 3 and words[2] == ":":
+        ctx.where = "instance-component"
+        return ctx
     if first in DIRECTIONS:
         ctx.direction = first
         if len(words) == 1:

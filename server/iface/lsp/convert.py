@@ -331,6 +331,7 @@ _SYMBOL_KINDS = {
     "const": lsp.SymbolKind.Constant, "field": lsp.SymbolKind.Field, "enum-value": lsp.SymbolKind.EnumMember,
     "section": lsp.SymbolKind.Module, "function": lsp.SymbolKind.Method, "publishes": lsp.SymbolKind.Event,
     "subscribes": lsp.SymbolKind.Event, "provides": lsp.SymbolKind.Event, "calls": lsp.SymbolKind.Event,
+    "instance": lsp.SymbolKind.Object,
 }
 
 

@@ -8,7 +8,9 @@ from ..model import nodes as m
 from ..model.naming import ros_field_name, ros_type_name
 from ..model.normalize import flat_reading
 from ..model.walk import resolve_typedefs, type_text, typedef_chain
-from ..semantics.query import Hit
+from ..semantics.query import Hit, instance_component
+from ..semantics.systems import ANNOTATIONS as INSTANCE_ANNOTATIONS
+from ..semantics.systems import DEFAULT_RESTART, start_order
 
 TARGETS = ("ros2", "px4", "idl", "json")
 TARGET_TITLES = {"ros2": "ROS 2", "px4": "PX4", "idl": "IDL", "json": "JSON Schema"}
@@ -274,6 +276,11 @@ def describe(hit: Hit, iface: m.Interface, text: str, interfaces: list[m.Interfa
         lines = [f"- {x.direction} {_code(x.type.name)}" for x in same]
         qos = ", ".join(f"{k} = {v}" for k, v in w.qos.items())
         return f"**topic** {_code(w.topic)}\n\n" + "\n".join(lines) + (f"\n\nQoS: {qos}" if qos else "")
+    if hit.kind == "annotation" and isinstance(node, m.Annotation) and isinstance(hit.annotation_owner, m.Instance):
+        meaning = INSTANCE_ANNOTATIONS.get(node.key, "an annotation an instance does not take")
+        return f"**instance annotation** {_code(node.key)}: {meaning}"
+    if hit.kind in ("system", "instance", "instance-component"):
+        return _system_part(hit, iface)
     if hit.kind == "annotation" and isinstance(node, m.Annotation):
         meaning = ANNOTATIONS.get(node.key, "an annotation iface does not interpret (kept for Thrift)")
         return f"**annotation** {_code(node.key)}: {meaning}"
@@ -286,3 +293,38 @@ def describe(hit: Hit, iface: m.Interface, text: str, interfaces: list[m.Interfa
                 f"{len(iface.state)} state variables, {len(iface.diagnostics)} diagnostics")
     return None
 
+
+
+def _system_part(hit: Hit, iface: m.Interface) -> str | None:
+    """A system, an instance or the component an instance runs."""
+    node = hit.node
+    if hit.kind == "system" and isinstance(node, m.SystemDecl):
+        order = " → ".join(i.name for i in start_order(iface.instances)) or "no instances"
+        return (f"**system** {_code(node.name)}" + (f" version {_code(node.version)}" if node.version else "")
+                + (f"\n\n{node.doc}" if node.doc else "") + f"\n\nstart order: {order}")
+    inst = hit.target if isinstance(hit.target, m.Instance) else node if isinstance(node, m.Instance) else None
+    if hit.kind == "instance" and inst is not None:
+        after = ", ".join(a.text for a in inst.after) or "the instance declared before it"
+        snapshot = inst.value("snapshot")
+        parameters = inst.value("parameters")
+        lines = [f"**instance** {_code(inst.name)} : {_code(inst.component)}",
+                 f"- node: {_code('/' + inst.node)}",
+                 f"- restart: {_code(inst.value('restart') or DEFAULT_RESTART)}",
+                 f"- snapshot: {_code(snapshot) if snapshot else 'on deactivate and on request'}",
+                 f"- starts after: {after}"]
+        if parameters:
+            lines.append(f"- parameters: {_code(parameters)}")
+        return "\n".join(lines) + (f"\n\n{inst.doc}" if inst.doc else "")
+    if hit.kind == "instance-component" and isinstance(node, m.Instance):
+        comp = instance_component(iface, node)
+        if comp is None:
+            return f"no included file declares component {_code(node.component)}"
+        decl = comp.component
+        version = f" version {_code(comp.version)}" if comp.version else ""
+        return (f"**component** {_code(comp.name)}" + version
+                + f" from {_code(comp.source.path.rpartition('/')[2])}"
+                + (f"\n\n{decl.doc}" if decl is not None and decl.doc else "")
+                + f"\n\n{len(comp.subscribed)} subscribed, {len(comp.published)} published, "
+                f"{len(comp.services)} services, {len(comp.actions)} actions, {len(comp.parameters)} parameters, "
+                f"{len(comp.state)} state variables")
+    return None

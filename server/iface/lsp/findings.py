@@ -37,7 +37,8 @@ class Findings:
 
     def of(self, path: str, comp: Compilation, settings: Settings, include_paths: list[str]) -> list[Diagnostic]:
         """The core findings of ``path``, then the baseline's and the targets' ones, capped."""
-        return capped([*comp.diagnostics, *self._compat(path, comp, settings.compat_baseline, include_paths),
+        return capped([*comp.diagnostics, *system_findings(comp),
+                       *self._compat(path, comp, settings.compat_baseline, include_paths),
                        *target_findings(comp, settings.targets)])
 
     def forget(self) -> None:
@@ -67,6 +68,19 @@ class Findings:
         except Exception:
             log.exception("comparing %s with its baseline failed", path)
             return []
+
+
+def system_findings(comp: Compilation) -> list[Any]:
+    """A system file's graph conflicts (types, QoS, topics nobody publishes), on its instances."""
+    if comp.interface.system is None:
+        return []
+    from ..compat.systemfile import system_findings as found
+
+    try:
+        return sorted(found(comp), key=lambda d: (d.span.start, d.span.end))
+    except Exception:
+        log.exception("the system graph of %s failed", comp.path)
+        return []
 
 
 def target_findings(comp: Compilation, names: Sequence[str]) -> list[Any]:

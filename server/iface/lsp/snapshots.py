@@ -50,6 +50,18 @@ class Snapshot:
     sorted_types: tuple[tuple[Name, ...], tuple[Name, ...]] | None = None
 
     @property
+    def system_names(self) -> tuple[Name, ...]:
+        """For a system file: the components its includes declare (kind ``component``) and its instances
+        (kind ``instance``); empty for any other file."""
+        iface = self.iface
+        if iface is None or (iface.system is None and not iface.instances):
+            return ()
+        out = [Name(inc.name, "component", inc.component.doc or "" if inc.component is not None else "")
+               for inc in {i.name: i for i in iface.included.values()}.values()]
+        out += [Name(i.name, "instance", i.doc or "", (i.component,)) for i in iface.instances]
+        return tuple(out)
+
+    @property
     def iface(self) -> Interface | None:
         """The compiled interface."""
         return self.comp.interface if self.comp is not None else None

@@ -19,7 +19,7 @@ from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Severity
 from ..semantics.compile import Compilation, Workspace
 from ..semantics.systems import DEFAULT_RESTART, period, start_order
-from .component import node_spec
+from .component import ComponentSpec, node_spec
 
 
 class SystemFileError(ValueError):
@@ -81,14 +81,20 @@ def spec_of(comp: Compilation) -> SystemSpec:
                               "(a system file starts with `system NAME`)")
     compiled = {inst.name: c for inst, c in instance_compilations(comp)}
     base = Path(comp.path).parent
+    described: dict[str, tuple[ComponentSpec | None, str]] = {}  # a component's node and hash, made once
     out: list[InstanceSpec] = []
     for inst in start_order(iface.instances):
-        out.append(_instance(comp, inst, compiled[inst.name], base))
+        c = compiled[inst.name]
+        if c.path not in described:
+            described[c.path] = (node_spec(c), interface_hash(c))
+        out.append(_instance(comp, inst, c, described[c.path], base))
     return SystemSpec(iface.system.name, iface.system.version, Path(comp.path), tuple(out))
 
 
-def _instance(system: Compilation, inst: m.Instance, comp: Compilation, base: Path) -> InstanceSpec:
-    spec = node_spec(comp)
+def _instance(system: Compilation, inst: m.Instance, comp: Compilation,
+              described: tuple[ComponentSpec | None, str], base: Path) -> InstanceSpec:
+    """One instance: its annotations, else what ``generate --target rclpy`` names for its component."""
+    spec, hashed = described
     if spec is None:
         raise SystemFileError(f"{_at(system, inst)}: error[instance-not-generated]: component "
                               f"'{inst.component}' of instance '{inst.name}' cannot be generated for ROS 2: "
@@ -99,7 +105,7 @@ def _instance(system: Compilation, inst: m.Instance, comp: Compilation, base: Pa
     line = system.source.position(inst.span.start)[0] + 1
     return InstanceSpec(
         name=inst.name, node=inst.node, component=inst.component, iface_file=Path(comp.path),
-        interface_hash=interface_hash(comp), package=package,
+        interface_hash=hashed, package=package,
         executable=inst.value("executable") or package,
         restart=inst.value("restart") or DEFAULT_RESTART,
         snapshot_period=period(snapshot) if snapshot is not None else None,

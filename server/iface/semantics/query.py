@@ -18,7 +18,8 @@ from ..model.walk import bodies, type_roots
 from .resolve import constant_value
 
 HitKind = Literal["definition", "field", "const", "enum-value", "section", "function", "type", "base-type",
-                  "value", "topic", "include", "component", "annotation", "namespace"]
+                  "value", "topic", "include", "component", "annotation", "namespace", "system", "instance",
+                  "instance-component"]
 
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
@@ -27,7 +28,7 @@ RESERVED = frozenset({
     "include", "cpp_include", "namespace", "component", "external", "version", "publishes", "subscribes",
     "provides", "calls", "on", "const", "typedef", "enum", "senum", "struct", "union", "exception",
     "message", "configuration", "state", "service", "action", "extends", "oneway", "void", "throws",
-    "required", "optional", "map", "set", "list", "cpp_type", "xsd_all", "true", "false",
+    "required", "optional", "map", "set", "list", "cpp_type", "xsd_all", "true", "false", "system", "instance",
     *m.BASE_ALIASES,
 })
 
@@ -89,7 +90,30 @@ def locate(iface: m.Interface, offset: int) -> Hit | None:
         return Hit("component", item.name_span, item) if _touches(item.name_span, offset) else None
     if isinstance(item, (m.Namespace, m.External)):
         return Hit("namespace", item.span, item)
+    if isinstance(item, m.SystemDecl):
+        return Hit("system", item.name_span, item, None, item) if _touches(item.name_span, offset) else None
+    if isinstance(item, m.Instance):
+        return _in_instance(iface, item, offset)
     return _in_definition(iface, item, offset)
+
+
+def instance_component(iface: m.Interface, inst: m.Instance) -> m.Interface | None:
+    """The included interface whose component ``inst`` instantiates, if any."""
+    return next((x for x in iface.included.values() if x.name == inst.component), None)
+
+
+def _in_instance(iface: m.Interface, inst: m.Instance, offset: int) -> Hit | None:
+    if _touches(inst.name_span, offset):
+        return Hit("instance", inst.name_span, inst, None, inst)
+    if _touches(inst.component_span, offset):
+        comp = instance_component(iface, inst)
+        return Hit("instance-component", inst.component_span, inst, None,
+                   comp.component if comp is not None else None)
+    for a in inst.annotations:
+        if a.key == "after" and a.value is not None and _touches(a.value.span, offset):
+            named = next((i for i in iface.instances if i.name == a.text), None)
+            return Hit("instance", a.value.span, a.value, None, named)
+    return _annotations(inst.annotations, offset, inst, None)
 
 
 def _in_definition(iface: m.Interface, d: m.Definition, offset: int) -> Hit | None:
@@ -196,6 +220,9 @@ def _annotations(annotations: Iterable[m.Annotation], offset: int, node: object,
 def defining_interface(interfaces: Iterable[m.Interface], defn: object) -> m.Interface | None:
     """The interface whose top-level definitions (or their members) hold ``defn``."""
     interfaces = list(interfaces)
+    if isinstance(defn, (m.ComponentDecl, m.SystemDecl, m.Instance)):
+        return next((x for x in interfaces if defn is x.component or defn is x.system
+                     or any(i is defn for i in x.instances)), None)
     for iface in interfaces:
         if any(d is defn for d in iface.definitions):
             return iface
@@ -290,6 +317,19 @@ def references(target: object, home: m.Interface, interfaces: Iterable[m.Interfa
 
     if include_declaration and hasattr(target, "name_span"):
         add(home, target.name_span, True)
+    if isinstance(target, (m.Instance, m.ComponentDecl)):
+        for iface in interfaces:
+            for inst in iface.instances:
+                if isinstance(target, m.ComponentDecl):
+                    comp = instance_component(iface, inst)
+                    if inst.component == target.name and comp is not None and comp.path == home.path:
+                        add(iface, inst.component_span)
+                elif iface.path == home.path:
+                    for a in inst.after:
+                        if a.text == target.name and a.value is not None:
+                            add(iface, Span(a.value.span.start + 1, a.value.span.end - 1))
+        out.sort(key=lambda r: (r.interface.path != home.path, r.interface.path, r.span.start))
+        return out
     for iface in interfaces:
         scopes = [home, *iface.included.values()] if iface.path != home.path else [home]
         if isinstance(target, (m.Const, m.EnumValue)):
@@ -467,6 +507,11 @@ def outline(iface: m.Interface) -> list[Symbol]:
         elif id(d) not in placed:
             groups["types"].append(_definition_symbol(d))
     out: list[Symbol] = []
+    if iface.instances:
+        kids = [Symbol(i.name, "instance", i.span, i.name_span, i.component) for i in iface.instances]
+        first = kids[0]
+        out.append(Symbol("instances", "group", Span(first.span.start, kids[-1].span.end), first.name_span,
+                          f"{len(kids)}", kids))
     for key, title in SET_TITLES.items():
         kids = groups[key]
         if not kids:
@@ -510,7 +555,8 @@ def selection_chain(iface: m.Interface, offset: int, text_length: int) -> list[S
     if hit is not None:
         chain.append(hit.span)
     item = item_at(iface, offset)
-    if item is not None and not isinstance(item, (m.Wiring, m.Include, m.Namespace, m.External, m.ComponentDecl)):
+    if item is not None and not isinstance(item, (m.Wiring, m.Include, m.Namespace, m.External, m.ComponentDecl,
+                                                  m.SystemDecl, m.Instance)):
         d = item
         if isinstance(d, (m.Service, m.Action)):
             for sec in d.sections:

@@ -113,7 +113,8 @@ def cycle(iface: m.Interface) -> list[m.Instance]:
 
 
 def _afters(inst: m.Instance, table: dict[str, m.Instance]) -> list[m.Instance]:
-    return [table[a.text] for a in inst.after if a.text in table]
+    """The instances ``inst`` starts after (itself left out: ``after`` naming itself is reported alone)."""
+    return [table[a.text] for a in inst.after if a.text in table and a.text != inst.name]
 
 
 @rule()
@@ -165,7 +166,7 @@ def system_file(iface: m.Interface) -> Iterator[Diagnostic]:
     if loop:
         chain = " → ".join(i.name for i in [*loop, loop[0]])
         for inst in loop:
-            a = next(a for a in inst.after if a.text in table and table[a.text] in loop)
+            a = next(a for a in inst.after if a.text != inst.name and a.text in table and table[a.text] in loop)
             yield make("instance-cycle", f"instances start after each other: {chain}", src,
                        a.value.span if a.value is not None else a.span)
 

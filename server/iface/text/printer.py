@@ -316,13 +316,18 @@ def item_lines(item: m.Item) -> list[str]:
         return [*doc_lines(item.doc), _with_annotations(text, item.annotations)]
     if isinstance(item, m.External):
         return [f"external {item.name}"]
+    if isinstance(item, m.SystemDecl):
+        text = f"system {item.name}" + (f" version {quote(item.version)}" if item.version is not None else "")
+        return [*doc_lines(item.doc), _with_annotations(text, item.annotations)]
+    if isinstance(item, m.Instance):
+        return [*doc_lines(item.doc), _with_annotations(f"instance {item.name} : {item.component}", item.annotations)]
     if isinstance(item, m.Wiring):
         text = f"{item.direction} {item.type.name} on {quote(item.topic)}"
         return [*doc_lines(item.doc), _with_annotations(text, item.annotations)]
     return definition_lines(item)
 
 
-_HEADERS = (m.Include, m.Namespace, m.ComponentDecl, m.External)
+_HEADERS = (m.Include, m.Namespace, m.ComponentDecl, m.External, m.SystemDecl)
 
 
 def print_items(items: Iterable[m.Item], header: str | None = None) -> str:
@@ -336,7 +341,8 @@ def print_items(items: Iterable[m.Item], header: str | None = None) -> str:
         lines = item_lines(item)
         if prev is not None:
             compact = (isinstance(item, _HEADERS) and isinstance(prev, _HEADERS)) or (
-                isinstance(item, m.Wiring) and isinstance(prev, m.Wiring))
+                isinstance(item, m.Wiring) and isinstance(prev, m.Wiring)) or (
+                isinstance(item, m.Instance) and isinstance(prev, m.Instance) and not item.doc)
             if not compact:
                 out.append("")
         out.extend(lines)

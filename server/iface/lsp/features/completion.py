@@ -22,7 +22,7 @@ MAX_ITEMS = 100
 
 KEYWORDS = ("include", "namespace", "component", "external", "const", "typedef", "enum", "struct", "union",
             "exception", "message", "configuration", "state", "service", "action", "publishes", "subscribes",
-            "provides", "calls")
+            "provides", "calls", "system", "instance")
 
 #: Block snippets: label → (snippet body, plain text for clients without snippets, description)
 SNIPPETS: dict[str, tuple[str, str, str]] = {
@@ -45,6 +45,8 @@ SNIPPETS: dict[str, tuple[str, str, str]] = {
     "namespace": ("namespace ${1:ros2} ${2:package}", "namespace ", "the package name for a target"),
     "typedef": ("typedef ${1:float64} ${2:Name}", "typedef ", "a type alias"),
     "const": ("const ${1:i32} ${2:NAME} = ${3:0}", "const ", "a constant"),
+    "system": ("system ${1:name} version \"${2:0.1.0}\"", "system ", "a system of component instances"),
+    "instance": ("instance ${1:name} : ${2:component}", "instance ", "an instance of an included component"),
 }
 
 #: Container types offered beside the base types.
@@ -89,7 +91,10 @@ def register(server: IfaceServer) -> None:
         markdown = bool(item_caps and item_caps.documentation_format
                         and lsp.MarkupKind.Markdown in item_caps.documentation_format)
         items = Items(ctx, state.index, offset, snippets, markdown)
-        offer(ctx, names, topics, items, sorted_types(snap) if snap is not None else None)
+        if ctx.where.startswith("instance-"):
+            offer_system(ctx, snap.system_names if snap is not None else (), items)
+        else:
+            offer(ctx, names, topics, items, sorted_types(snap) if snap is not None else None)
         built, incomplete = items.build(MAX_ITEMS)
         return convert.completion_list(built, incomplete=incomplete)
 
@@ -201,6 +206,31 @@ def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, st
     elif where == "namespace-scope":
         for scope in NAMESPACE_SCOPES:
             items.add(scope, "keyword", "namespace scope", insert=scope + " ", sort="1")
+
+
+def offer_system(ctx: Context, names: tuple[Name, ...], items: Items) -> None:
+    """In a system file: the components an instance can be, its annotations, and their values."""
+    from ...semantics.systems import ANNOTATIONS, RESTART
+
+    if ctx.where == "instance-component":
+        for n in names:
+            if n.kind == "component":
+                items.add(n.name, "component", "component", n.doc, sort="1")
+    elif ctx.where == "instance-annotation-key":
+        for key, meaning in ANNOTATIONS.items():
+            items.add(key, "annotation", doc=meaning, insert=f"{key} = ", sort="1")
+    elif ctx.where == "instance-annotation-value":
+        inside = ctx.string_start is not None
+        values: list[tuple[str, str]] = []
+        if ctx.key == "restart":
+            values = [(r, "restart policy") for r in RESTART]
+        elif ctx.key == "after":
+            values = [(n.name, f"instance of {n.members[0]}") for n in names if n.kind == "instance"]
+        elif ctx.key == "snapshot":
+            values = [("1s", "period"), ("500ms", "period")]
+        items.prefix = ""  # the quote is part of the label; the client filters
+        for value, detail in values:
+            items.add(f'"{value}"', "value", detail, sort="1", replace_from=ctx.string_start if inside else None)
 
 
 def _types(names: tuple[Name, ...], items: Items, types: tuple[tuple[Name, ...], tuple[Name, ...]] | None) -> None:

@@ -78,8 +78,13 @@ def tokens(iface: Interface, text: str) -> dict[int, tuple[int, int, int]]:
     decl = _M["declaration"]
     definitions = (m.Struct, m.Service, m.Action, m.Enum, m.Senum, m.Typedef, m.Const)
     for item in iface.items:
-        if isinstance(item, m.ComponentDecl):
+        if isinstance(item, (m.ComponentDecl, m.SystemDecl)):
             put(item.name_span, "namespace", decl)
+        elif isinstance(item, m.Instance):
+            put(item.name_span, "variable", decl)
+            put(item.component_span, "namespace")
+            for a in item.annotations:
+                put(m.Span(a.span.start, a.span.start + len(a.key)), "decorator")
         elif isinstance(item, m.Wiring):
             for a in item.annotations:
                 put(m.Span(a.span.start, a.span.start + len(a.key)), "decorator")
