@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from .manager_pkgs import COMPONENTS as SYSTEM_COMPONENTS
 from .ros import DATA, ROOT, build, generate, runtime_venv
 
 #: The components the end-to-end tests build and run: (interface, user module of the tests).
@@ -41,10 +42,13 @@ def ros_venv() -> Path:
 
 @pytest.fixture(scope="session")
 def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
-    """Generate each component (then put the tests' user module in place and generate again), build once."""
+    """Generate each component (then put the tests' user module in place and generate again), build once.
+
+    The manager's test system (SYSTEM_COMPONENTS) is built here too: one colcon build for the session.
+    """
     root = tmp_path_factory.mktemp("ros2")
     gen = root / "gen"
-    for package, (iface, user) in {**COMPONENTS, **LIVE_COMPONENTS}.items():
+    for package, (iface, user) in {**COMPONENTS, **LIVE_COMPONENTS, **SYSTEM_COMPONENTS}.items():
         first = generate(iface, gen)
         assert first.returncode == 0, first.stderr
         shutil.copyfile(user, gen / package / package / "node.py")
@@ -55,5 +59,5 @@ def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> W
     ws.mkdir()
     ok, tail, seconds = build(ros_venv, gen, ws)
     assert ok, f"the generated packages did not build:\n{tail}"
-    print(f"\nros2-runtime build of {', '.join([*COMPONENTS, *LIVE_COMPONENTS])}: {seconds:.0f} s")
+    print(f"\nros2-runtime build of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: {seconds:.0f} s")
     return Workspace(ros_venv, gen, ws, seconds)

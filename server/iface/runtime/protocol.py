@@ -115,8 +115,20 @@ _TIMEOUT = SrvField("float64", "timeout_sec", "how long to wait for the current 
 _HASH = SrvField("string", "interface_hash", "the interface hash of this node (sha256:…)")
 _PROTOCOL = SrvField("string", "protocol_version", f"the protocol version the node speaks ({PROTOCOL_VERSION})")
 
-#: The messages of ``iface_msgs`` (the manager adds its own).
-MESSAGES: tuple[ProtocolMessage, ...] = ()
+#: The messages of ``iface_msgs``: the component manager's (docs/system.md).
+MESSAGES: tuple[ProtocolMessage, ...] = (
+    ProtocolMessage(
+        "InstanceStatus", ("One instance of a managed system, as the component manager sees it.",),
+        (SrvField("string", "name", "the instance name in the system file"),
+         SrvField("string", "node", "its node's fully qualified name"),
+         SrvField("string", "state", "down, starting, inactive, active, stopped (not restarted by its policy) "
+                  "or failed (past the restart limit)"),
+         SrvField("int32", "pid", "its process id (0 while down)"),
+         SrvField("uint32", "restarts", "restarts by the manager since it started"),
+         SrvField("string", "interface_hash", "the interface hash of what runs (sha256:…)"),
+         SrvField("string", "last_snapshot", "time of its last snapshot, ISO 8601 UTC (empty: none)"),
+         SrvField("string[]", "findings", "what went wrong, oldest first"))),
+)
 
 #: The services of ``iface_msgs``; the first three are the ones every component served before ``Describe``.
 SERVICES: tuple[ProtocolService, ...] = (
@@ -165,6 +177,24 @@ SERVICES: tuple[ProtocolService, ...] = (
          SrvField("string", "runtime_version", "the version of the iface runtime package the node runs on"),
          _PROTOCOL,
          SrvField("string", "interface_json", "the interface as `iface-lsp generate --target json` writes it"))),
+    ProtocolService(
+        "SystemStatus", "/iface_manager/status", ("The status of every instance of a managed system.",),
+        (), (SrvField("string", "system", "the system's name"),
+             SrvField("InstanceStatus[]", "instances", "in start order"))),
+    ProtocolService(
+        "Snapshot", "/iface_manager/snapshot", ("Save the state of running instances to the state folder now.",),
+        (SrvField("string", "instance", "one instance (empty: every one)"),),
+        (SrvField("bool", "success", "every chosen instance was saved"), SrvField("string", "message"),
+         SrvField("string[]", "files", "the snapshot files written"))),
+    ProtocolService(
+        "Replace", "/iface_manager/replace",
+        ("Replace an instance by a new package and interface: compat against the rest of the system, trust,",
+         "the hand-over, then a grace period; rolled back (OLD active again with its state) when NEW fails."),
+        (SrvField("string", "instance"), SrvField("string", "new_iface", "the .iface file of NEW"),
+         SrvField("string", "package", "NEW's install folder (ws/install/<package>)"), _TIMEOUT),
+        (SrvField("bool", "success", "NEW took over"),
+         SrvField("string", "result", "replaced, refused or rolled_back"),
+         SrvField("string", "record", "the hand-over record (JSON, as `iface-lsp handover` prints)"))),
 )
 SERVICE_TYPES = tuple(s.type_name for s in SERVICES)
 #: The services a component's own interface package held before iface_msgs (still written there for now).
