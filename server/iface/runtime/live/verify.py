@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 from ...compat import qos as qosrules
 from ...compat.canon import interface_hash
 from ...compat.side import Side
-from ...compat.view import endpoint_type
+from ...compat.parts import endpoint_type
 from ...model import nodes as m
 from ...model.source import Source, Span
 from ...semantics.compile import Compilation
