@@ -63,7 +63,8 @@ class Manager:
             self._log.close()
 
 
-#: Only processes whose command line holds this folder (the test's own) are looked at or stopped.
+#: Only processes whose environment holds this folder (the test's own, in ROS_LOG_DIR) are looked at or
+#: stopped: the instances run from the session's shared workspace, so their command lines do not name it.
 OWN = ""
 
 
@@ -76,9 +77,12 @@ def node_processes(node: str) -> list[int]:
         try:
             cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
             state = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[0]
+            if f"__node:={node}".encode() not in cmd or state == "Z":
+                continue
+            environ = Path(f"/proc/{entry}/environ").read_bytes()
         except OSError:
             continue
-        if f"__node:={node}".encode() in cmd and state != "Z" and OWN and OWN.encode() in b" ".join(cmd):
+        if OWN and OWN.encode() in environ:
             found.append(int(entry))
     return found
 

@@ -471,7 +471,8 @@ class Manager:
             if failure is None:
                 return self._commit(m, h, report, proc, new_node, str(new_iface), str(package))
             h._note("grace", failure, ok=False)
-        paused = h.state_before is not None
+        # OLD was paused when the hand-over saved its state or, failing after the pause, resumed it.
+        paused = h.state_before is not None or any(s.step == "resume OLD" for s in h.steps)
         proc.stop(2.0)
         self.link.forget("/" + new_node)
         if not paused:
