@@ -91,7 +91,7 @@ def user_file_path(out: str, spec: ComponentSpec) -> str:
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's file there is checked against the interface."""
-    result, pkg, spec = prepare(comp, "c++")
+    result, pkg, spec = prepare(comp, "c++", shared_protocol=True)
     if pkg is None or spec is None:
         return result
     if types_only(spec):

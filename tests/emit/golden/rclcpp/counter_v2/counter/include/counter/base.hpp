@@ -20,10 +20,10 @@
 #include "counter_msgs/msg/count.hpp"
 #include "counter_msgs/msg/counter_state.hpp"
 #include "counter_msgs/msg/parity.hpp"
-#include "counter_msgs/srv/component_control.hpp"
 #include "counter_msgs/srv/reset.hpp"
-#include "counter_msgs/srv/restore_state.hpp"
-#include "counter_msgs/srv/save_state.hpp"
+#include "iface_msgs/srv/component_control.hpp"
+#include "iface_msgs/srv/restore_state.hpp"
+#include "iface_msgs/srv/save_state.hpp"
 
 namespace counter
 {
@@ -54,10 +54,10 @@ public:
   using Count = ::counter_msgs::msg::Count;
   using CounterState = ::counter_msgs::msg::CounterState;
   using Parity = ::counter_msgs::msg::Parity;
-  using ComponentControl = ::counter_msgs::srv::ComponentControl;
   using Reset = ::counter_msgs::srv::Reset;
-  using RestoreState = ::counter_msgs::srv::RestoreState;
-  using SaveState = ::counter_msgs::srv::SaveState;
+  using ComponentControl = ::iface_msgs::srv::ComponentControl;
+  using RestoreState = ::iface_msgs::srv::RestoreState;
+  using SaveState = ::iface_msgs::srv::SaveState;
 
   static constexpr const char * COMPONENT = "counter";
   static constexpr const char * VERSION = "2.0.0";

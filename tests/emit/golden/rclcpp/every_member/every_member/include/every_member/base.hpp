@@ -34,14 +34,14 @@
 #include "every_member_msgs/msg/every_member_state.hpp"
 #include "every_member_msgs/msg/heartbeat.hpp"
 #include "every_member_msgs/msg/sample.hpp"
-#include "every_member_msgs/srv/component_control.hpp"
 #include "every_member_msgs/srv/count.hpp"
 #include "every_member_msgs/srv/diagnostics.hpp"
 #include "every_member_msgs/srv/limits_get_limit.hpp"
 #include "every_member_msgs/srv/limits_reset.hpp"
-#include "every_member_msgs/srv/restore_state.hpp"
-#include "every_member_msgs/srv/save_state.hpp"
 #include "every_member_msgs/srv/work.hpp"
+#include "iface_msgs/srv/component_control.hpp"
+#include "iface_msgs/srv/restore_state.hpp"
+#include "iface_msgs/srv/save_state.hpp"
 
 namespace every_member
 {
@@ -99,14 +99,14 @@ public:
   using EveryMemberState = ::every_member_msgs::msg::EveryMemberState;
   using Heartbeat = ::every_member_msgs::msg::Heartbeat;
   using Sample = ::every_member_msgs::msg::Sample;
-  using ComponentControl = ::every_member_msgs::srv::ComponentControl;
   using Count = ::every_member_msgs::srv::Count;
   using Diagnostics = ::every_member_msgs::srv::Diagnostics;
   using LimitsGetLimit = ::every_member_msgs::srv::LimitsGetLimit;
   using LimitsReset = ::every_member_msgs::srv::LimitsReset;
-  using RestoreState = ::every_member_msgs::srv::RestoreState;
-  using SaveState = ::every_member_msgs::srv::SaveState;
   using Work = ::every_member_msgs::srv::Work;
+  using ComponentControl = ::iface_msgs::srv::ComponentControl;
+  using RestoreState = ::iface_msgs::srv::RestoreState;
+  using SaveState = ::iface_msgs::srv::SaveState;
 
   static constexpr const char * COMPONENT = "every_member";
   static constexpr const char * VERSION = "2.1.0";

@@ -25,18 +25,18 @@
 
 #include "iface_runtime_cpp/iface_runtime.hpp"
 #include "rclcpp_components/register_node_macro.hpp"
+#include "iface_msgs/srv/component_control.hpp"
+#include "iface_msgs/srv/restore_state.hpp"
+#include "iface_msgs/srv/save_state.hpp"
 #include "robot_arm_msgs/action/follow_trajectory.hpp"
 #include "robot_arm_msgs/msg/joint_command.hpp"
 #include "robot_arm_msgs/msg/joint_state.hpp"
 #include "robot_arm_msgs/msg/robot_arm_state.hpp"
 #include "robot_arm_msgs/srv/arm_diagnostics.hpp"
-#include "robot_arm_msgs/srv/component_control.hpp"
 #include "robot_arm_msgs/srv/joint_limits_service_clear_fault.hpp"
 #include "robot_arm_msgs/srv/joint_limits_service_get_limits.hpp"
 #include "robot_arm_msgs/srv/joint_limits_service_set_limits.hpp"
 #include "robot_arm_msgs/srv/move_to_pose.hpp"
-#include "robot_arm_msgs/srv/restore_state.hpp"
-#include "robot_arm_msgs/srv/save_state.hpp"
 
 namespace robot_arm
 {
@@ -67,18 +67,18 @@ private:
 class RobotArmBase : public iface_runtime::ComponentNode
 {
 public:
+  using ComponentControl = ::iface_msgs::srv::ComponentControl;
+  using RestoreState = ::iface_msgs::srv::RestoreState;
+  using SaveState = ::iface_msgs::srv::SaveState;
   using FollowTrajectory = ::robot_arm_msgs::action::FollowTrajectory;
   using JointCommand = ::robot_arm_msgs::msg::JointCommand;
   using JointState = ::robot_arm_msgs::msg::JointState;
   using RobotArmState = ::robot_arm_msgs::msg::RobotArmState;
   using ArmDiagnostics = ::robot_arm_msgs::srv::ArmDiagnostics;
-  using ComponentControl = ::robot_arm_msgs::srv::ComponentControl;
   using JointLimitsServiceClearFault = ::robot_arm_msgs::srv::JointLimitsServiceClearFault;
   using JointLimitsServiceGetLimits = ::robot_arm_msgs::srv::JointLimitsServiceGetLimits;
   using JointLimitsServiceSetLimits = ::robot_arm_msgs::srv::JointLimitsServiceSetLimits;
   using MoveToPose = ::robot_arm_msgs::srv::MoveToPose;
-  using RestoreState = ::robot_arm_msgs::srv::RestoreState;
-  using SaveState = ::robot_arm_msgs::srv::SaveState;
 
   static constexpr const char * COMPONENT = "robot_arm";
   static constexpr const char * VERSION = "1.2.0";
