@@ -67,7 +67,8 @@ def main() -> int:
     a.logs.mkdir(parents=True, exist_ok=True)
     report = Report(a.out)
     from counter_msgs.msg import Count
-    from counter_msgs.srv import ComponentControl, Reset
+    from counter_msgs.srv import Reset
+    from iface_msgs.srv import ComponentControl
 
     probe = Probe()
     proto = Protocol(probe, "counter_msgs")
