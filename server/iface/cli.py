@@ -32,6 +32,9 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "impact": ("iface.commands.impact", "show what replacing one component affects"),
     "dump": ("iface.commands.dump", "print the model of a file as JSON (for debugging and goldens)"),
     "handover": ("iface.commands.handover", "replace a running component by a compatible one, moving its state"),
+    "verify": ("iface.commands.verify", "check the running ROS 2 graph against the declared interfaces"),
+    "manager": ("iface.commands.manager", "run the component manager of a system: up, watched, state kept, replaced"),
+    "system": ("iface.commands.system", "ask a running component manager: status, replace, snapshot"),
     "sign": ("iface.commands.sign", "sign a component package (ed25519), verify it, or create a key"),
 }
 

@@ -82,6 +82,7 @@ def every_command(path: Path, work: Path) -> Iterator[tuple[list[str], int, str]
         ["impact", "--system", f, "--replace", f, f], ["fmt", "--check", f], ["fmt", "--diff", f],
         ["handover", "/old", "/new", "--old", f, "--new", f, "--timeout", "1"],
         ["sign", str(work), "--verify", "--trust-store", str(work)],
+        ["manager", f, "--state-dir", str(work / "state")], ["system", "status", f, "--manager-timeout", "1"],
     ]
     for argv in commands:
         yield (argv, *run(*argv))

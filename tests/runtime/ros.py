@@ -4,11 +4,17 @@ The runtime is the venv that ``../shared/ros2-runtime/setup.sh VENV`` makes: ``I
 else ``/root/.cache/ros2-runtime`` when it exists. Without it the ROS tests skip, saying why.
 Builds use ``ros2-runtime/build.sh`` (``IFACE_ROS2_SHARED``, else ``../shared`` beside the
 clone, else ``/work/shared``) and fall back to the venv's colcon with the same arguments.
+
+The packages every component shares (``iface_msgs``, ``iface_runtime_py``: ``SHARED_PACKAGES``) are
+built once per test process, in a workspace of their own that the component workspaces are built
+on (colcon's underlay: sourcing a component workspace sources it too), so that each scenario does
+not compile the protocol's type supports again.
 """
 
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import os
 import random
 import shutil
@@ -101,11 +107,64 @@ def generate(iface: Path, out: Path, *extra: str) -> subprocess.CompletedProcess
                            str(out), "-q", *extra], capture_output=True, text=True, timeout=120, check=False)
 
 
+#: Packages ``generate`` writes beside every component, built once per process (see the module's doc).
+SHARED_PACKAGES = ("iface_msgs", "iface_runtime_py")
+_shared_built: dict[str, Path] = {}
+
+
+def _digest(generated: Path, names: list[str]) -> str:
+    h = hashlib.sha256()
+    for name in names:
+        for path in sorted((generated / name).rglob("*")):
+            if path.is_file():
+                h.update(path.relative_to(generated).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def shared_underlay(venv: Path, generated: Path, near: Path) -> tuple[Path | None, str]:
+    """The workspace with the shared packages found in ``generated`` built (once per content); None, why on failure."""
+    names = [n for n in SHARED_PACKAGES if (generated / n / "package.xml").is_file()]
+    if not names:
+        return None, ""
+    key = _digest(generated, names)
+    if key in _shared_built:
+        return _shared_built[key], ""
+    src = near.parent / f"iface-shared-{key[:12]}" / "gen"
+    shutil.rmtree(src.parent, ignore_errors=True)
+    for name in names:
+        shutil.copytree(generated / name, src / name)
+    ws = src.parent / "ws"
+    ws.mkdir()
+    ok, tail, _ = _build(venv, src, ws, None)
+    if not ok:
+        return None, tail
+    _shared_built[key] = ws
+    return ws, ""
+
+
 def build(venv: Path, generated: Path, workspace: Path) -> tuple[bool, str, float]:
-    """Build every package under ``generated`` into ``workspace``: (ok, last lines, seconds)."""
+    """Build every package under ``generated`` into ``workspace``: (ok, last lines, seconds).
+
+    The shared packages among them are built once per process and used as the workspace's underlay.
+    """
+    start = time.monotonic()
+    underlay, why = shared_underlay(venv, generated, workspace)
+    if why:
+        return False, why, time.monotonic() - start
+    if underlay is not None:
+        own = workspace / "gen-own"
+        shutil.rmtree(own, ignore_errors=True)
+        shutil.copytree(generated, own, ignore=lambda folder, names: [n for n in names if Path(folder) == generated
+                                                                     and n in SHARED_PACKAGES])
+        generated = own
+    ok, tail, _ = _build(venv, generated, workspace, underlay)
+    return ok, tail, time.monotonic() - start
+
+
+def _build(venv: Path, generated: Path, workspace: Path, underlay: Path | None) -> tuple[bool, str, float]:
     start = time.monotonic()
     shared = shared_dir()
-    env = environment(venv)
+    env = environment(venv, underlay)
     if shared is not None:
         cmd = ["bash", str(shared / "ros2-runtime" / "build.sh"), str(generated), str(workspace)]
     else:

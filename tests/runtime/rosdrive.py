@@ -293,32 +293,54 @@ def import_interface(name: str) -> Any:
 
 
 class Protocol:
-    """~/save_state, ~/restore_state and ~/control of one component."""
+    """~/save_state, ~/restore_state and ~/control of components, whichever package their types are in.
 
-    def __init__(self, probe: Probe, package: str) -> None:
+    A generated rclpy component speaks the protocol through ``iface_msgs``; a node that still has the
+    services in its own interface package (``package``) is reached through those: each node's type is
+    read from the graph once.
+    """
+
+    def __init__(self, probe: Probe, package: str = "iface_msgs") -> None:
         self.probe = probe
-        self.save_t = import_interface(f"{package}/srv/SaveState")
-        self.restore_t = import_interface(f"{package}/srv/RestoreState")
-        self.control_t = import_interface(f"{package}/srv/ComponentControl")
+        self.package = package
+        self.save_t = import_interface("iface_msgs/srv/SaveState")
+        self.restore_t = import_interface("iface_msgs/srv/RestoreState")
+        self.control_t = import_interface("iface_msgs/srv/ComponentControl")
+        self._types: dict[str, Any] = {}
+
+    def type_of(self, node: str, service: str) -> Any:
+        """The type of ``/node/service`` as the graph shows it (bounded wait), imported."""
+        name = f"/{node.lstrip('/')}/{service}"
+        if name not in self._types:
+            found = self.probe.wait_until(lambda: next((types[0] for n, types in
+                                                         self.probe.node.get_service_names_and_types()
+                                                         if n == name and types), None), 30, f"{name} in the graph")
+            self._types[name] = import_interface(found)
+        return self._types[name]
+
+    def save_raw(self, node: str) -> Any:
+        save_t = self.type_of(node, "save_state")
+        return self.probe.call(save_t, f"/{node}/save_state", save_t.Request(timeout_sec=5.0), idempotent=True)
 
     def save(self, node: str) -> dict[str, Any]:
-        response = self.probe.call(self.save_t, f"/{node}/save_state", self.save_t.Request(timeout_sec=5.0),
-                                   idempotent=True)
+        response = self.save_raw(node)
         check(response.success, f"save_state of {node} failed: {response.message}")
         return json.loads(response.state)
 
     def restore(self, node: str, doc: dict[str, Any] | str) -> Any:
         text = doc if isinstance(doc, str) else json.dumps(doc)
-        return self.probe.call(self.restore_t, f"/{node}/restore_state",
-                               self.restore_t.Request(state=text, timeout_sec=5.0))
+        restore_t = self.type_of(node, "restore_state")
+        return self.probe.call(restore_t, f"/{node}/restore_state", restore_t.Request(state=text, timeout_sec=5.0))
 
     def control(self, node: str, command: int, timeout: float = 10.0) -> Any:
-        return self.probe.call(self.control_t, f"/{node}/control",
-                               self.control_t.Request(command=command, timeout_sec=timeout), timeout=timeout + 10)
+        control_t = self.type_of(node, "control")
+        return self.probe.call(control_t, f"/{node}/control",
+                               control_t.Request(command=command, timeout_sec=timeout), timeout=timeout + 10)
 
     def control_async(self, node: str, command: int, timeout: float = 10.0) -> Any:
-        return self.probe.call_async(self.control_t, f"/{node}/control",
-                                     self.control_t.Request(command=command, timeout_sec=timeout))
+        control_t = self.type_of(node, "control")
+        return self.probe.call_async(control_t, f"/{node}/control",
+                                     control_t.Request(command=command, timeout_sec=timeout))
 
 
 def incompatible(doc: dict[str, Any], variable: str) -> dict[str, Any]:

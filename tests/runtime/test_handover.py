@@ -24,6 +24,7 @@ from .ros import DATA, ROOT, build, environment, generate, run_bounded
 DRIVER = Path(__file__).parent / "handover_drive.py"
 STEPS = [
     "start: OLD active and counting, NEW started",
+    "protocol: one SaveState type for both components, ~/describe answers",
     "refused: a provided service removed",
     "refused: a state variable retyped",
     "refused: NEW's interface hash is not the approved one",

@@ -3,12 +3,15 @@
 rclcpp has no wheel: ../shared/ros2-runtime/build-cpp.sh builds it from its sources into
 VENV/cpp (scripts/install-ros.sh does, in CI). Without it these tests skip, saying so.
 
-Workspaces are built once per module: counter_msgs and the C++ counter 2.0 (examples/counter_v2.iface
-with tests/runtime/data/counter_v2_node.cpp); the Python counter 1.0 for the hand-over across
-languages; and every_member's C++ package with the user file iface writes (every kind of member:
-its templates compile), on top of the session's workspace that holds every_member_msgs. rclcpp_drive.py runs the scenario; each test below is one
-of its steps. Every wait is bounded, every process is stopped by its own handle, traffic stays on
-loopback in a random ROS_DOMAIN_ID.
+Workspaces are built once per module: ws_cpp, the shared packages (iface_msgs, iface_runtime_cpp)
+with counter_msgs and the C++ counter 2.0 (examples/counter_v2.iface with
+tests/runtime/data/counter_v2_node.cpp); the Python counter 1.0 for the hand-overs across
+languages; on top of ws_cpp, each package alone: every_member's C++ package with the user file
+iface writes (every kind of member: its templates compile; every_member_msgs comes from the
+session's workspace) and the C++ counter 1.0. rclcpp_drive.py runs the scenario of one C++ node,
+container_drive.py that of a component container; each test below is one of their steps. Every
+wait is bounded, every process is stopped by its own handle, traffic stays on loopback in a random
+ROS_DOMAIN_ID.
 """
 
 from __future__ import annotations
@@ -61,14 +64,22 @@ def rclcpp_env(venv: Path) -> dict[str, str] | None:
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
 
 
+def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> dict[str, str]:
+    """``env`` with the workspace ``ws`` sourced on top (its install/local_setup.bash; setup.bash: with its underlays)."""
+    script = f'set +u; . "{ws}/install/{script}" >/dev/null && env -0'
+    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=env).stdout
+    return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+
+
 def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path) -> tuple[bool, str, float]:
     """colcon build of every package under ``generated`` against rclcpp, as docs/targets.md says."""
     start = time.monotonic()
-    shutil.copytree(generated, ws / "src")
+    shutil.copytree(generated, ws / "src")  # with iface_msgs and iface_runtime_cpp where generate wrote them
     cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
            "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
            f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
-           f"-DCMAKE_EXE_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_LDFLAGS', '')}"]
+           f"-DCMAKE_EXE_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_LDFLAGS', '')}",
+           f"-DCMAKE_SHARED_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_SHARED_LDFLAGS', '')}"]
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=1500, env=env, cwd=ws, check=False)
     (ws / "colcon.log").write_text(done.stdout + done.stderr)
     tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-30:])
@@ -153,6 +164,11 @@ def run(workspaces: dict[str, Any]) -> dict[str, Any]:
 
 @pytest.mark.parametrize("step", STEPS)
 def test_cpp_counter(run: dict[str, Any], step: str) -> None:
+    passed(run, step)
+
+
+def passed(run: dict[str, Any], step: str) -> None:
+    """The driver's step ``step`` ran and passed."""
     info = run["_run"]
     if step not in run:
         tail = Path(info["log"]).read_text(errors="replace")[-3000:] if Path(info["log"]).is_file() else ""
@@ -160,29 +176,90 @@ def test_cpp_counter(run: dict[str, Any], step: str) -> None:
     assert run[step]["ok"], f"{step}: {run[step]['detail']} (logs in {info['logs']})"
 
 
+#: The packages generate writes beside every component: built once per module, in ws_cpp.
+SHARED = ("iface_msgs", "iface_runtime_cpp", "iface_runtime_py")
+
+
+def component_only(gen: Path, keep: str) -> None:
+    """Leave only the package ``keep`` in ``gen``: the rest comes from a workspace built before."""
+    for package in gen.iterdir():
+        if package.is_dir() and package.name != keep:
+            shutil.rmtree(package)
+
+
 @pytest.fixture(scope="module")
 def every_member_cpp(workspaces: dict[str, Any], ros_workspace: Any) -> tuple[Path, dict[str, str]]:
     """every_member's C++ package with the user file iface writes, on top of the session's workspace
-    (conftest.py), which already holds every_member_msgs: the interface package both targets share."""
+    (conftest.py), which already holds every_member_msgs: the interface package both targets share, and
+    of ws_cpp, which holds iface_msgs and iface_runtime_cpp."""
     venv, root = workspaces["venv"], workspaces["root"]
     gen = root / "gen_every_member"
     done = generate(DATA / "every_member.iface", gen, "--target", "rclcpp")
     assert done.returncode == 0, done.stderr
-    shutil.rmtree(gen / "every_member_msgs")
-    env = dict(workspaces["env"])
-    script = f'set +u; . "{ros_workspace.path}/install/setup.bash" >/dev/null && env -0'
-    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=env).stdout
-    env = dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+    component_only(gen, "every_member")
+    env = overlay(overlay(workspaces["env"], ros_workspace.path, "setup.bash"), workspaces["ws_cpp"])
     ws = root / "ws_every_member"
     ws.mkdir()
     ok, tail, seconds = build_cpp(venv, env, gen, ws)
     assert ok, f"every_member (C++) did not build (log: {ws}/colcon.log):\n{tail}"
     print(f"\nrclcpp build of every_member (C++): {seconds:.0f} s")
-    run_env = environment(venv, ros_workspace.path, root / "ros-log")
-    script = f'set +u; . "{ws}/install/setup.bash" >/dev/null && env -0'
-    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=run_env).stdout
-    run_env = dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+    run_env = overlay(overlay(environment(venv, ros_workspace.path, root / "ros-log"), workspaces["ws_cpp"]), ws)
     return ws, run_env
+
+
+@pytest.fixture(scope="module")
+def counter_v1_cpp(workspaces: dict[str, Any]) -> tuple[Path, dict[str, str]]:
+    """The C++ counter 1.0 (examples/counter.iface, tests/runtime/data/counter_node.cpp) on top of ws_cpp:
+    its counter_msgs is 2.0's, which holds 1.0's (one interface package per process, as in a container)."""
+    venv, root = workspaces["venv"], workspaces["root"]
+    gen = root / "gen_counter_v1"
+    done = generate(ROOT / "examples" / "counter.iface", gen, "--target", "rclcpp")
+    assert done.returncode == 0, done.stderr
+    component_only(gen, "counter")
+    shutil.copyfile(DATA / "counter_node.cpp", gen / "counter" / "src" / "node.cpp")
+    ws = root / "ws_counter_v1"
+    ws.mkdir()
+    ok, tail, seconds = build_cpp(venv, overlay(workspaces["env"], workspaces["ws_cpp"]), gen, ws)
+    assert ok, f"counter 1.0 (C++) did not build (log: {ws}/colcon.log):\n{tail}"
+    print(f"\nrclcpp build of counter 1.0 (C++, the component alone): {seconds:.0f} s")
+    return ws, overlay(environment(venv, workspaces["ws_cpp"], root / "ros-log"), ws)
+
+
+CONTAINER_DRIVER = Path(__file__).parent / "container_drive.py"
+CONTAINER_STEPS = [
+    "container: component_container_mt starts",
+    "container: counter 1.0 and 2.0 and every_member load side by side",
+    "container: handover from counter 1.0 to 2.0 inside the container",
+    "container: the components unload, the container keeps running",
+    "handover: the C++ counter 1.0 to the Python counter 1.0",
+]
+
+
+@pytest.fixture(scope="module")
+def container_run(workspaces: dict[str, Any], every_member_cpp: tuple[Path, dict[str, str]],
+                  counter_v1_cpp: tuple[Path, dict[str, str]]) -> dict[str, Any]:
+    venv, root = workspaces["venv"], workspaces["root"]
+    env = overlay(every_member_cpp[1], counter_v1_cpp[0])
+    env_py = environment(venv, workspaces["ws_py"], root / "ros-log")
+    env_v1 = dict(counter_v1_cpp[1])
+    env_py["ROS_DOMAIN_ID"] = env_v1["ROS_DOMAIN_ID"] = env["ROS_DOMAIN_ID"]
+    config = {"python": sys.executable, "ros_python": str(venv / "bin" / "python"), "env": env, "env_py": env_py,
+              "env_v1": env_v1, "cpp_v1": str(counter_v1_cpp[0] / "install" / "counter" / "lib" / "counter" / "counter"),
+              "old_iface": str(ROOT / "examples" / "counter.iface"), "new_iface": str(COUNTER_V2)}
+    (root / "container.json").write_text(json.dumps(config))
+    out, log = root / "container.result.json", root / "container.log"
+    code = run_bounded([str(venv / "bin" / "python"), str(CONTAINER_DRIVER), str(root / "container.json"), "--out",
+                        str(out), "--logs", str(root / "container-logs")], env, 400, log)
+    steps = json.loads(out.read_text()) if out.is_file() else {}
+    steps["_run"] = {"code": code, "log": str(log), "logs": str(root / "container-logs")}
+    return steps
+
+
+@pytest.mark.parametrize("step", CONTAINER_STEPS)
+def test_components_in_one_container(container_run: dict[str, Any], step: str) -> None:
+    """Two generated C++ components, and two versions of one, in one component container; a hand-over between
+    two of them there; and one from C++ to Python."""
+    passed(container_run, step)
 
 
 def test_every_member_builds_and_checks_its_parameters(workspaces: dict[str, Any],
@@ -226,7 +303,7 @@ try:
     for node in ("em_py", "em_cpp"):
         answer = proto.restore(node, json.dumps(doc) if not texts else texts[-1])
         assert answer.success, answer.message
-        texts.append(probe.call(proto.save_t, f"/{node}/save_state", proto.save_t.Request(timeout_sec=5.0)).state)
+        texts.append(proto.save_raw(node).state)
     out["documents"] = texts
 finally:
     for proc in procs:

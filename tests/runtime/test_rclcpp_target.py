@@ -71,8 +71,7 @@ def test_every_file_passes_its_parser(case: str) -> None:
     pkg_xml = catkin_package(files[f"{component}/package.xml"])
     assert pkg_xml.get_build_type() == "ament_cmake"
     depends = {d.name for d in pkg_xml.build_depends} & {d.name for d in pkg_xml.exec_depends}
-    assert {"rclcpp", "rclcpp_lifecycle", "rclcpp_action", "diagnostic_msgs", "lifecycle_msgs",
-            "ament_index_cpp"} <= depends
+    assert {"iface_runtime_cpp", "rclcpp", "rclcpp_lifecycle", "rclcpp_action", "rclcpp_components"} <= depends
     cmake = files[f"{component}/CMakeLists.txt"]
     for dep in depends:
         assert f"find_package({dep} REQUIRED)" in cmake, dep
@@ -81,14 +80,51 @@ def test_every_file_passes_its_parser(case: str) -> None:
     params = load_yaml(files[next(p for p in files if p.startswith(f"{component}/config/"))])
     assert "ros__parameters" in params["/**"]
     compile(files[next(p for p in files if p.startswith(f"{component}/launch/"))], "launch.py", "exec")
+    shared = catkin_package(files["iface_runtime_cpp/package.xml"])
+    deps_of = {component: depends, "iface_runtime_cpp": {d.name for d in shared.build_depends}}
     for path, text in files.items():
         if not path.endswith((".cpp", ".hpp")):
             continue
+        owner = path.split("/")[0]
         code = re.sub(r'R"\((?:.|\n)*?\)"|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\])\'|//[^\n]*', "", text)
         assert code.count("{") == code.count("}") and code.count("(") == code.count(")"), path
         for header in re.findall(r'^#include "([^"]+)"', text, re.MULTILINE):
             package = header.split("/")[0]
-            assert package == component or package in depends or package == "rosidl_runtime_cpp", (path, header)
+            assert package == owner or package in deps_of[owner] or package == "rosidl_runtime_cpp", (path, header)
+
+
+def test_the_machinery_is_one_shared_package_the_components_link() -> None:
+    """iface_runtime_cpp is the same for every component, exports its library target and serves the protocol
+    with iface_msgs' types; a component package holds no runtime file, builds a component library registered
+    with rclcpp_components (under its package and under package@version) and keeps its executable."""
+    runtimes = []
+    for case in sorted(CASES):
+        files = {f.path: f.text for f in files_of(case)}
+        runtimes.append({p: t for p, t in files.items() if p.startswith("iface_runtime_cpp/")})
+        component = next(p.split("/")[0] for p in files if p.endswith("/src/main.cpp"))
+        assert not [p for p in files if p.startswith(f"{component}/") and "iface_runtime" in p.rsplit("/", 1)[1]]
+        cmake = files[f"{component}/CMakeLists.txt"]
+        base = files[f"{component}/include/{component}/base.hpp"]
+        version = catkin_package(files[f"{component}/package.xml"]).version
+        cls = re.search(r"^class (\w+)Base : public iface_runtime::ComponentNode", base, re.MULTILINE).group(1)
+        plugin = f"{component}::{cls}"
+        assert re.search(r"rclcpp_components_register_node\(\$\{PROJECT_NAME\}_component\s+PLUGIN \"" + plugin +
+                         r"\"\s+EXECUTABLE \$\{PROJECT_NAME\}_node", cmake), cmake
+        assert f"ament_index_register_resource(rclcpp_components PACKAGE_NAME {component}@{version}" in cmake
+        assert f'CONTENT "{plugin};lib/$<TARGET_FILE_NAME:${{PROJECT_NAME}}_component>\\n"' in cmake
+        assert "add_executable(${PROJECT_NAME} src/main.cpp)" in cmake
+        assert "iface_runtime_cpp::iface_runtime_cpp" in cmake and "CXX_VISIBILITY_PRESET hidden" in cmake
+        assert "RCLCPP_COMPONENTS_REGISTER_NODE(Class)" in base and f'== "{plugin}"' in base
+    assert runtimes[0] and all(r == runtimes[0] for r in runtimes)
+    shared = runtimes[0]
+    xml = catkin_package(shared["iface_runtime_cpp/package.xml"])
+    assert xml.get_build_type() == "ament_cmake" and {d.name for d in xml.build_depends} >= {"iface_msgs", "rclcpp"}
+    cmake = shared["iface_runtime_cpp/CMakeLists.txt"]
+    assert "add_library(${PROJECT_NAME} SHARED src/iface_runtime.cpp)" in cmake
+    assert "ament_export_targets(export_${PROJECT_NAME} HAS_LIBRARY_TARGET)" in cmake
+    served = shared["iface_runtime_cpp/src/iface_runtime.cpp"]
+    for srv in ("SaveState", "RestoreState", "ComponentControl", "Describe"):
+        assert f"using iface_msgs::srv::{srv};" in served
 
 
 def test_the_state_document_is_the_python_nodes() -> None:
@@ -105,10 +141,11 @@ def test_the_state_document_is_the_python_nodes() -> None:
     assert dict(re.findall(r'\{"([^"]+)", "([^"]+)"\}', block)) == schema
     assert '{"every_member_msgs/Waypoint", {' in base_cpp
     assert '{"name", "string"}' in base_cpp or '{"name", "string<=' in base_cpp
-    runtime = files["every_member/include/every_member/iface_runtime.hpp"]
+    runtime = files["iface_runtime_cpp/include/iface_runtime_cpp/iface_runtime.hpp"]
     assert 'STATE_FORMAT = "iface-state/1"' in runtime
-    for name in ("~/save_state", "~/restore_state", "~/control"):
-        assert f'"{name}"' in base_cpp
+    served = files["iface_runtime_cpp/src/iface_runtime.cpp"]
+    for name in ("~/save_state", "~/restore_state", "~/control", "~/describe"):
+        assert f'"{name}"' in served and f'"{name}"' not in base_cpp
     assert 'DIAGNOSTICS_TOPIC = "/diagnostics"' in runtime
 
 
@@ -203,6 +240,7 @@ def test_qos_values_ros2_lacks_are_downgraded_with_a_warning_at_the_annotation(t
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert downgrade_warnings(proc.stderr) == QOS_WARNINGS, proc.stderr
     base = (tmp_path / "out" / "q_node" / "src" / "base.cpp").read_text()
+    base = "\n".join(line for line in base.splitlines() if "i.interface_json = " not in line)  # the file as written
     assert 'make_publisher<M>("/kept", {{"durability", "transient_local"}})' in base, base
     assert '{{"durability", "transient_local"}, {"liveliness", "manual_by_topic"}}' in base
     assert "persistent" not in base and "manual_by_node" not in base

@@ -39,6 +39,11 @@ def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]
                           cwd=cwd, check=False)
 
 
+def component_of(files: dict[str, str]) -> str:
+    """The component package among the generated ones (the shared runtime has a setup.py too)."""
+    return next(p.split("/")[0] for p in files if p.endswith("/setup.py") and not p.startswith("iface_runtime_py/"))
+
+
 def test_found_through_the_entry_point() -> None:
     target = get_target("rclpy")
     assert target is not None and target.name == "rclpy"
@@ -59,7 +64,7 @@ def test_byte_identical_across_runs(case: str) -> None:
 def test_every_file_passes_its_parser(case: str) -> None:
     """Python compiles, package.xml validates, YAML loads, every interface file passes rosidl and rosbags."""
     files = {f.path: f.text for f in files_of(case)}
-    component = next(p.split("/")[0] for p in files if p.endswith("/setup.py"))
+    component = component_of(files)
     for path, text in files.items():
         m = _INTERFACE.match(path)
         if m:
@@ -74,33 +79,41 @@ def test_every_file_passes_its_parser(case: str) -> None:
             if path.startswith(component + "/"):
                 assert pkg_xml.get_build_type() == "ament_python"
                 depends = {d.name for d in pkg_xml.exec_depends}
-                assert {"rclpy", "diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces"} <= depends
+                assert {"rclpy", "iface_runtime_py", "iface_msgs"} <= depends
+            elif path.startswith("iface_runtime_py/"):
+                assert pkg_xml.get_build_type() == "ament_python"
+                depends = {d.name for d in pkg_xml.exec_depends}
+                assert {"rclpy", "iface_msgs", "diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces"} <= depends
         elif path.endswith(".yaml"):
             assert "ros__parameters" in next(iter(load_yaml(text).values()))
 
 
-def test_the_protocol_services_are_in_the_interface_package() -> None:
+def test_the_protocol_services_are_in_iface_msgs_and_no_runtime_file_is_copied() -> None:
     files = {f.path: f.text for f in files_of("robot_arm")}
-    cmake = files["robot_arm_msgs/CMakeLists.txt"]
+    cmake = files["iface_msgs/CMakeLists.txt"]
     for service in protocol.SERVICES:
-        text = files[f"robot_arm_msgs/srv/{service.type_name}.srv"]
-        request, response = rosidl_parse(text, "robot_arm_msgs", "srv", service.type_name)
+        assert f"robot_arm_msgs/srv/{service.type_name}.srv" not in files
+        text = files[f"iface_msgs/srv/{service.type_name}.srv"]
+        request, response = rosidl_parse(text, "iface_msgs", "srv", service.type_name)
         assert [f.name for f in request.fields] == [f.name for f in service.request]
         assert [f.name for f in response.fields] == [f.name for f in service.response]
         assert f'"srv/{service.type_name}.srv"' in cmake
-    control = rosidl_parse(files["robot_arm_msgs/srv/ComponentControl.srv"], "robot_arm_msgs", "srv",
+    control = rosidl_parse(files["iface_msgs/srv/ComponentControl.srv"], "iface_msgs", "srv",
                            "ComponentControl")[0]
     assert {c.name: c.value for c in control.constants} == {"STATUS": 0, "PAUSE": 1, "RESUME": 2, "SAVE": 3}
+    component = {p: t for p, t in files.items() if p.startswith("robot_arm/")}
+    assert not any(p.endswith(("_runtime.py", "_contract.py")) for p in component)
+    assert "from iface_runtime_py.runtime import" in component["robot_arm/robot_arm/base.py"]
+    for name in ("runtime.py", "contract.py"):
+        body = files[f"iface_runtime_py/iface_runtime_py/{name}"].split("\n", 1)[1]
+        assert not any(body in text for text in component.values())
 
 
-def test_the_interface_package_is_the_ros2_targets_plus_the_protocol() -> None:
+def test_the_interface_package_is_the_ros2_targets() -> None:
     comp = Workspace().compile_path(str(CASES["robot_arm"]))
     ros2 = {f.path: f.text for f in generate(comp, "ros2").files}
     rclpy = {f.path: f.text for f in generate(comp, "rclpy").files if f.path.startswith("robot_arm_msgs/")}
-    extra = {f"robot_arm_msgs/srv/{s.type_name}.srv" for s in protocol.SERVICES}
-    assert set(rclpy) == set(ros2) | extra
-    different = sorted(p for p in ros2 if ros2[p] != rclpy[p])
-    assert different == ["robot_arm_msgs/CMakeLists.txt"]
+    assert rclpy == ros2
 
 
 # ---- the generation gap -------------------------------------------------------------------------------
@@ -235,10 +248,13 @@ def test_handlers_of_one_kind_with_one_last_segment_use_the_whole_name(tmp_path:
     assert "def on_configure_subscription(self, msg: M)" in base
 
 
-def test_a_definition_named_like_a_protocol_service_is_an_error(tmp_path: Path) -> None:
-    files, diags = _generated(HEAD + "service SaveState { request {} response {} }\n", tmp_path)
-    assert files == {}
-    assert any("error[runtime-name-clash]" in d and "SaveState" in d for d in diags)
+def test_a_definition_named_like_a_protocol_service_is_its_own(tmp_path: Path) -> None:
+    """The protocol's SaveState is iface_msgs/srv/SaveState, so the interface package may have one of its own."""
+    files, diags = _generated(HEAD + "service SaveState { request {} response { bool mine } }\n"
+                              'publishes M on "/x"\n', tmp_path)
+    assert not any("runtime-name-clash" in d for d in diags)
+    own = files["c_msgs/srv/SaveState.srv"]
+    assert "bool mine" in own and "bool mine" not in files["iface_msgs/srv/SaveState.srv"]
 
 
 @pytest.mark.parametrize(("annotation", "rate"), [("rate = 4", 4.0), ('rate = "500ms"', 2.0), ('rate = "10 Hz"', 10.0)])
@@ -305,7 +321,7 @@ def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wire
     import types
 
     files = {f.path: f.text for f in files_of(case)}
-    component = next(p.split("/")[0] for p in files if p.endswith("/setup.py"))
+    component = component_of(files)
     launch_path = next(p for p in files if p.startswith(f"{component}/launch/"))
     launch = files[launch_path]
     consts = _launch_constants(launch)
@@ -355,10 +371,10 @@ def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wire
 
 @pytest.fixture(scope="module")
 def contract(tmp_path_factory: pytest.TempPathFactory):
-    """The generated _contract.py, imported from the generated package."""
+    """The shared iface_runtime_py/contract.py, imported from the generated package."""
     import importlib.util
 
-    text = next(f.text for f in files_of("every_member") if f.path.endswith("/_contract.py"))
+    text = next(f.text for f in files_of("every_member") if f.path.endswith("iface_runtime_py/contract.py"))
     path = tmp_path_factory.mktemp("contract") / "_contract.py"
     path.write_text(text)
     spec = importlib.util.spec_from_file_location("iface_generated_contract", path)
@@ -558,3 +574,74 @@ def test_check_warns_at_the_annotation_as_generate_does(tmp_path: Path) -> None:
     found = re.findall(r"^q\.iface:(\d+):(\d+): warning\[qos-not-in-rmw\]: (.*)$", checked.stdout, re.M)
     assert found == said and [w[:2] for w in found] == [w[:2] for w in QOS_WARNINGS], checked.stdout
     assert checked.stdout.splitlines()[-1] == "ok: 1 file, 2 definitions, 3 warnings"
+
+
+# ---- versions and the shared runtime ----------------------------------------------------------------
+
+
+def test_the_state_document_says_its_protocol_and_an_older_document_still_restores(contract) -> None:
+    codec = _codec(contract)
+    doc = json.loads(codec.save(_state(), {"tick": 1_700_000_000_000_000_000}))
+    assert doc["protocol_version"] == protocol.PROTOCOL_VERSION and doc["schedule"] == {"tick": 1700000000000000000}
+    assert codec.read(json.dumps(doc))[1].schedule == {"tick": 1700000000000000000}
+    del doc["protocol_version"], doc["schedule"]  # as iface-state/1 was written before both existed
+    target = Msg(count=0, label="", where=Msg(x=0.0, name=""), path=[], gain=0.0, raw=b"", flag=False)
+    report = codec.restore(target, json.dumps(doc))
+    assert report.restored == sorted(SCHEMA) and report.schedule == {} and target.count == 7
+
+
+def test_a_newer_state_format_is_refused_with_the_reason(contract) -> None:
+    doc = dict(json.loads(_codec(contract).save(_state())), format="iface-state/2", protocol_version="2")
+    with pytest.raises(contract.StateError, match=r"format 'iface-state/2' \(protocol 2\) is newer than this "
+                                                  r"runtime's 'iface-state/1' \(protocol 1\): update iface_runtime_py"):
+        _codec(contract).read(json.dumps(doc))
+    with pytest.raises(contract.StateError, match="format is 'other', not 'iface-state/1'"):
+        _codec(contract).read(json.dumps(dict(doc, format="other")))
+
+
+def test_a_thermostat_sized_component_package_is_thin(tmp_path: Path) -> None:
+    """3 parameters, 3 state variables, a subscription, a publication, a service, an action, Δ: at most 300 lines."""
+    result = generate(Workspace().compile_path(str(DATA / "thermostat.iface")), "rclpy")
+    files = {f.path: f.text for f in result.files}
+    package = {p: t for p, t in files.items() if p.startswith("thermostat/") and not p.endswith("/node.py")}
+    lines = sum(t.count("\n") for t in package.values())
+    assert lines <= 300, f"{lines} lines"
+    assert not any(p.endswith(("_runtime.py", "_contract.py")) for p in package)
+    assert {p.split("/")[0] for p in files} == {"iface_msgs", "iface_runtime_py", "thermostat", "thermostat_msgs"}
+
+
+def test_two_components_speak_the_protocol_through_one_type() -> None:
+    """No component has a protocol type of its own: the shared runtime serves iface_msgs' for all of them."""
+    runtime = next(f.text for f in files_of("robot_arm") if f.path == "iface_runtime_py/iface_runtime_py/runtime.py")
+    assert "from iface_msgs.srv import ComponentControl, Describe, RestoreState, SaveState" in runtime
+    assert 'self.create_service(SaveState, "~/save_state"' in runtime
+    for case in ("robot_arm", "every_member"):
+        files = files_of(case)
+        assert not any(f.path.endswith("/srv/SaveState.srv") and not f.path.startswith("iface_msgs/") for f in files)
+        assert [f.text for f in files if f.path.startswith("iface_runtime_py/")] == [
+            f.text for f in files_of("listing1") if f.path.startswith("iface_runtime_py/")]
+
+
+def test_describe_answers_the_json_targets_file(tmp_path: Path) -> None:
+    """The runtime's interface_json() turns the base class's compact form into the file the json target writes."""
+    import ast
+
+    interface_json = interface_json_function(tmp_path, "iface_runtime_py/iface_runtime_py/runtime.py")
+    out = tmp_path / "json"
+    done = cli("generate", str(CASES["robot_arm"]), "--target", "json", "--out", str(out), "-q")
+    assert done.returncode == 0, done.stderr
+    base = next(f.text for f in files_of("robot_arm") if f.path == "robot_arm/robot_arm/base.py")
+    compact = next(ast.literal_eval(line.split("=", 1)[1]) for line in base.splitlines()
+                   if line.strip().startswith("INTERFACE_JSON ="))
+    assert interface_json(compact) == (out / "robot_arm.json").read_text(encoding="utf-8")
+
+
+def interface_json_function(tmp_path: Path, path: str):
+    """``interface_json`` of the generated runtime, without importing ROS (the function is cut out of the file)."""
+    text = next(f.text for f in files_of("robot_arm") if f.path == path)
+    start = text.index("def interface_json(")
+    end = text.index("\n\n\n", start)
+    mark = next(line for line in text.splitlines() if line.startswith("_GENERATED_MARK"))
+    namespace: dict[str, object] = {}
+    exec("import hashlib, json\n" + mark + "\n" + text[start:end], namespace)
+    return namespace["interface_json"]

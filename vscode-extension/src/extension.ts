@@ -52,6 +52,23 @@ class VirtualDocuments implements vscode.TextDocumentContentProvider {
     this.changed.fire(uri);
   }
 
+  /** Verify against the running system: the server compares the ROS 2 graph with the workspace's files and
+   * publishes the findings as diagnostics on them; the report opens beside. */
+  private async verifyRunning(): Promise<void> {
+    const uris = await this.graphUris();
+    if (uris.length === 0) {
+      void vscode.window.showErrorMessage('iface: no .iface files in this workspace.');
+      return;
+    }
+    const answer = await this.execute('iface.verify', { uris }, 'iface: verifying against the running system');
+    if (answer === undefined) {
+      return;
+    }
+    const virtual = vscode.Uri.from({ scheme: PREVIEW_SCHEME, path: '/verify/running-system.txt' });
+    this.documents.set(virtual, asText(answer.result));
+    await vscode.window.showTextDocument(virtual, { preview: false });
+  }
+
   dispose(): void {
     this.changed.dispose();
     this.contents.clear();
@@ -123,6 +140,7 @@ class IfaceExtension implements vscode.Disposable {
       vscode.commands.registerCommand('iface.checkCompatibility', (uri?: unknown) => this.compat(uri)),
       vscode.commands.registerCommand('iface.showGraph', () => this.graphPanel.show()),
       vscode.commands.registerCommand('iface.showGraphText', () => this.graphText()),
+      vscode.commands.registerCommand('iface.verifyRunning', () => this.verifyRunning()),
       vscode.commands.registerCommand('iface.restartServer', () => this.restart()),
       vscode.commands.registerCommand('iface.showOutput', () => this.output.show(true)),
       vscode.workspace.onDidChangeConfiguration((e) => this.onConfigurationChanged(e)),

@@ -76,8 +76,9 @@ def _merge(per_input: Sequence[Input]) -> tuple[list[GeneratedFile], list[str]]:
     return [f for _, _, f in sorted(by_path.values(), key=lambda sf: sf[2].path)], conflicts
 
 
-def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedFile], list[Diagnostic], int]:
-    """Compile and render every input; (files, diagnostics, exit code so far)."""
+def _generate(target: Target, args: argparse.Namespace,
+              notes: list[str]) -> tuple[list[GeneratedFile], list[Diagnostic], int]:
+    """Compile and render every input; (files, diagnostics, exit code so far); the targets' notes into ``notes``."""
     for f in args.files:
         check_suffix(f)
     comps = compile_files(args.files, args.include_path)
@@ -99,6 +100,7 @@ def _generate(target: Target, args: argparse.Namespace) -> tuple[list[GeneratedF
     for comp in comps:
         result = target.generate(comp, options)
         found.extend(result.diagnostics)
+        notes.extend(n for n in result.notes if n not in notes)
         included = frozenset(display_path(c.path) for c in comp.closure()[1:])
         per_input.append((display_path(comp.path), included, result.files))
     if has_errors(found):
@@ -161,8 +163,9 @@ def run(args: argparse.Namespace) -> int:
         return _fail(f"{args.out}: not a folder")
     if args.templates and not os.path.isdir(args.templates):
         return _fail(f"{args.templates}: not a folder")
+    notes: list[str] = []
     try:
-        files, diags, code = _generate(target, args)
+        files, diags, code = _generate(target, args, notes)
     except UsageError as e:
         return _fail(str(e))
     except GenerationError as e:
@@ -173,6 +176,9 @@ def run(args: argparse.Namespace) -> int:
         # a target that raised (the guard's internal-error) is a bug, not a finding: exit 3 as any internal error
         return 3 if any(d.code == "internal-error" for d in diags) else code
     print_diagnostics(shown, stream=sys.stderr)
+    if not args.quiet:
+        for note in notes:
+            print(f"iface-lsp generate: {note}", file=sys.stderr)
     try:
         report = write_files(files, args.out, force=args.force, dry_run=args.dry_run, check=args.check)
     except OSError as e:

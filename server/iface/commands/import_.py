@@ -1,4 +1,6 @@
-"""``iface-lsp import --from ros2|px4|json INPUT... --out DIR [--force] [-q]``"""
+"""``iface-lsp import --from ros2|px4|json INPUT... --out DIR [--force] [-q]``, and
+``iface-lsp import --from node NODE... [--out DIR] [--all] [--all-endpoints] [--system NAME] [--no-describe]
+[--timeout S]``"""
 
 from __future__ import annotations
 
@@ -13,12 +15,20 @@ from .common import print_link_notes
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Declare the command's arguments."""
-    p.add_argument("inputs", nargs="+", metavar="INPUT",
+    p.add_argument("inputs", nargs="*", metavar="INPUT",
                    help="ROS 2 package folders or .msg/.srv/.action/.idl files (ros2), a folder of uORB .msg "
-                        "files (px4), or JSON files (json)")
+                        "files (px4), JSON files (json), or running nodes (node: /name or /ns/name)")
     p.add_argument("--from", dest="source", required=True, metavar="FORMAT",
-                   help="what to import: " + ", ".join(sorted(importers())))
-    p.add_argument("--out", required=True, metavar="DIR", help="the folder to write the .iface files to")
+                   help="what to import: " + ", ".join(sorted([*importers(), "node"])))
+    p.add_argument("--out", metavar="DIR", help="the folder to write the .iface files to (node: default .)")
+    p.add_argument("--all", action="store_true", help="node: import every node on the graph")
+    p.add_argument("--all-endpoints", action="store_true",
+                   help="node: keep ROS 2's own endpoints and parameters (parameter services, /rosout, lifecycle's)")
+    p.add_argument("--system", metavar="NAME", help="node: also write the system file NAME.iface naming every node")
+    p.add_argument("--no-describe", action="store_true",
+                   help="node: read every node off the graph, also one that answers iface's Describe")
+    p.add_argument("--timeout", type=float, default=5.0, metavar="S",
+                   help="node: seconds to wait for discovery and for each answer (default 5)")
     p.add_argument("--deps", metavar="DIR",
                    help="ros2: a folder of ROS 2 packages; the packages the inputs use that are found there are "
                         "imported too, each into its own .iface, with includes between them")
@@ -36,6 +46,16 @@ def print_problems(problems: list[Problem], stream=None) -> None:
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when everything imported; 1 when an input had errors or an existing file was refused
     (as ``generate`` does); 2 on usage or I/O errors."""
+    if args.source == "node":
+        from .live import import_nodes
+        return import_nodes(args)
+    if args.all or args.all_endpoints or args.system or args.no_describe:
+        print("iface-lsp import: --all, --all-endpoints, --system and --no-describe apply to --from node only",
+              file=sys.stderr)
+        return 2
+    if not args.inputs or not args.out:
+        print(f"iface-lsp import: --from {args.source} needs INPUT... and --out DIR", file=sys.stderr)
+        return 2
     importer = get_importer(args.source)
     if importer is None:
         print(f"iface-lsp import: unknown format '{args.source}'; known: {', '.join(sorted(importers()))}",

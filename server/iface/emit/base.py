@@ -49,10 +49,15 @@ def long_names(path: str, limit: int = NAME_MAX) -> list[tuple[str, int]]:
 
 @dataclass(slots=True)
 class Result:
-    """What a target produced: files, and diagnostics (errors mean: write nothing)."""
+    """What a target produced: files, and diagnostics (errors mean: write nothing).
+
+    ``notes`` are lines about the output folder rather than the input (which shared package was
+    written, updated or kept), printed once each by ``generate``.
+    """
 
     files: list[GeneratedFile] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
     @property
     def has_errors(self) -> bool:

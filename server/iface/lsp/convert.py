@@ -296,6 +296,13 @@ def diagnostic(d: Diagnostic, index: LineIndex, uri_of: Any, index_of: Any) -> l
                           code=d.code, source="iface", related_information=related or None, data=data, tags=tags)
 
 
+def live_finding(code: str, severity: str, message: str, index: LineIndex, start: int, end: int) -> lsp.Diagnostic:
+    """A finding of ``verify`` (the running system against the file) at ``start..end``."""
+    return lsp.Diagnostic(range=range_(index, start, end), message=message, code=code, source="iface verify",
+                          severity=lsp.DiagnosticSeverity.Error if severity == "error"
+                          else lsp.DiagnosticSeverity.Warning)
+
+
 def internal_error(message: str) -> lsp.Diagnostic:
     """A diagnostic at the top of a file saying the server failed on it."""
     return lsp.Diagnostic(range=lsp.Range(start=lsp.Position(line=0, character=0), end=lsp.Position(line=0, character=0)),

@@ -59,6 +59,8 @@ class Project:
         self.line_indexes = LineIndexes()
         self.findings = Findings()
         self.workspace_index: Any = None
+        #: uri -> diagnostics of the last "Verify against the running system", published beside each file's own
+        self.live: dict[str, list[Any]] = {}
 
     # ---- the model thread ------------------------------------------------------
     async def run(self, fn: Callable[..., T], *args: Any) -> T:
@@ -122,7 +124,8 @@ class Project:
         uri_of = path_to_uri
         found = self.findings.of(path, comp, self.settings, self._include_paths())
         pubs: list[tuple[str, int | None, list[Any]]] = [
-            (uri, state.version, [convert.diagnostic(d, index, uri_of, self.index_of) for d in found])]
+            (uri, state.version, [*(convert.diagnostic(d, index, uri_of, self.index_of) for d in found),
+                                  *self.live.get(uri, ())])]
         for inc in comp.closure()[1:]:
             inc_uri = path_to_uri(inc.path)
             if inc_uri in self.docs:
@@ -195,6 +198,15 @@ class Project:
         for uri, snap in list(self.snapshots.items()):
             if path in snap.deps:
                 self.changed(uri)
+
+    def set_live(self, found: dict[str, list[Any]]) -> None:
+        """Put the findings of a verify run on their files (open ones with their own diagnostics), clear the last."""
+        before, self.live = set(self.live), {u: d for u, d in found.items() if d}
+        for uri in sorted(before | set(self.live)):
+            if uri in self.docs:
+                self.changed(uri)
+            else:
+                self.publish(uri, None, list(self.live.get(uri, ())))
 
     def recheck_all(self) -> None:
         """Compile every open document again (settings changed)."""

@@ -12,6 +12,10 @@
 - ``system``: a system file as the component manager reads it (``system_spec``: the instances in start
   order, each with its package, executable, node, restart policy, snapshot period and interface hash).
 - ``launch``: the ``launch`` generation target (one ROS 2 launch file for a system file).
+- the component manager (docs/system.md): ``snapshots`` (saved states on disk, atomic),
+  ``restart`` (policy and intensity), ``processes`` (instance processes: started, recorded,
+  adopted), ``link`` (calls to components over the protocol), ``manager`` (``/iface_manager``),
+  ``manager_client`` and ``status_html`` (the ``system`` command's side).
 
 May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit``, ``compat``.
 """

@@ -9,12 +9,17 @@ the standard lifecycle services, with rclpy:
 1. both nodes answer ``~/control`` STATUS within the timeout; OLD is active, NEW is not;
 2. NEW reports the approved interface hash; where a trust store is given, NEW's package carries a
    valid signature (``iface.runtime.trust``);
-3. NEW is configured if it is not yet;
-4. OLD pauses after its current work transaction; its state is saved;
-5. the state is restored into NEW; NEW is activated; OLD is deactivated (and its gate opened).
+3. NEW is configured if it is not yet; every service the switch needs is found, its client made and
+   answered once (OLD's current state is restored into NEW as a rehearsal: a state NEW refuses is
+   found before OLD pauses);
+4. the critical section, kept to a few round trips: OLD pauses after its current work transaction;
+   its state is saved and restored into NEW; OLD is deactivated, then NEW activated (never both
+   active), and OLD's gate opened again after it. NEW's work timers continue OLD's schedule (the
+   state document carries when each last ran).
 
-Any refusal before step 4 leaves OLD untouched; a failure after OLD paused resumes it, so OLD
-goes on as before. The result is a JSON-able record of every step and the state before and after.
+Any refusal before step 4 leaves OLD untouched; a failure after OLD paused reactivates and resumes
+it, so OLD goes on as before. The result is a JSON-able record of every step, the state before and
+after, and how long the critical section took.
 """
 
 from __future__ import annotations
@@ -79,6 +84,8 @@ class HandOver:
     steps: list[Step] = field(default_factory=list)
     state_before: dict[str, Any] | None = None
     state_after: dict[str, Any] | None = None
+    #: Milliseconds from sending OLD's pause to NEW's answer to its activation; None before the section ran.
+    critical_ms: float | None = None
 
     def __post_init__(self) -> None:
         self.old, self.new = fully_qualified(self.old), fully_qualified(self.new)
@@ -94,6 +101,7 @@ class HandOver:
             rclpy.init()
         self._node = Node(f"iface_handover_{int(time.monotonic() * 1000) % 100000}")
         self._clients: dict[str, Any] = {}
+        self._types: dict[str, Any] = {}
 
     def _close(self) -> None:
         self._node.destroy_node()
@@ -101,13 +109,17 @@ class HandOver:
             self._rclpy.shutdown()
 
     def _service_type(self, service: str) -> Any:
-        """The type of a service as the graph shows it, imported; waits at most the timeout."""
+        """The type of a service as the graph shows it, imported (once); waits at most the timeout."""
+        if service in self._types:
+            return self._types[service]
         deadline = time.monotonic() + self.timeout
         while True:
             for name, types in self._node.get_service_names_and_types():
                 if name == service and types:
                     package, kind, type_name = types[0].split("/")
-                    return getattr(importlib.import_module(f"{package}.{kind}"), type_name)
+                    found = getattr(importlib.import_module(f"{package}.{kind}"), type_name)
+                    self._types[service] = found
+                    return found
             if time.monotonic() > deadline:
                 raise Refused(f"{service} does not exist (no answer within {self.timeout:g} s)")
             self._rclpy.spin_once(self._node, timeout_sec=0.1)
@@ -172,7 +184,7 @@ class HandOver:
     def run(self) -> bool:
         """Carry out the hand-over; True when NEW took over, False when it was refused (``steps`` say why)."""
         self._open()
-        paused = False
+        paused = deactivated = False
         try:
             old_status = self._status(self.old, "OLD")
             new_status = self._status(self.new, "NEW")
@@ -188,39 +200,77 @@ class HandOver:
             if new_status.lifecycle_state == UNCONFIGURED:
                 self._transition(self.new, CONFIGURE, "configure")
                 self._note("configure NEW", f"{self.new} configured")
+            self._prepare()
+            start = time.perf_counter()
             pause = self._control(self.old, protocol.PAUSE)
             if not pause.success:
                 raise Refused(f"OLD {self.old} did not pause: {pause.message}")
             paused = True
-            self._note("pause OLD", f"{self.old} paused after its current work transaction "
-                       f"({pause.transactions} done)")
             saved = self._call(f"{self.old}/save_state", {"timeout_sec": self.timeout}, self.timeout + 5)
             if not saved.success:
                 raise Refused(f"OLD {self.old} could not save its state: {saved.message}")
-            self.state_before = json.loads(saved.state)
-            self._note("save OLD", saved.message)
             restored = self._call(f"{self.new}/restore_state", {"state": saved.state, "timeout_sec": self.timeout},
                                   self.timeout + 5)
             if not restored.success:
                 raise Refused(f"NEW {self.new} refused the state: {restored.message}")
+            self._transition(self.old, DEACTIVATE, "deactivate")
+            deactivated = True
+            self._transition(self.new, ACTIVATE, "activate")
+            self.critical_ms = (time.perf_counter() - start) * 1000
+            self._note("pause OLD", f"{self.old} paused after its current work transaction "
+                       f"({pause.transactions} done)")
+            self.state_before = json.loads(saved.state)
+            self._note("save OLD", saved.message)
             self._note("restore NEW", f"restored {', '.join(restored.restored) or 'nothing'}"
                        + (f"; kept {', '.join(restored.kept)}" if restored.kept else ""))
-            self._transition(self.new, ACTIVATE, "activate")
-            self._note("activate NEW", f"{self.new} active")
-            self._transition(self.old, DEACTIVATE, "deactivate")
+            self._note("deactivate OLD", f"{self.old} inactive")
+            self._note("activate NEW", f"{self.new} active; pause to activation {self.critical_ms:.1f} ms")
             self._control(self.old, protocol.RESUME)
             paused = False
-            self._note("deactivate OLD", f"{self.old} inactive")
             after = self._call(f"{self.new}/save_state", {"timeout_sec": self.timeout}, self.timeout + 5)
             self.state_after = json.loads(after.state) if after.success else None
             return True
         except Refused as e:
             self._note("refused", str(e), ok=False)
             if paused:
+                if deactivated:
+                    self._reactivate_old()
                 self._resume_old()
             return False
         finally:
             self._close()
+
+    def _prepare(self) -> None:
+        """Before OLD pauses: every service of the switch found, its client made and answered once.
+
+        OLD's current state is restored into NEW (NEW is not active, and the restore of the critical
+        section replaces it), so a state NEW refuses stops the hand-over while OLD still works.
+        """
+        for node in (self.old, self.new):
+            self._lifecycle_state(node)
+            self._service_type(f"{node}/change_state")
+        current = self._call(f"{self.old}/save_state", {"timeout_sec": self.timeout}, self.timeout + 5)
+        if not current.success:
+            raise Refused(f"OLD {self.old} could not save its state: {current.message}")
+        rehearsal = self._call(f"{self.new}/restore_state", {"state": current.state, "timeout_sec": self.timeout},
+                               self.timeout + 5)
+        if not rehearsal.success:
+            raise Refused(f"NEW {self.new} refused the state: {rehearsal.message}")
+        for node in (self.old, self.new):
+            client = self._clients.get(f"{node}/change_state")
+            if client is None:
+                srv = self._service_type(f"{node}/change_state")
+                client = self._clients[f"{node}/change_state"] = self._node.create_client(srv, f"{node}/change_state")
+            if not client.wait_for_service(timeout_sec=self.timeout):
+                raise Refused(f"{node}/change_state does not answer within {self.timeout:g} s")
+        self._note("prepare", "every service of the switch answered; NEW took OLD's current state in a rehearsal")
+
+    def _reactivate_old(self) -> None:
+        try:
+            self._transition(self.old, ACTIVATE, "activate")
+            self._note("reactivate OLD", f"{self.old} active again")
+        except Refused as e:
+            self._note("reactivate OLD", f"{self.old} could not be activated again: {e}", ok=False)
 
     def _status(self, node: str, role: str) -> Any:
         try:
@@ -262,6 +312,7 @@ class HandOver:
             "steps": [{"step": s.step, "ok": s.ok, "detail": s.detail} for s in self.steps],
             "state_before": (self.state_before or {}).get("values"),
             "state_after": (self.state_after or {}).get("values"),
+            "critical_section_ms": None if self.critical_ms is None else round(self.critical_ms, 2),
         }
         if report is not None:
             out["verdict"] = report.verdict

@@ -35,7 +35,7 @@ def add_protocol(pkg: RosPackage, comp: Compilation) -> None:
     """Put the protocol services into the interface package."""
     src = comp.interface.source
     span = component_span(comp.interface)
-    for s in protocol.SERVICES:
+    for s in protocol.COMPONENT_SERVICES:
         def section(name: str, fields: tuple[protocol.SrvField, ...],
                     consts: tuple[protocol.SrvConst, ...] = ()) -> RosSection:
             return RosSection(name, [RosField(f.name, _ros_type(f.type), None, [f.comment] if f.comment else [],
@@ -48,20 +48,23 @@ def add_protocol(pkg: RosPackage, comp: Compilation) -> None:
 
 
 def protocol_refs(spec: ComponentSpec) -> list[RosRef]:
-    """SaveState, RestoreState and ComponentControl in the component's interface package."""
-    return [RosRef(spec.interface_package, "srv", s.type_name) for s in protocol.SERVICES]
+    """SaveState, RestoreState and ComponentControl where the node finds them (``spec.protocol_home``)."""
+    return [RosRef(spec.protocol_home, "srv", s.type_name) for s in protocol.COMPONENT_SERVICES]
 
 
-def prepare(comp: Compilation, language: str) -> tuple[Result, RosPackage | None, ComponentSpec | None]:
-    """The interface package (with the protocol) and the node description; None and the findings on errors.
+def prepare(comp: Compilation, language: str,
+            shared_protocol: bool = False) -> tuple[Result, RosPackage | None, ComponentSpec | None]:
+    """The interface package and the node description; None and the findings on errors.
 
     ``language`` (``python`` or ``c++``) is the node's: it decides which keywords are refused.
+    ``shared_protocol``: the node speaks the protocol through ``iface_msgs`` (written beside it by
+    ``iface.runtime.shared``); otherwise its own interface package gets the protocol services.
     """
     pkg, diagnostics, run = lower_run(comp, check_msg_values, node_keywords(language), check_rosidl_names)
     result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result, None, None
-    spec, found = describe(comp, pkg, run)
+    spec, found = describe(comp, pkg, run, protocol.PACKAGE if shared_protocol else "")
     result.diagnostics.extend(found)
     result.diagnostics.extend(check_downgrades(spec))
     if result.has_errors:
@@ -73,7 +76,8 @@ def prepare(comp: Compilation, language: str) -> tuple[Result, RosPackage | None
             "topic, service or action, or add parameters, for a node)", comp.interface.source,
             spec.ros.node_span))
         return result, pkg, spec
-    add_protocol(pkg, comp)
+    if not shared_protocol:
+        add_protocol(pkg, comp)
     return result, pkg, spec
 
 

@@ -1,6 +1,13 @@
 """The protocol every generated component speaks, whatever its language (docs/runtime.md).
 
-A component node serves three services beside its own members, under names relative to the
+The protocol's types live in one ROS 2 interface package, ``iface_msgs`` (``PACKAGE``), written
+from ``MESSAGES`` and ``SERVICES`` below by ``iface.runtime.shared`` beside the components, so
+every component speaks it through the same types (``iface_msgs/srv/SaveState``…) and a tool that
+talks to many components needs one type per service. Add a message or a service by adding it to
+``MESSAGES`` or ``SERVICES`` and raising ``PACKAGE_VERSION``'s minor number; a change that old
+nodes cannot answer raises ``PROTOCOL_VERSION`` (and the major number).
+
+A component node serves four services beside its own members, under names relative to the
 node (``~/save_state`` is ``/robot_arm/save_state`` for a node ``robot_arm``), so that two
 instances of one component run side by side:
 
@@ -9,15 +16,16 @@ instances of one component run side by side:
 - ``~/restore_state`` (``RestoreState``): put a state document into the node, or refuse it
   with the reason;
 - ``~/control`` (``ComponentControl``): status, pause after the current work transaction,
-  resume, save.
+  resume, save;
+- ``~/describe`` (``Describe``): the component's name, version, interface hash, runtime and
+  protocol versions and its whole interface (the ``json`` target's form), so a tool learns a
+  running component's interface without its file.
 
-Their types are written into the component's interface package (``<pkg>/srv/SaveState.srv``…),
-so a node needs nothing but that package. They are answered from the control thread, also
-while the main callbacks are busy.
+They are answered from the control thread, also while the main callbacks are busy.
 
 The state document is JSON (UTF-8, keys sorted, no spaces)::
 
-    {"format": "iface-state/1", "component": "robot_arm", "version": "1.2.0",
+    {"format": "iface-state/1", "protocol_version": "1", "component": "robot_arm", "version": "1.2.0",
      "interface_hash": "sha256:…", "schema": {"mode": "int32", …},
      "types": {"robot_arm_msgs/JointLimits": {"lower": "float64", …}},
      "values": {"mode": 0, …}}
@@ -34,12 +42,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+#: The version of the protocol: in the state document, ``ComponentControl`` and ``Describe`` answers.
+PROTOCOL_VERSION = "1"
+#: The interface package of the protocol, and its version (major: PROTOCOL_VERSION; minor: raised when a
+#: message or service is added).
+PACKAGE = "iface_msgs"
+PACKAGE_VERSION = f"{PROTOCOL_VERSION}.0.0"
 #: The version tag of the state document.
 STATE_FORMAT = "iface-state/1"
+#: The runtimes a component may run on (``Describe.runtime``).
+RUNTIMES = ("rclpy", "rclcpp")
 #: Node-relative service names.
 SAVE_STATE = "~/save_state"
 RESTORE_STATE = "~/restore_state"
 CONTROL = "~/control"
+DESCRIBE = "~/describe"
 #: Where every component publishes diagnostic_msgs/DiagnosticArray.
 DIAGNOSTICS_TOPIC = "/diagnostics"
 #: Diagnostics rate when the file gives none (diagnostic_updater's default).
@@ -72,8 +89,18 @@ class SrvConst:
 
 
 @dataclass(frozen=True, slots=True)
+class ProtocolMessage:
+    """One protocol message type: its name in ``iface_msgs``, doc lines, fields, constants."""
+
+    type_name: str
+    doc: tuple[str, ...]
+    fields: tuple[SrvField, ...]
+    consts: tuple[SrvConst, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
 class ProtocolService:
-    """One protocol service type: its name in the interface package, the node-relative name it is served under."""
+    """One protocol service type: its name in ``iface_msgs``, the node-relative name it is served under."""
 
     type_name: str
     served_as: str
@@ -86,7 +113,24 @@ class ProtocolService:
 _TIMEOUT = SrvField("float64", "timeout_sec", "how long to wait for the current work transaction to end "
                     f"(0: {DEFAULT_TIMEOUT_SEC:g} s)")
 _HASH = SrvField("string", "interface_hash", "the interface hash of this node (sha256:…)")
+_PROTOCOL = SrvField("string", "protocol_version", f"the protocol version the node speaks ({PROTOCOL_VERSION})")
 
+#: The messages of ``iface_msgs``: the component manager's (docs/system.md).
+MESSAGES: tuple[ProtocolMessage, ...] = (
+    ProtocolMessage(
+        "InstanceStatus", ("One instance of a managed system, as the component manager sees it.",),
+        (SrvField("string", "name", "the instance name in the system file"),
+         SrvField("string", "node", "its node's fully qualified name"),
+         SrvField("string", "state", "down, starting, inactive, active, stopped (not restarted by its policy) "
+                  "or failed (past the restart limit)"),
+         SrvField("int32", "pid", "its process id (0 while down)"),
+         SrvField("uint32", "restarts", "restarts by the manager since it started"),
+         SrvField("string", "interface_hash", "the interface hash of what runs (sha256:…)"),
+         SrvField("string", "last_snapshot", "time of its last snapshot, ISO 8601 UTC (empty: none)"),
+         SrvField("string[]", "findings", "what went wrong, oldest first"))),
+)
+
+#: The services of ``iface_msgs``; the first three are the ones every component served before ``Describe``.
 SERVICES: tuple[ProtocolService, ...] = (
     ProtocolService(
         "SaveState", SAVE_STATE,
@@ -115,10 +159,43 @@ SERVICES: tuple[ProtocolService, ...] = (
          SrvField("uint32", "in_flight", "work transactions running now"),
          SrvField("uint64", "transactions", "work transactions done since the start"),
          SrvField("string", "component"), SrvField("string", "version"), _HASH,
-         SrvField("string", "state", "SAVE: the state document")),
+         SrvField("string", "state", "SAVE: the state document"), _PROTOCOL,
+         SrvField("uint32", "pid", "the process the node runs in")),
         (SrvConst("uint8", "STATUS", STATUS, "read the status"),
          SrvConst("uint8", "PAUSE", PAUSE, "pause after the current work transaction"),
          SrvConst("uint8", "RESUME", RESUME, "accept work again"),
          SrvConst("uint8", "SAVE", SAVE, "save the state (as SaveState)"))),
+    ProtocolService(
+        "Describe", DESCRIBE,
+        ("What a running component is: its name, version, interface hash, runtime, protocol version,",
+         "and its whole interface in the JSON form (`iface-lsp generate --target json`)."),
+        (),
+        (SrvField("string", "node_name", "the node's fully qualified name"),
+         SrvField("string", "component", "the component's name in its .iface file"),
+         SrvField("string", "version", "the component's version"), _HASH,
+         SrvField("string", "runtime", "rclpy or rclcpp"),
+         SrvField("string", "runtime_version", "the version of the iface runtime package the node runs on"),
+         _PROTOCOL,
+         SrvField("string", "interface_json", "the interface as `iface-lsp generate --target json` writes it"))),
+    ProtocolService(
+        "SystemStatus", "/iface_manager/status", ("The status of every instance of a managed system.",),
+        (), (SrvField("string", "system", "the system's name"),
+             SrvField("InstanceStatus[]", "instances", "in start order"))),
+    ProtocolService(
+        "Snapshot", "/iface_manager/snapshot", ("Save the state of running instances to the state folder now.",),
+        (SrvField("string", "instance", "one instance (empty: every one)"),),
+        (SrvField("bool", "success", "every chosen instance was saved"), SrvField("string", "message"),
+         SrvField("string[]", "files", "the snapshot files written"))),
+    ProtocolService(
+        "Replace", "/iface_manager/replace",
+        ("Replace an instance by a new package and interface: compat against the rest of the system, trust,",
+         "the hand-over, then a grace period; rolled back (OLD active again with its state) when NEW fails."),
+        (SrvField("string", "instance"), SrvField("string", "new_iface", "the .iface file of NEW"),
+         SrvField("string", "package", "NEW's install folder (ws/install/<package>)"), _TIMEOUT),
+        (SrvField("bool", "success", "NEW took over"),
+         SrvField("string", "result", "replaced, refused or rolled_back"),
+         SrvField("string", "record", "the hand-over record (JSON, as `iface-lsp handover` prints)"))),
 )
 SERVICE_TYPES = tuple(s.type_name for s in SERVICES)
+#: The services a component's own interface package held before iface_msgs (still written there for now).
+COMPONENT_SERVICES = tuple(s for s in SERVICES if s.type_name in ("SaveState", "RestoreState", "ComponentControl"))

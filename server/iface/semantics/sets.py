@@ -30,7 +30,10 @@ def fill_sets(iface: m.Interface) -> None:
                 _add_delta(iface, m.Endpoint("provides", w.topic, target, w))
                 continue
             called.add(id(target))  # another component's Δ, called: a service this one needs (S)
-        if isinstance(target, m.Action):
+        if target is None and w.direction == "provides" and _marked(w, "diagnostics"):
+            _add_delta(iface, m.Endpoint("provides", w.topic, None, w))  # an external diagnostics service
+            continue
+        if isinstance(target, m.Action) or (target is None and _marked(w, "action")):
             iface.actions.append(m.Endpoint(w.direction, w.topic, target, w))
         elif isinstance(target, m.Service) or target is None:
             iface.services.append(m.Endpoint(w.direction, w.topic, target, w))
@@ -48,6 +51,11 @@ def fill_sets(iface: m.Interface) -> None:
             (iface.actions if isinstance(d, m.Action) else iface.services).append(ep)
 
 
+def _marked(w: m.Wiring, key: str) -> bool:
+    """True when a wiring of an external type says what it is: ``(action)``, ``(diagnostics)``."""
+    return any(a.key == key for a in w.annotations)
+
+
 def interface_package(iface: m.Interface) -> bool:
     """A declared component that wires nothing: a package of types (as ``import --from ros2`` writes one).
 
@@ -59,6 +67,8 @@ def interface_package(iface: m.Interface) -> bool:
 def _add_delta(iface: m.Interface, ep: m.Endpoint) -> None:
     """Put a diagnostics service into Δ (once as a set member, once per name it is served under)."""
     iface.diagnostics_endpoints.append(ep)
+    if ep.definition is None:  # of an external type: served, but no definition to hold in Δ
+        return
     assert isinstance(ep.definition, m.Service)
     if all(d is not ep.definition for d in iface.diagnostics):
         iface.diagnostics.append(ep.definition)

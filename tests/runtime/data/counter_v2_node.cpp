@@ -20,7 +20,7 @@ public:
 
   void setup() override
   {
-    create_work_timer(1.0 / params().rate_hz(), [this] {tick();});
+    create_work_timer(1.0 / params().rate_hz(), [this] {tick();}, "tick");
   }
 
   void handle_reset(const Reset::Request & request, Reset::Response & response) override

@@ -6,18 +6,23 @@ Answers are JSON objects: ``iface.preview`` gives ``{files: [{path, text}]}``
 and ``iface.exportJson`` give ``{written, unchanged, refused, errors, files, folder}`` (``iface.generate``
 also ``not_iface``: the refused files iface never wrote, as opposed to generated files edited by hand,
 and ``kept``: files written once that are the user's now, such as a component's ``node.py``),
-``iface.compat`` and ``iface.graph`` give ``{text}``. A missing module or a bad
+``iface.compat`` and ``iface.graph`` give ``{text}``; ``iface.verify [uris, timeout]`` ("Verify against the running
+system") compares the running ROS 2 graph with the given files (else every component of the workspace), publishes
+the findings as diagnostics on the files and gives ``{text, findings, nodes}``. A missing module or a bad
 argument is answered with an error that says what is wrong.
 """
 
 from __future__ import annotations
 
+import asyncio
 import os
 from typing import TYPE_CHECKING, Any
 
 from pygls.exceptions import JsonRpcInternalError, JsonRpcInvalidParams
 
 from ..server import IfaceServer  # noqa: E402  (resolved at run time: pygls reads the handlers' annotations)
+from .. import convert
+from ..documents import path_to_uri
 from ..settings import DEFAULT_OUTPUT
 from ..snapshots import Snapshot
 
@@ -215,6 +220,66 @@ class Runner:
         return await self.project.run(run)
 
 
+    async def verify(self, arguments: Any) -> dict[str, Any]:
+        """``iface.verify [uris, timeout]``: the running system against its files, published as diagnostics."""
+        a = _args(arguments, ("uris", "timeout"))
+        uris = a["uris"] if a["uris"] is not None else []
+        if isinstance(uris, str):
+            uris = [uris]
+        if not isinstance(uris, list) or not all(isinstance(u, str) and u for u in uris):
+            raise CommandError("uris must be a list of file URIs")
+        timeout = a["timeout"] if a["timeout"] is not None else 5.0
+        if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or timeout <= 0:
+            raise CommandError("timeout must be a number of seconds above 0")
+        from ...runtime.live.graph import ros_missing
+        why = ros_missing()
+        if why:
+            raise CommandError(why)
+        comps: list[Compilation] = []
+        if uris:
+            for uri in uris:
+                snap = await self.compilation(uri)
+                assert snap.comp is not None
+                comps.append(snap.comp)
+        else:
+            if self.project.workspace_index is not None:
+                await self.project.workspace_index.ready.wait()
+            index = self.project.workspace_index
+            comps = index.all_compilations() if index is not None else []
+        comps = [c for c in comps if c.path.endswith(".iface") and not c.has_errors]
+        from ...runtime.live.graph import open_graph
+        from ...runtime.live.report import render_text
+        from ...runtime.live.verify import declared_all, read_live, verify
+
+        decls = declared_all(comps)
+        if not decls:
+            raise CommandError("no component or system file without errors to verify")
+        comps = [*comps, *(d.comp for d in decls)]
+
+        def read() -> Any:
+            with open_graph(float(timeout)) as graph:
+                return read_live(graph, sorted({d.node for d in decls}))
+
+        live = await asyncio.to_thread(read)
+        findings = verify(decls, live)
+        sources = {c.path: c.source for c in comps}
+        found: dict[str, list[Any]] = {path_to_uri(c.path): [] for c in comps if c.path.endswith(".iface")}
+        for f in findings:
+            source = sources.get(f.path)
+            if source is None:
+                continue
+            start = source.offset(f.line - 1, f.column - 1)
+            end = source.offset(f.end_line - 1, f.end_column - 1) if f.end_line else start
+            index = self.project.index_of(source)
+            found[path_to_uri(f.path)].append(
+                convert.live_finding(f.code, f.severity, f"{f.message} [{f.node}]", index, start, end))
+        self.project.set_live(found)
+        return {"text": render_text(findings, _display(self.project), len(decls)), "nodes": len(decls),
+                "findings": [{"code": f.code, "severity": f.severity, "message": f.message, "node": f.node,
+                              "uri": path_to_uri(f.path) if f.path else None, "line": f.line, "column": f.column}
+                             for f in findings]}
+
+
 def _display(project: Project) -> Any:
     root = project.roots[0] if project.roots else None
 
@@ -254,6 +319,12 @@ def register(server: IfaceServer) -> None:
     @server.command("iface.graph")
     async def graph(ls: IfaceServer, *args: Any) -> dict[str, Any]:
         return await runner.graph(_flatten(args))
+
+    @server.command("iface.verify")
+    async def verify(ls: IfaceServer, *args: Any) -> dict[str, Any]:
+        result = await runner.verify(_flatten(args))
+        ls.log_info(f"iface: verified {result['nodes']} node(s): {len(result['findings'])} finding(s)")
+        return result
 
 
 def _flatten(args: tuple[Any, ...]) -> list[Any]:

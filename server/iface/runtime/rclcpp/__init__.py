@@ -2,13 +2,15 @@
 
 ``iface-lsp generate robot_arm.iface --target rclcpp --out src`` writes
 
-- ``src/<interface package>/``: the ``ros2`` target's package plus the protocol services, as the
-  ``rclpy`` target does (``iface.runtime.nodepkg``);
-- ``src/<component>/``: ``package.xml``, ``CMakeLists.txt``, ``config/<node>.params.yaml``,
-  ``launch/<node>.launch.py``, ``include/<component>/base.hpp`` (the generated lifecycle-node
-  base class) and ``iface_runtime.hpp`` (the machinery, the same for every component),
-  ``src/base.cpp``, ``src/iface_runtime.cpp``, ``src/main.cpp``, and ``src/node.cpp``, the
-  user's class, written once and never overwritten.
+- ``src/<interface package>/``: the ``ros2`` target's package, as the ``rclpy`` target does
+  (``iface.runtime.nodepkg``);
+- ``src/iface_msgs/`` and ``src/iface_runtime_cpp/``, the shared packages (``iface.runtime.shared``;
+  the library from ``library``), once per output folder;
+- ``src/<component>/``: ``package.xml``, ``CMakeLists.txt`` (a component library registered with
+  ``rclcpp_components_register_node``, and the executable), ``config/<node>.params.yaml``,
+  ``launch/<node>.launch.py``, ``include/<component>/base.hpp`` (the generated lifecycle-node base
+  class), ``src/base.cpp``, ``src/main.cpp``, and ``src/node.cpp``, the user's class, written once and
+  never overwritten.
 
 The node is the rclpy target's node in C++: the same description (``iface.runtime.component``),
 node and service names, command line, parameter checks and state document (docs/runtime.md).
@@ -30,11 +32,14 @@ from ...emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ...emit.ros2 import render_package
 from ...emit.ros2.render import FILTERS as ROS2_FILTERS
 from ...emit.ros2.render import xml
+from ...emit.json import render as render_json
 from ...semantics.compile import Compilation
 from .. import protocol
 from ..codes import diag
 from ..component import ComponentSpec
 from ..nodepkg import launch_text, prepare, protocol_refs, read_user_file, types_only
+from ..shared import shared_files
+from . import library
 from .render import CppPackage, build, cpp_comment, cpp_double, cpp_str
 from .usercode import check_user_source
 
@@ -42,26 +47,22 @@ TEMPLATES = Path(__file__).parent / "templates"
 FILTERS: dict[str, Callable[..., Any]] = {"cpp": cpp_str, "cstr": lambda s: cpp_str(s)[1:-1], "comment": cpp_comment,
                                           "cppdouble": cpp_double, "xml": xml}
 #: What every component package needs to build and run, beside the message packages it uses.
-RUNTIME_DEPENDS = ("ament_index_cpp", "diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces", "rclcpp",
-                   "rclcpp_action", "rclcpp_lifecycle")
+RUNTIME_DEPENDS = (library.PACKAGE, "rclcpp", "rclcpp_action", "rclcpp_components", "rclcpp_lifecycle")
 #: The user's file, relative to the component package.
 USER_FILE = "src/node.cpp"
 
 
-def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet,
-                    ros2: TemplateSet) -> list[GeneratedFile]:
+def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet, ros2: TemplateSet,
+                    interface_json: str) -> list[GeneratedFile]:
     """The component package."""
     root = v.pkg
     header = header_lines("//", spec.source_name).rstrip("\n")
     hash_header = header_lines("#", spec.source_name).rstrip("\n")
     xml_header = header_lines("<!--", spec.source_name, end=" -->").rstrip("\n")
     origin = (spec.ros.name_source, spec.ros.node_span)
-    msg_depends = sorted(set(spec.depends) | {"diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces"})
+    msg_depends = sorted(set(spec.depends))
     ctx: dict[str, Any] = {
-        "v": v, "header": header, "protocol": [v.cpp(r) for r in protocol_refs(spec)],
-        "state_format": protocol.STATE_FORMAT, "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
-        "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC),
-        "commands": [protocol.STATUS, protocol.PAUSE, protocol.RESUME, protocol.SAVE],
+        "v": v, "header": header, "interface_json": interface_json,
         "depends": sorted(set(RUNTIME_DEPENDS) | set(msg_depends)),
         "cmake_depends": sorted(set(RUNTIME_DEPENDS) | set(msg_depends)), "msg_depends": msg_depends}
 
@@ -76,9 +77,7 @@ def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet,
                                                                      header=hash_header), origin),
         GeneratedFile(f"{root}/launch/{v.launch_file}", launch_text(v, hash_header, f"ros2 run {root} {root}"),
                       origin),
-        GeneratedFile(f"{root}/include/{root}/iface_runtime.hpp", render("iface_runtime.hpp.j2"), origin),
         GeneratedFile(f"{root}/include/{root}/base.hpp", render("base.hpp.j2"), origin),
-        GeneratedFile(f"{root}/src/iface_runtime.cpp", render("iface_runtime.cpp.j2"), origin),
         GeneratedFile(f"{root}/src/base.cpp", render("base.cpp.j2"), origin),
         GeneratedFile(f"{root}/src/main.cpp", render("main.cpp.j2"), origin),
         GeneratedFile(f"{root}/{USER_FILE}", render("node.cpp.j2"), origin, once=True),
@@ -92,7 +91,7 @@ def user_file_path(out: str, spec: ComponentSpec) -> str:
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's file there is checked against the interface."""
-    result, pkg, spec = prepare(comp, "c++")
+    result, pkg, spec = prepare(comp, "c++", shared_protocol=True)
     if pkg is None or spec is None:
         return result
     if types_only(spec):
@@ -115,7 +114,10 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         text = read_user_file(path)
         if text is not None:
             result.diagnostics.extend(check_user_source(spec, path, text, strict=bool(options.get("check"))))
-    result.files = sorted_files([*render_package(pkg, ros2), *component_files(spec, v, templates, ros2)])
+    shared, result.notes = shared_files("rclcpp", out if isinstance(out, str) else None)
+    interface_json = render_json(comp)
+    result.files = sorted_files([*shared, *render_package(pkg, ros2),
+                                 *component_files(spec, v, templates, ros2, interface_json)])
     return result
 
 

@@ -114,6 +114,16 @@ class CppPackage(NodeView[MemberView]):
     client_library = "rclcpp"
 
     @property
+    def plugin(self) -> str:
+        """The rclcpp component's class: ``counter::Counter``."""
+        return f"{self.pkg}::{self.cls}"
+
+    @property
+    def versioned(self) -> str:
+        """The package's name with its version (``counter@2.0.0``): the component's second name in the ament index."""
+        return f"{self.pkg}@{self.spec.ros.version}"
+
+    @property
     def guard(self) -> str:
         return f"{self.pkg.upper()}__BASE_HPP_"
 

@@ -2,13 +2,13 @@
 
 ``iface-lsp generate robot_arm.iface --target rclpy --out src`` writes
 
-- ``src/<interface package>/``: the ``ros2`` target's package plus the protocol services
-  (``SaveState``, ``RestoreState``, ``ComponentControl``; ``iface.runtime.protocol``);
+- ``src/<interface package>/``: the ``ros2`` target's package;
 - ``src/<component>/``: ``package.xml``, ``setup.py``, ``setup.cfg``, ``resource/``,
   ``config/<node>.params.yaml``, ``launch/<node>.launch.py`` and the Python package:
-  ``base.py`` (the generated lifecycle-node base class), ``_runtime.py`` and ``_contract.py``
-  (the node machinery, the same for every component), ``__main__.py`` (``python -m``), and
-  ``node.py``, the user's module, written once and never overwritten.
+  ``base.py`` (the generated lifecycle-node base class), ``__main__.py`` (``python -m``), and
+  ``node.py``, the user's module, written once and never overwritten;
+- once for every component in the folder (``iface.runtime.shared``): ``src/iface_msgs/`` (the
+  protocol's services) and ``src/iface_runtime_py/`` (the node machinery every component imports).
 
 How the interface becomes a node: ``iface.runtime.component`` and docs/runtime.md.
 
@@ -19,32 +19,40 @@ May import: what ``runtime`` may (``model``, ``syntax``, ``semantics``, ``text``
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from ...emit.base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
+from ...emit.json import render as render_json
 from ...emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ...emit.ros2 import render_package
 from ...emit.ros2.render import FILTERS as ROS2_FILTERS
 from ...emit.ros2.render import xml
 from ...semantics.compile import Compilation
-from .. import protocol
-from ..component import HANDLER_PREFIXES, ComponentSpec
-from ..nodepkg import add_protocol, launch_text, prepare, protocol_refs, read_user_file, types_only
+from ..component import ComponentSpec
+from ..shared import shared_files
+from ..nodepkg import add_protocol, launch_text, prepare, read_user_file, types_only
 from ..usercode import check_user_module
 from .render import PyPackage, build, doc_text, docstring, py
 
 TEMPLATES = Path(__file__).parent / "templates"
 FILTERS: dict[str, Callable[..., Any]] = {"py": py, "doctext": doc_text, "docstring": docstring, "xml": xml}
 #: What every component package needs at run time, beside the message packages it uses.
-RUNTIME_DEPENDS = ("ament_index_python", "diagnostic_msgs", "lifecycle_msgs", "rcl_interfaces", "rclpy")
+RUNTIME_DEPENDS = ("iface_runtime_py", "rclpy")
 #: The user's module, relative to the component package.
 USER_MODULE = "node.py"
 
 
-def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateSet) -> list[GeneratedFile]:
+def compact_json(comp: Compilation) -> str:
+    """The json target's form of ``comp`` on one line (the runtime's ``Describe`` indents it back)."""
+    return json.dumps(json.loads(render_json(comp)), ensure_ascii=False, separators=(",", ":"))
+
+
+def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateSet,
+                    interface_json: str) -> list[GeneratedFile]:
     """The component package."""
     v = build(spec)
     root = v.pkg
@@ -53,12 +61,7 @@ def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateS
     origin = (spec.ros.name_source, spec.ros.node_span)
     exec_depends = sorted(set(RUNTIME_DEPENDS) | set(spec.depends))
     ctx: dict[str, Any] = {"v": v, "header": header, "exec_depends": exec_depends,
-                           "protocol": [v.name(r) for r in protocol_refs(spec)],
-                           "state_format": protocol.STATE_FORMAT, "handler_prefixes": list(HANDLER_PREFIXES),
-                           "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
-                           "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC),
-                           "commands": ", ".join(str(c) for c in (protocol.STATUS, protocol.PAUSE, protocol.RESUME,
-                                                                   protocol.SAVE))}
+                           "interface_json": interface_json}
 
     def render(name: str, **extra: Any) -> str:
         return templates.render(name, **{**ctx, **extra})
@@ -74,8 +77,6 @@ def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateS
         GeneratedFile(f"{root}/launch/{v.launch_file}", launch_text(v, header, f"python -m {root}"), origin),
         GeneratedFile(f"{root}/{root}/__init__.py", render("init.py.j2"), origin),
         GeneratedFile(f"{root}/{root}/__main__.py", render("main.py.j2"), origin),
-        GeneratedFile(f"{root}/{root}/_contract.py", render("contract.py.j2"), origin),
-        GeneratedFile(f"{root}/{root}/_runtime.py", render("runtime.py.j2"), origin),
         GeneratedFile(f"{root}/{root}/base.py", render("base.py.j2"), origin),
         GeneratedFile(f"{root}/{root}/{USER_MODULE}", render("node.py.j2"), origin, once=True),
     ]
@@ -89,7 +90,7 @@ def user_module_path(out: str, spec: ComponentSpec) -> str:
 
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """Both packages; with ``out`` in the options, the user's module there is checked against the interface."""
-    result, pkg, spec = prepare(comp, "python")
+    result, pkg, spec = prepare(comp, "python", shared_protocol=True)
     if pkg is None or spec is None:
         return result
     if types_only(spec):
@@ -103,7 +104,8 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         text = read_user_file(path)
         if text is not None:
             result.diagnostics.extend(check_user_module(spec, path, text, strict=bool(options.get("check"))))
-    result.files = sorted_files([*render_package(pkg, ros2), *component_files(spec, templates, ros2)])
+    shared, result.notes = shared_files("rclpy", out if isinstance(out, str) else None)
+    result.files = sorted_files([*shared, *render_package(pkg, ros2), *component_files(spec, templates, ros2, compact_json(comp))])
     return result
 
 

@@ -21,7 +21,7 @@ def _load() -> Any:
 def main(argv: list[str] | None = None) -> int:
     """Start the node; the exit status."""
     try:
-        from ._runtime import main as run
+        from iface_runtime_py.runtime import main as run
     except ImportError as e:
         print(f"every_member: ROS 2 (rclpy) cannot be imported ({e}): source your ROS 2 setup first", file=sys.stderr)
         return 2

@@ -11,17 +11,19 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
-#include "counter/iface_runtime.hpp"
+#include "iface_runtime_cpp/iface_runtime.hpp"
+#include "rclcpp_components/register_node_macro.hpp"
 #include "counter_msgs/msg/count.hpp"
 #include "counter_msgs/msg/counter_state.hpp"
 #include "counter_msgs/msg/parity.hpp"
-#include "counter_msgs/srv/component_control.hpp"
 #include "counter_msgs/srv/reset.hpp"
-#include "counter_msgs/srv/restore_state.hpp"
-#include "counter_msgs/srv/save_state.hpp"
+#include "iface_msgs/srv/component_control.hpp"
+#include "iface_msgs/srv/restore_state.hpp"
+#include "iface_msgs/srv/save_state.hpp"
 
 namespace counter
 {
@@ -52,10 +54,10 @@ public:
   using Count = ::counter_msgs::msg::Count;
   using CounterState = ::counter_msgs::msg::CounterState;
   using Parity = ::counter_msgs::msg::Parity;
-  using ComponentControl = ::counter_msgs::srv::ComponentControl;
   using Reset = ::counter_msgs::srv::Reset;
-  using RestoreState = ::counter_msgs::srv::RestoreState;
-  using SaveState = ::counter_msgs::srv::SaveState;
+  using ComponentControl = ::iface_msgs::srv::ComponentControl;
+  using RestoreState = ::iface_msgs::srv::RestoreState;
+  using SaveState = ::iface_msgs::srv::SaveState;
 
   static constexpr const char * COMPONENT = "counter";
   static constexpr const char * VERSION = "2.0.0";
@@ -98,13 +100,16 @@ private:
   std::shared_ptr<rclcpp_lifecycle::LifecyclePublisher<Parity>> pub_parity_;
 };
 
-//! The user's node, made by COUNTER_COMPONENT(Class) in src/node.cpp.
-std::shared_ptr<CounterBase> make_node(const rclcpp::NodeOptions & options);
+//! The user's node, made by COUNTER_COMPONENT(Class) in src/node.cpp (the executable calls it; the
+//! component library is built with hidden symbols, so two versions of it load into one container).
+__attribute__((visibility("default"))) std::shared_ptr<CounterBase> make_node(
+  const rclcpp::NodeOptions & options);
 
 }  // namespace counter
 
-//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace):
-//! a class that does not match counter_v2.iface stops the build here with the reason.
+//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace) and
+//! registers it as the rclcpp component counter::Counter: a class that does not match
+//! counter_v2.iface stops the build here with the reason.
 #define COUNTER_COMPONENT(Class) \
   static_assert( \
     std::is_base_of_v<::counter::CounterBase, Class>, \
@@ -115,9 +120,13 @@ std::shared_ptr<CounterBase> make_node(const rclcpp::NodeOptions & options);
     "the missing ones are listed below as pure virtual functions of counter::CounterBase " \
     "(include/counter/base.hpp); a handler whose 'override' overrides nothing handles a member the " \
     "interface no longer has"); \
+  static_assert( \
+    std::string_view(#Class) == "counter::Counter", \
+    "counter: the component class is registered as counter::Counter (CMakeLists.txt): name it so"); \
   std::shared_ptr<::counter::CounterBase> counter::make_node(const rclcpp::NodeOptions & options) \
   { \
     return std::make_shared<Class>(options); \
-  }
+  } \
+  RCLCPP_COMPONENTS_REGISTER_NODE(Class)
 
 #endif  // COUNTER__BASE_HPP_

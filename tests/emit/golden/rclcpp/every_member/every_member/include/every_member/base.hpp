@@ -22,24 +22,26 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
-#include "every_member/iface_runtime.hpp"
+#include "iface_runtime_cpp/iface_runtime.hpp"
+#include "rclcpp_components/register_node_macro.hpp"
 #include "every_member_msgs/action/travel.hpp"
 #include "every_member_msgs/msg/command.hpp"
 #include "every_member_msgs/msg/event.hpp"
 #include "every_member_msgs/msg/every_member_state.hpp"
 #include "every_member_msgs/msg/heartbeat.hpp"
 #include "every_member_msgs/msg/sample.hpp"
-#include "every_member_msgs/srv/component_control.hpp"
 #include "every_member_msgs/srv/count.hpp"
 #include "every_member_msgs/srv/diagnostics.hpp"
 #include "every_member_msgs/srv/limits_get_limit.hpp"
 #include "every_member_msgs/srv/limits_reset.hpp"
-#include "every_member_msgs/srv/restore_state.hpp"
-#include "every_member_msgs/srv/save_state.hpp"
 #include "every_member_msgs/srv/work.hpp"
+#include "iface_msgs/srv/component_control.hpp"
+#include "iface_msgs/srv/restore_state.hpp"
+#include "iface_msgs/srv/save_state.hpp"
 
 namespace every_member
 {
@@ -97,14 +99,14 @@ public:
   using EveryMemberState = ::every_member_msgs::msg::EveryMemberState;
   using Heartbeat = ::every_member_msgs::msg::Heartbeat;
   using Sample = ::every_member_msgs::msg::Sample;
-  using ComponentControl = ::every_member_msgs::srv::ComponentControl;
   using Count = ::every_member_msgs::srv::Count;
   using Diagnostics = ::every_member_msgs::srv::Diagnostics;
   using LimitsGetLimit = ::every_member_msgs::srv::LimitsGetLimit;
   using LimitsReset = ::every_member_msgs::srv::LimitsReset;
-  using RestoreState = ::every_member_msgs::srv::RestoreState;
-  using SaveState = ::every_member_msgs::srv::SaveState;
   using Work = ::every_member_msgs::srv::Work;
+  using ComponentControl = ::iface_msgs::srv::ComponentControl;
+  using RestoreState = ::iface_msgs::srv::RestoreState;
+  using SaveState = ::iface_msgs::srv::SaveState;
 
   static constexpr const char * COMPONENT = "every_member";
   static constexpr const char * VERSION = "2.1.0";
@@ -201,13 +203,16 @@ private:
   std::shared_ptr<rclcpp_lifecycle::LifecyclePublisher<Event>> pub_events_;
 };
 
-//! The user's node, made by EVERY_MEMBER_COMPONENT(Class) in src/node.cpp.
-std::shared_ptr<EveryMemberBase> make_node(const rclcpp::NodeOptions & options);
+//! The user's node, made by EVERY_MEMBER_COMPONENT(Class) in src/node.cpp (the executable calls it; the
+//! component library is built with hidden symbols, so two versions of it load into one container).
+__attribute__((visibility("default"))) std::shared_ptr<EveryMemberBase> make_node(
+  const rclcpp::NodeOptions & options);
 
 }  // namespace every_member
 
-//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace):
-//! a class that does not match every_member.iface stops the build here with the reason.
+//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace) and
+//! registers it as the rclcpp component every_member::EveryMember: a class that does not match
+//! every_member.iface stops the build here with the reason.
 #define EVERY_MEMBER_COMPONENT(Class) \
   static_assert( \
     std::is_base_of_v<::every_member::EveryMemberBase, Class>, \
@@ -218,9 +223,13 @@ std::shared_ptr<EveryMemberBase> make_node(const rclcpp::NodeOptions & options);
     "the missing ones are listed below as pure virtual functions of every_member::EveryMemberBase " \
     "(include/every_member/base.hpp); a handler whose 'override' overrides nothing handles a member the " \
     "interface no longer has"); \
+  static_assert( \
+    std::string_view(#Class) == "every_member::EveryMember", \
+    "every_member: the component class is registered as every_member::EveryMember (CMakeLists.txt): name it so"); \
   std::shared_ptr<::every_member::EveryMemberBase> every_member::make_node(const rclcpp::NodeOptions & options) \
   { \
     return std::make_shared<Class>(options); \
-  }
+  } \
+  RCLCPP_COMPONENTS_REGISTER_NODE(Class)
 
 #endif  // EVERY_MEMBER__BASE_HPP_

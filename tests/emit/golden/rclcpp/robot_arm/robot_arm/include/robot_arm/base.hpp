@@ -19,22 +19,24 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
-#include "robot_arm/iface_runtime.hpp"
+#include "iface_runtime_cpp/iface_runtime.hpp"
+#include "rclcpp_components/register_node_macro.hpp"
+#include "iface_msgs/srv/component_control.hpp"
+#include "iface_msgs/srv/restore_state.hpp"
+#include "iface_msgs/srv/save_state.hpp"
 #include "robot_arm_msgs/action/follow_trajectory.hpp"
 #include "robot_arm_msgs/msg/joint_command.hpp"
 #include "robot_arm_msgs/msg/joint_state.hpp"
 #include "robot_arm_msgs/msg/robot_arm_state.hpp"
 #include "robot_arm_msgs/srv/arm_diagnostics.hpp"
-#include "robot_arm_msgs/srv/component_control.hpp"
 #include "robot_arm_msgs/srv/joint_limits_service_clear_fault.hpp"
 #include "robot_arm_msgs/srv/joint_limits_service_get_limits.hpp"
 #include "robot_arm_msgs/srv/joint_limits_service_set_limits.hpp"
 #include "robot_arm_msgs/srv/move_to_pose.hpp"
-#include "robot_arm_msgs/srv/restore_state.hpp"
-#include "robot_arm_msgs/srv/save_state.hpp"
 
 namespace robot_arm
 {
@@ -65,18 +67,18 @@ private:
 class RobotArmBase : public iface_runtime::ComponentNode
 {
 public:
+  using ComponentControl = ::iface_msgs::srv::ComponentControl;
+  using RestoreState = ::iface_msgs::srv::RestoreState;
+  using SaveState = ::iface_msgs::srv::SaveState;
   using FollowTrajectory = ::robot_arm_msgs::action::FollowTrajectory;
   using JointCommand = ::robot_arm_msgs::msg::JointCommand;
   using JointState = ::robot_arm_msgs::msg::JointState;
   using RobotArmState = ::robot_arm_msgs::msg::RobotArmState;
   using ArmDiagnostics = ::robot_arm_msgs::srv::ArmDiagnostics;
-  using ComponentControl = ::robot_arm_msgs::srv::ComponentControl;
   using JointLimitsServiceClearFault = ::robot_arm_msgs::srv::JointLimitsServiceClearFault;
   using JointLimitsServiceGetLimits = ::robot_arm_msgs::srv::JointLimitsServiceGetLimits;
   using JointLimitsServiceSetLimits = ::robot_arm_msgs::srv::JointLimitsServiceSetLimits;
   using MoveToPose = ::robot_arm_msgs::srv::MoveToPose;
-  using RestoreState = ::robot_arm_msgs::srv::RestoreState;
-  using SaveState = ::robot_arm_msgs::srv::SaveState;
 
   static constexpr const char * COMPONENT = "robot_arm";
   static constexpr const char * VERSION = "1.2.0";
@@ -160,13 +162,16 @@ private:
   std::shared_ptr<rclcpp_lifecycle::LifecyclePublisher<JointState>> pub_joint_state_;
 };
 
-//! The user's node, made by ROBOT_ARM_COMPONENT(Class) in src/node.cpp.
-std::shared_ptr<RobotArmBase> make_node(const rclcpp::NodeOptions & options);
+//! The user's node, made by ROBOT_ARM_COMPONENT(Class) in src/node.cpp (the executable calls it; the
+//! component library is built with hidden symbols, so two versions of it load into one container).
+__attribute__((visibility("default"))) std::shared_ptr<RobotArmBase> make_node(
+  const rclcpp::NodeOptions & options);
 
 }  // namespace robot_arm
 
-//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace):
-//! a class that does not match robot_arm.iface stops the build here with the reason.
+//! Names the user's class of the component (at the end of src/node.cpp, outside any namespace) and
+//! registers it as the rclcpp component robot_arm::RobotArm: a class that does not match
+//! robot_arm.iface stops the build here with the reason.
 #define ROBOT_ARM_COMPONENT(Class) \
   static_assert( \
     std::is_base_of_v<::robot_arm::RobotArmBase, Class>, \
@@ -177,9 +182,13 @@ std::shared_ptr<RobotArmBase> make_node(const rclcpp::NodeOptions & options);
     "the missing ones are listed below as pure virtual functions of robot_arm::RobotArmBase " \
     "(include/robot_arm/base.hpp); a handler whose 'override' overrides nothing handles a member the " \
     "interface no longer has"); \
+  static_assert( \
+    std::string_view(#Class) == "robot_arm::RobotArm", \
+    "robot_arm: the component class is registered as robot_arm::RobotArm (CMakeLists.txt): name it so"); \
   std::shared_ptr<::robot_arm::RobotArmBase> robot_arm::make_node(const rclcpp::NodeOptions & options) \
   { \
     return std::make_shared<Class>(options); \
-  }
+  } \
+  RCLCPP_COMPONENTS_REGISTER_NODE(Class)
 
 #endif  // ROBOT_ARM__BASE_HPP_

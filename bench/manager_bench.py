@@ -1,0 +1,205 @@
+"""The component manager, measured on loopback (docs/system.md):
+
+    python bench/manager_bench.py [--runs 5] [--instances 20] [--idle 30] [--workspace WS]
+
+1. an instance's crash (``kill -9``) until it is active again with its state (goal <= 3 s);
+2. the silence on a 10 Hz topic across a managed replacement (``/iface_manager/replace``; goal p95 <= 250 ms);
+3. the manager's CPU with N idle instances (percent of one core over ``--idle`` seconds).
+
+Generates and builds the test system's packages once (tests/runtime; ``--workspace`` reuses a colcon
+workspace where they are built), then runs itself in the ROS 2 environment. Prints one line per figure.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def prepare(args: argparse.Namespace) -> int:
+    sys.path.insert(0, str(ROOT))
+    sys.path.insert(0, str(ROOT / "server"))
+    from tests.runtime.manager_pkgs import generate_system
+    from tests.runtime.ros import build, environment, runtime_venv
+
+    venv, why = runtime_venv()
+    if venv is None:
+        print(f"manager_bench: {why}", file=sys.stderr)
+        return 2
+    root = Path(tempfile.mkdtemp(prefix="manager-bench-"))
+    gen, ws = root / "gen", root / "ws"
+    if args.workspace is not None:
+        ws = args.workspace.resolve()
+    else:
+        generate_system(gen)
+        ws.mkdir()
+        ok, tail, _ = build(venv, gen, ws)
+        if not ok:
+            print(f"manager_bench: build failed:\n{tail}", file=sys.stderr)
+            return 2
+    for name in ("room_sensor", "thermostat"):
+        shutil.copy(ROOT / "examples" / f"{name}.iface", root)
+    (root / "idle.yaml").write_text("/**:\n  ros__parameters:\n    rate_hz: 0.1\n", encoding="utf-8")
+    (root / "pair.iface").write_text(
+        'system pair version "1.0.0"\ninclude "room_sensor.iface"\ninclude "thermostat.iface"\n'
+        'instance sensor : room_sensor\ninstance thermostat : thermostat (snapshot = "0.5s")\n', encoding="utf-8")
+    idle = "".join(f'instance idle{i} : room_sensor (parameters = "idle.yaml")\n' for i in range(args.instances))
+    (root / "idle.iface").write_text(f'system idle version "1.0.0"\ninclude "room_sensor.iface"\n{idle}',
+                                     encoding="utf-8")
+    for side in ("a", "b"):
+        shutil.copytree(ws / "install", root / side / "install", symlinks=True)
+    env = environment(venv, ws, root / "ros-log")
+    cfg = {"root": str(root), "python": sys.executable, "runs": args.runs, "idle": args.idle, "env": env}
+    (root / "config.json").write_text(json.dumps(cfg))
+    done = subprocess.run([str(venv / "bin" / "python"), __file__, "--inner", str(root / "config.json")], env=env,
+                          timeout=3600, check=False)
+    shutil.rmtree(root, ignore_errors=True)
+    return done.returncode
+
+
+def start_manager(cfg: dict[str, Any], system: str, state: str, log: Path) -> subprocess.Popen[bytes]:
+    argv = [cfg["python"], "-m", "iface", "manager", system, "--state-dir", state, "--max-restarts", "1000",
+            "--grace", "1"]
+    with open(log, "ab") as out:
+        return subprocess.Popen(argv, env=cfg["env"], stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
+
+
+def stop_manager(proc: subprocess.Popen[bytes]) -> None:
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGTERM)
+        try:
+            proc.wait(timeout=120)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(timeout=30)
+
+
+def inner(config: Path) -> int:  # noqa: PLR0915 - three measurements in a row
+    sys.path.insert(0, str(ROOT / "tests" / "runtime"))
+    from iface_msgs.srv import Replace, SystemStatus
+    from rosdrive import Probe, import_interface
+    from thermostat_msgs.msg import Heater
+    from thermostat_msgs.srv import SetPoint
+
+    cfg = json.loads(config.read_text())
+    root = Path(cfg["root"])
+    probe = Probe()
+
+    def status() -> dict[str, Any]:
+        answer = probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
+                            idempotent=True)
+        return {i.name: i for i in answer.instances}
+
+    def until(predicate: Any, timeout: float) -> dict[str, Any]:
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            try:
+                s = status()
+                if predicate(s):
+                    return s
+            except Exception:  # noqa: BLE001 - not answering yet
+                pass
+            time.sleep(0.02)
+        raise TimeoutError("manager status not reached")
+
+    def set_point(node: str) -> float:
+        service = f"{node}/save_state"
+        types = probe.wait_until(lambda: next((t for n, t in probe.node.get_service_names_and_types()
+                                               if n == service and t), None), 30, service)
+        save_t = import_interface(types[0])
+        answer = probe.call(save_t, service, save_t.Request(timeout_sec=5.0), timeout=30, idempotent=True)
+        return float(json.loads(answer.state)["values"]["set_point"])
+
+    manager = start_manager(cfg, str(root / "pair.iface"), str(root / "state-pair"), root / "manager-pair.log")
+    try:
+        until(lambda s: len(s) == 2 and all(i.state == "active" for i in s.values()), 180)
+        probe.call(SetPoint, "/thermostat/set_point", SetPoint.Request(celsius=21.25), timeout=30)
+        time.sleep(1.2)  # a periodic snapshot (0.5 s) holds the value
+        crash = []
+        for _ in range(cfg["runs"]):
+            old = status()["thermostat"]
+            start = time.monotonic()
+            os.kill(old.pid, signal.SIGKILL)
+            until(lambda s, old=old: s["thermostat"].state == "active" and s["thermostat"].pid not in (0, old.pid), 60)
+            crash.append(time.monotonic() - start)
+            if set_point(status()["thermostat"].node) != 21.25:
+                print("manager_bench: the state was not restored", file=sys.stderr)
+                return 1
+            time.sleep(0.5)
+        print(f"crash -> active with state: median {statistics.median(crash):.2f} s, max {max(crash):.2f} s "
+              f"over {len(crash)} kill -9 (goal <= 3 s)", flush=True)
+
+        stamps: list[float] = []
+        probe.node.create_subscription(Heater, "/room/heater", lambda _m: stamps.append(time.monotonic()), 100)
+        gaps = []
+        for run in range(cfg["runs"] * 2):
+            side = "a" if run % 2 == 0 else "b"
+            time.sleep(1.0)
+            stamps.clear()
+            time.sleep(1.0)
+            request = Replace.Request(instance="thermostat", new_iface=str(root / "thermostat.iface"),
+                                      package=str(root / side / "install" / "thermostat"), timeout_sec=10.0)
+            answer = probe.call(Replace, "/iface_manager/replace", request, timeout=120)
+            time.sleep(1.0)
+            if not answer.success:
+                print(f"manager_bench: replace {run} {answer.result}: {answer.record[-400:]}", file=sys.stderr)
+                return 1
+            seen = list(stamps)
+            gaps.append(max(b - a for a, b in zip(seen, seen[1:], strict=False)))
+        gaps.sort()
+        p95 = gaps[min(len(gaps) - 1, round(0.95 * (len(gaps) - 1)))]
+        print(f"silence on /room/heater (10 Hz) across a managed replacement: median {statistics.median(gaps) * 1000:.0f} "
+              f"ms, p95 {p95 * 1000:.0f} ms, max {gaps[-1] * 1000:.0f} ms over {len(gaps)} (goal p95 <= 250 ms)",
+              flush=True)
+    finally:
+        stop_manager(manager)
+
+    manager = start_manager(cfg, str(root / "idle.iface"), str(root / "state-idle"), root / "manager-idle.log")
+    try:
+        s = until(lambda s: s and all(i.state == "active" for i in s.values()), 600)
+        time.sleep(3)
+        tick = os.sysconf("SC_CLK_TCK")
+
+        def cpu() -> float:
+            fields = Path(f"/proc/{manager.pid}/stat").read_text().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / tick
+
+        c0, t0 = cpu(), time.monotonic()
+        time.sleep(cfg["idle"])
+        c1, t1 = cpu(), time.monotonic()
+        rss = int(Path(f"/proc/{manager.pid}/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+        print(f"manager CPU with {len(s)} idle instances: {100 * (c1 - c0) / (t1 - t0):.1f} % of one core over "
+              f"{t1 - t0:.0f} s (RSS {rss:.0f} MB)", flush=True)
+    finally:
+        stop_manager(manager)
+        probe.close()
+    return 0
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--instances", type=int, default=20)
+    ap.add_argument("--idle", type=float, default=30.0)
+    ap.add_argument("--workspace", type=Path, help="a colcon workspace with room_sensor, thermostat and iface_msgs built")
+    ap.add_argument("--inner", type=Path, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.inner is not None:
+        return inner(args.inner)
+    return prepare(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

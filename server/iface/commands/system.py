@@ -1,0 +1,116 @@
+"""``iface-lsp system status|replace|snapshot SYSTEM …``: clients of a running component manager (docs/system.md).
+
+- ``system status SYSTEM [--format text|json|html]``: each instance's node, state, pid, restarts,
+  interface hash and last snapshot, and the findings; exit 0 when every instance is active, else 1.
+- ``system replace SYSTEM INSTANCE --new NEW.iface --package DIR [--timeout S]``: one JSON record as
+  ``handover`` prints; exit 0 replaced, 1 refused or rolled back.
+- ``system snapshot SYSTEM [INSTANCE]``: save now; exit 0 when every chosen instance was saved, else 1.
+
+Exit 2: a usage error, a system file with errors, no ROS 2, or no manager of SYSTEM answering.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+from .common import display_path
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the command's arguments."""
+    sub = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+    status = sub.add_parser("status", help="the status of every instance")
+    status.add_argument("system", metavar="SYSTEM", help="the system file")
+    status.add_argument("--format", choices=("text", "json", "html"), default="text")
+    replace = sub.add_parser("replace", help="replace an instance by a new package and interface")
+    replace.add_argument("system", metavar="SYSTEM", help="the system file")
+    replace.add_argument("instance", metavar="INSTANCE", help="the instance to replace")
+    replace.add_argument("--new", required=True, metavar="NEW.iface", help="the interface of the replacement")
+    replace.add_argument("--package", required=True, type=Path, metavar="DIR",
+                         help="the replacement's install folder (ws/install/<package>)")
+    replace.add_argument("--timeout", type=float, default=10.0, metavar="S",
+                         help="how long each node may take to answer (default 10 s)")
+    snapshot = sub.add_parser("snapshot", help="save the state of the running instances now")
+    snapshot.add_argument("system", metavar="SYSTEM", help="the system file")
+    snapshot.add_argument("instance", metavar="INSTANCE", nargs="?", default="", help="only this instance")
+    for cmd in (status, replace, snapshot):
+        cmd.add_argument("--manager-timeout", type=float, default=10.0, metavar="S",
+                         help="how long to wait for the manager to answer (default 10 s)")
+
+
+def _fail(message: str) -> int:
+    print(f"iface-lsp system: {message}", file=sys.stderr)
+    return 2
+
+
+def run(args: argparse.Namespace) -> int:
+    """See the module's docstring for the exit codes."""
+    from ..runtime.system import SystemFileError, system_spec
+
+    if args.action == "replace":
+        if args.timeout <= 0:
+            return _fail("--timeout must be more than 0")
+        problem = None if os.path.isfile(args.new) else f"{args.new}: no such file"
+        problem = problem or (None if args.package.is_dir() else f"{args.package}: no such folder")
+        if problem:
+            return _fail(problem)
+    if args.manager_timeout <= 0:
+        return _fail("--manager-timeout must be more than 0")
+    try:
+        spec = system_spec(args.system)
+    except SystemFileError as e:
+        return _fail(str(e))
+    try:
+        import iface_msgs.srv  # noqa: F401
+        import rclpy  # noqa: F401
+    except ImportError as e:
+        return _fail(f"ROS 2 or iface_msgs cannot be imported ({e}): source your ROS 2 setup first")
+    from ..runtime.manager_client import ManagerClient, NoManager, status_data
+
+    client = ManagerClient(args.manager_timeout)
+    try:
+        answer = client.status()
+        if answer.system != spec.name:
+            return _fail(f"the running manager manages {answer.system}, not {spec.name}")
+        if args.action == "status":
+            return _status(spec, status_data(answer), args.format)
+        if args.action == "snapshot":
+            done = client.snapshot(args.instance)
+            print(json.dumps({"success": bool(done.success), "message": done.message, "files": list(done.files)},
+                             indent=1))
+            return 0 if done.success else 1
+        if spec.instance(args.instance) is None:
+            return _fail(f"{display_path(args.system)}: no instance {args.instance}")
+        record = client.replace(args.instance, str(Path(args.new).resolve()), str(args.package.resolve()),
+                                args.timeout)
+        print(json.dumps(record, indent=1))
+        return 0 if record.get("result") == "replaced" else 1
+    except NoManager as e:
+        return _fail(f"{e} (is `iface-lsp manager {display_path(args.system)}` running in this ROS domain?)")
+    finally:
+        client.close()
+
+
+def _status(spec: Any, data: dict[str, Any], fmt: str) -> int:
+    data = {"instances": data["instances"], "findings": data["findings"]}
+    code = 0 if all(i["state"] == "active" for i in data["instances"]) else 1
+    if fmt == "json":
+        print(json.dumps(data, indent=1))
+    elif fmt == "html":
+        from ..runtime.status_html import render
+
+        sys.stdout.write(render(spec, data))
+    else:
+        print(f"{spec.name}: {sum(i['state'] == 'active' for i in data['instances'])} of "
+              f"{len(data['instances'])} instances active")
+        for i in data["instances"]:
+            print(f"  {i['name']:<16} {i['state']:<9} {i['node']:<24} pid {i['pid']:<7} restarts {i['restarts']}  "
+                  f"{i['interface_hash'][:19]}  last snapshot {i['last_snapshot'] or '-'}")
+        for f in data["findings"]:
+            print(f"{f['instance']}: {f['message']}")
+    return code

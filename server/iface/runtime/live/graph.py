@@ -1,0 +1,336 @@
+"""Read running nodes off the ROS 2 graph through rclpy (imported here only, when a command needs it).
+
+``open_graph(timeout)`` starts a probe node in a context of its own; ``Graph.snapshot(name)`` reads
+one node: its publishers and subscriptions with their QoS (``get_*_info_by_topic``), services,
+clients, action servers and clients, parameters with their descriptors (the node's parameter
+services), whether it is a lifecycle node, and its Describe answer when it serves one. Every wait
+is bounded by the timeout.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
+
+from .snapshot import (DESCRIBE_SERVICE, DESCRIBE_TYPE, LIFECYCLE_SERVICES, NamedEndpoint, NodeSnapshot, Param, Qos,
+                       TopicEndpoint)
+
+QOS_OVERRIDES = "qos_overrides."
+_KINDS = {1: "bool", 2: "integer", 3: "double", 4: "string", 5: "byte_array", 6: "bool_array",
+          7: "integer_array", 8: "double_array", 9: "string_array"}
+_SLOTS = {"bool": "bool_value", "integer": "integer_value", "double": "double_value", "string": "string_value",
+          "byte_array": "byte_array_value", "bool_array": "bool_array_value",
+          "integer_array": "integer_array_value", "double_array": "double_array_value",
+          "string_array": "string_array_value"}
+_INFINITE_NS = 2147483647 * 10**9
+
+
+class RosMissing(Exception):
+    """ROS 2 is not sourced: rclpy cannot be imported."""
+
+
+def ros_missing() -> str:
+    """Why rclpy cannot be used here, or "" when it can."""
+    try:
+        import rclpy  # noqa: F401
+    except ImportError as e:
+        return f"ROS 2 is not sourced (rclpy cannot be imported: {e}); source ros2-env.sh or /opt/ros/<distro>/setup.bash"
+    return ""
+
+
+def _seconds(duration: Any) -> float | None:
+    ns = int(duration.nanoseconds)
+    return None if ns <= 0 or ns >= _INFINITE_NS else ns / 1e9
+
+
+def _policy(value: Any) -> str:
+    return str(getattr(value, "name", value)).lower()
+
+
+def _value(value: Any) -> bool | int | float | str | tuple[bool | int | float | str, ...] | None:
+    kind = _KINDS.get(int(value.type))
+    if kind is None:
+        return None
+    got = getattr(value, _SLOTS[kind])
+    if kind.endswith("_array"):
+        return tuple(int(x) if kind == "byte_array" else x for x in got)
+    return got
+
+
+class Graph:
+    """A probe node on the graph and the calls that read other nodes."""
+
+    def __init__(self, timeout: float) -> None:
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+
+        self.timeout = timeout
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node(f"_iface_probe_{os.getpid()}", context=self.context,
+                                      start_parameter_services=False, enable_rosout=False)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+
+    def close(self) -> None:
+        """Stop the probe node and its context."""
+        import rclpy
+
+        self.executor.shutdown(timeout_sec=1.0)
+        self.node.destroy_node()
+        rclpy.shutdown(context=self.context)
+
+    # ---- discovery ---------------------------------------------------------------------------
+    def node_names(self) -> list[str]:
+        """Full names of the visible nodes, hidden ones (``_…``) left out, sorted."""
+        out = set()
+        for name, ns in self.node.get_node_names_and_namespaces():
+            if name.startswith("_"):
+                continue
+            out.add(ns.rstrip("/") + "/" + name)
+        return sorted(out)
+
+    def _shape(self, full: str) -> tuple[Any, ...]:
+        ns, _, name = full.rpartition("/")
+        ns = ns or "/"
+        n = self.node
+        try:
+            return (tuple(sorted((t, tuple(ty)) for t, ty in n.get_publisher_names_and_types_by_node(name, ns))),
+                    tuple(sorted((t, tuple(ty)) for t, ty in n.get_subscriber_names_and_types_by_node(name, ns))),
+                    tuple(sorted((t, tuple(ty)) for t, ty in n.get_service_names_and_types_by_node(name, ns))),
+                    tuple(sorted((t, tuple(ty)) for t, ty in n.get_client_names_and_types_by_node(name, ns))))
+        except Exception:  # the node left the graph between the two calls
+            return ()
+
+    def wait_for(self, names: list[str], settle: float = 0.3, grace: float = 2.0) -> list[str]:
+        """Wait until every name is on the graph and what each has stops changing; the names missing at the end.
+
+        A name still missing when others have come and the graph has not changed for ``grace`` seconds
+        is taken as not running (so a missing node costs ``grace``, not the whole timeout).
+        """
+        start = time.monotonic()
+        deadline = start + self.timeout
+        missing = list(names)
+        last: set[str] = set()
+        changed = start
+        while time.monotonic() < deadline:
+            present = set(self.node_names())
+            missing = [n for n in names if n not in present]
+            if not missing:
+                break
+            if present != last:
+                last, changed = present, time.monotonic()
+            if len(missing) < len(names) and time.monotonic() - changed >= grace:
+                break
+            time.sleep(0.05)
+        if len(missing) == len(names):
+            return missing
+        names = [n for n in names if n not in missing]
+        shape = tuple(self._shape(n) for n in names)
+        stable_since = time.monotonic()
+        while time.monotonic() < deadline and time.monotonic() - stable_since < settle:
+            time.sleep(0.05)
+            now = tuple(self._shape(n) for n in names)
+            if now != shape:
+                shape, stable_since = now, time.monotonic()
+        return missing
+
+    def wait_for_all(self, settle: float = 1.0) -> list[str]:
+        """Every node once the list of nodes has stopped changing for ``settle`` seconds (within the timeout)."""
+        deadline = time.monotonic() + self.timeout
+        last = self.node_names()
+        stable_since = time.monotonic()
+        while time.monotonic() < deadline and (time.monotonic() - stable_since < settle or not last):
+            time.sleep(0.05)
+            now = self.node_names()
+            if now != last:
+                last, stable_since = now, time.monotonic()
+        self.wait_for(last, settle=0.2)
+        return last
+
+    # ---- reading nodes -----------------------------------------------------------------------
+    def snapshot(self, full: str) -> NodeSnapshot:
+        """Everything the graph tells of the node ``full`` (``/ns/name``)."""
+        return self.snapshots([full])[full]
+
+    def snapshots(self, names: list[str], describe: bool = True) -> dict[str, NodeSnapshot]:
+        """Snapshots of several nodes; their parameter and Describe services (unless not ``describe``) are
+        asked all at once."""
+        snaps = {full: self._graph_part(full) for full in names}
+        with_params = [s for s in snaps.values() if "list_parameters" in s.own_services]
+        describing = [s for s in snaps.values()
+                      if describe and s.own_services.get(DESCRIBE_SERVICE) == DESCRIBE_TYPE]
+        self._parameters(with_params)
+        self._describe(describing)
+        for snap in snaps.values():
+            snap.topics.sort(key=lambda t: (t.topic, t.role))
+            snap.endpoints.sort(key=lambda e: (e.kind, e.name, e.role))
+        return snaps
+
+    def _graph_part(self, full: str) -> NodeSnapshot:
+        from rclpy.action import graph as action_graph
+
+        ns, _, name = full.rpartition("/")
+        ns = ns or "/"
+        n = self.node
+        snap = NodeSnapshot(full)
+        services = {s: tuple(t) for s, t in n.get_service_names_and_types_by_node(name, ns)}
+        for s, t in services.items():
+            rel = snap.relative(s)
+            if rel is not None and len(t) == 1:
+                snap.own_services[rel] = t[0]
+        snap.lifecycle = snap.own_services.get("get_state") == "lifecycle_msgs/srv/GetState" or all(
+            r in snap.own_services for r in LIFECYCLE_SERVICES)
+        if snap.own_services.get("list_parameters") != "rcl_interfaces/srv/ListParameters":
+            snap.own_services.pop("list_parameters", None)
+        for role, listing, info in (
+                ("publishes", n.get_publisher_names_and_types_by_node, n.get_publishers_info_by_topic),
+                ("subscribes", n.get_subscriber_names_and_types_by_node, n.get_subscriptions_info_by_topic)):
+            for topic, types in listing(name, ns):
+                if "/_action/" in topic:
+                    continue
+                for ep in info(topic):
+                    if ep.node_name != name or (ep.node_namespace.rstrip("/") or "/") != (ns.rstrip("/") or "/"):
+                        continue
+                    q = ep.qos_profile
+                    qos = Qos(_policy(q.reliability), _policy(q.durability), _policy(q.liveliness),
+                              _seconds(q.deadline), _seconds(q.lifespan), _seconds(q.liveliness_lease_duration))
+                    snap.topics.append(TopicEndpoint(role, topic, ep.topic_type, qos))
+                    break
+                else:
+                    for t in types:
+                        snap.topics.append(TopicEndpoint(role, topic, t, Qos("unknown", "unknown", "unknown")))
+        for sname, types in sorted(services.items()):
+            if "/_action/" not in sname:
+                snap.endpoints.append(NamedEndpoint("provides", "service", sname, types[0]))
+        for sname, types in n.get_client_names_and_types_by_node(name, ns):
+            if "/_action/" not in sname:
+                snap.endpoints.append(NamedEndpoint("calls", "service", sname, types[0]))
+        for aname, types in action_graph.get_action_server_names_and_types_by_node(n, name, ns):
+            snap.endpoints.append(NamedEndpoint("provides", "action", aname, types[0]))
+        for aname, types in action_graph.get_action_client_names_and_types_by_node(n, name, ns):
+            snap.endpoints.append(NamedEndpoint("calls", "action", aname, types[0]))
+        return snap
+
+    def peers(self, topic: str) -> list[tuple[str, str, str, Qos]]:
+        """(node, role, type, QoS) of every publisher and subscription on ``topic``."""
+        out = []
+        for role, info in (("publishes", self.node.get_publishers_info_by_topic),
+                           ("subscribes", self.node.get_subscriptions_info_by_topic)):
+            for ep in info(topic):
+                if ep.node_name.startswith("_"):
+                    continue
+                q = ep.qos_profile
+                node = ep.node_namespace.rstrip("/") + "/" + ep.node_name
+                out.append((node, role, ep.topic_type, Qos(_policy(q.reliability), _policy(q.durability),
+                                                           _policy(q.liveliness), _seconds(q.deadline),
+                                                           _seconds(q.lifespan),
+                                                           _seconds(q.liveliness_lease_duration))))
+        return sorted(out, key=lambda x: (x[0], x[1]))
+
+    def _calls(self, calls: list[tuple[Any, str, Any]]) -> list[Any]:
+        """Call several services at once: each answer, or None when it did not come within the timeout."""
+        deadline = time.monotonic() + self.timeout
+        clients = [self.node.create_client(t, name) for t, name, _ in calls]
+        try:
+            futures: list[Any] = []
+            for client, (_, _, request) in zip(clients, calls, strict=True):
+                ready = client.wait_for_service(timeout_sec=max(0.0, deadline - time.monotonic()))
+                futures.append(client.call_async(request) if ready else None)
+            while time.monotonic() < deadline and not all(f is None or f.done() for f in futures):
+                self.executor.spin_once(timeout_sec=0.05)
+            return [f.result() if f is not None and f.done() else None for f in futures]
+        finally:
+            for client in clients:
+                self.node.destroy_client(client)
+
+    def _parameters(self, snaps: list[NodeSnapshot]) -> None:
+        from rcl_interfaces.srv import DescribeParameters, GetParameters, ListParameters
+
+        lists = self._calls([(ListParameters, f"{s.name}/list_parameters", ListParameters.Request()) for s in snaps])
+        asked: list[tuple[NodeSnapshot, list[str]]] = []
+        for snap, listed in zip(snaps, lists, strict=True):
+            if listed is None:
+                snap.notes.append("its parameter services did not answer: parameters not read")
+            elif listed.result.names:
+                asked.append((snap, sorted(listed.result.names)))
+        calls: list[tuple[Any, str, Any]] = []
+        for snap, names in asked:
+            calls.append((DescribeParameters, f"{snap.name}/describe_parameters", DescribeParameters.Request(names=names)))
+            calls.append((GetParameters, f"{snap.name}/get_parameters", GetParameters.Request(names=names)))
+        answers = self._calls(calls)
+        for i, (snap, _) in enumerate(asked):
+            described, got = answers[2 * i], answers[2 * i + 1]
+            if described is None or got is None:
+                snap.notes.append("its parameter services did not answer: parameters not read")
+                continue
+            _read_parameters(snap, described.descriptors, got.values)
+
+    def _describe(self, snaps: list[NodeSnapshot]) -> None:
+        if not snaps:
+            return
+        try:
+            from iface_msgs.srv import Describe
+        except ImportError:
+            for snap in snaps:
+                snap.notes.append(f"it serves {DESCRIBE_TYPE} but iface_msgs is not installed here: read from the graph")
+            return
+        answers = self._calls([(Describe, f"{s.name}/{DESCRIBE_SERVICE}", Describe.Request()) for s in snaps])
+        for snap, answer in zip(snaps, answers, strict=True):
+            if answer is None:
+                snap.notes.append("its Describe service did not answer: read from the graph")
+                continue
+            snap.describe_json = str(answer.interface_json)
+            snap.describe_hash = str(answer.interface_hash)
+
+
+def _read_parameters(snap: NodeSnapshot, descriptors: Any, values: Any) -> None:
+    """Parameters from the answers of describe_parameters and get_parameters; ``qos_overrides.*`` give QoS."""
+    overrides: dict[tuple[str, str], dict[str, Any]] = {}
+    for d, v in zip(descriptors, values, strict=True):
+        value = _value(v)
+        if d.name.startswith(QOS_OVERRIDES):
+            topic, _, rest = d.name[len(QOS_OVERRIDES):].rpartition(".")
+            topic, _, role = topic.rpartition(".")
+            overrides.setdefault((topic, role), {})[rest] = value
+            continue
+        kind = _KINDS.get(int(d.type)) or _KINDS.get(int(v.type)) or "string"
+        low: float | None = None
+        high: float | None = None
+        if d.integer_range:
+            low, high = int(d.integer_range[0].from_value), int(d.integer_range[0].to_value)
+        elif d.floating_point_range:
+            low, high = float(d.floating_point_range[0].from_value), float(d.floating_point_range[0].to_value)
+        snap.params.append(Param(d.name, kind, value, d.description, bool(d.read_only), low, high,
+                                 d.additional_constraints))
+    if not overrides:
+        return
+    role_of = {"publishes": "publisher", "subscribes": "subscription"}
+    topics = []
+    for t in snap.topics:
+        o = overrides.get((t.topic, role_of[t.role]), {})
+        if o:
+            q = t.qos
+            history, depth = o.get("history"), o.get("depth")
+            t = TopicEndpoint(t.role, t.topic, t.type, Qos(
+                q.reliability, q.durability, q.liveliness, q.deadline, q.lifespan, q.lease_duration,
+                str(history).lower() if history is not None else None,
+                int(depth) if isinstance(depth, int) and not isinstance(depth, bool) else None))
+        topics.append(t)
+    snap.topics = topics
+
+
+@contextmanager
+def open_graph(timeout: float) -> Iterator[Graph]:
+    """A probe on the graph (raises RosMissing when rclpy cannot be imported), closed on exit."""
+    why = ros_missing()
+    if why:
+        raise RosMissing(why)
+    graph = Graph(timeout)
+    try:
+        yield graph
+    finally:
+        graph.close()

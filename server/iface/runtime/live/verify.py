@@ -1,0 +1,338 @@
+"""Compare running nodes with their declared interfaces: findings with stable codes.
+
+``declared(comp)`` names the node a compiled interface stands for (``ros2.node = "/ns/name"`` on the
+component, else ``/<component>``); ``verify(nodes, live)`` compares each with what the graph told
+(``LiveGraph``) and returns ``Finding``s located at the declared line, naming the running node.
+Nothing here imports ROS: ``graph`` fills the ``LiveGraph``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from ...compat import qos as qosrules
+from ...compat.canon import interface_hash
+from ...compat.side import Side
+from ...compat.parts import endpoint_type
+from ...model import nodes as m
+from ...model.source import Source, Span
+from ...semantics.compile import Compilation
+from ...text.printer import type_text
+from .filters import own_endpoints, own_params, own_topics
+from .snapshot import NodeSnapshot, Qos
+from .to_iface import duration_text
+
+if TYPE_CHECKING:  # reading the graph needs rclpy; comparing does not
+    from .graph import Graph
+
+#: code -> (severity, what it means); the codes are stable.
+CODES: dict[str, tuple[str, str]] = {
+    "live-node-missing": ("error", "A declared node is not running."),
+    "live-endpoint-missing": ("error", "A declared topic, service or action the running node does not have."),
+    "live-endpoint-undeclared": ("warning", "A topic, service or action of the running node its file does not declare."),
+    "live-type-mismatch": ("error", "A declared endpoint the running node has with another type (both named)."),
+    "live-qos-incompatible": ("error", "A publisher and a subscriber on one topic whose QoS cannot match: "
+                              "reliability, durability, deadline or liveliness (ROS 2 then delivers nothing)."),
+    "live-param-missing": ("error", "A declared parameter the running node does not have."),
+    "live-param-type": ("error", "A parameter the running node holds with another type than declared."),
+    "live-param-out-of-range": ("error", "A parameter whose running value is outside its declared range."),
+    "live-describe-hash": ("error", "A node whose Describe answer gives another interface hash than its file's."),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Finding:
+    """One finding: its code, message, the running node, and the declared place (path, 1-based line and column)."""
+
+    code: str
+    message: str
+    node: str
+    path: str = ""
+    line: int = 0
+    column: int = 0
+    end_line: int = 0
+    end_column: int = 0
+
+    @property
+    def severity(self) -> str:
+        """``error`` or ``warning``."""
+        return CODES[self.code][0]
+
+
+@dataclass(frozen=True, slots=True)
+class Peer:
+    """A publisher or subscription on a topic, of any node on the graph."""
+
+    node: str
+    role: str
+    type: str
+    qos: Qos
+
+
+@dataclass(slots=True)
+class LiveGraph:
+    """What the graph told: the running node names, snapshots of the declared ones, every endpoint of their topics."""
+
+    names: list[str] = field(default_factory=list)
+    nodes: dict[str, NodeSnapshot] = field(default_factory=dict)
+    peers: dict[str, list[Peer]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, slots=True)
+class Declared:
+    """A running node as a file declares it: its full name, the component's compilation, and where a
+    system file names it (the instance), if one does."""
+
+    node: str
+    comp: Compilation
+    instance: tuple[Source, Span] | None = None
+
+
+def node_name(comp: Compilation) -> str:
+    """The full node name a compiled component stands for."""
+    decl = comp.interface.component
+    if decl is not None:
+        for a in decl.annotations:
+            if a.key == "ros2.node" and a.text:
+                return a.text if a.text.startswith("/") else "/" + a.text
+    return "/" + comp.interface.name
+
+
+def declared(comp: Compilation) -> Declared:
+    """The node a file declares."""
+    return Declared(node_name(comp), comp)
+
+
+def declared_all(comps: list[Compilation]) -> list[Declared]:
+    """The nodes the files declare: one per component file, one per instance of a system file.
+
+    An instance runs as ``/<node>`` (its ``node`` annotation), else as its component file's
+    ``ros2.node``, else as ``/<instance name>``.
+    """
+    from ...compat.systemfile import instance_compilations
+
+    out: list[Declared] = []
+    for comp in comps:
+        if comp.interface.system is not None:
+            for inst, component in instance_compilations(comp):
+                given = inst.value("node")
+                own = node_name(component)
+                node = "/" + given if given else own if own != "/" + component.interface.name else "/" + inst.name
+                out.append(Declared(node, component, (comp.source, inst.name_span)))
+    for comp in comps:
+        if comp.interface.system is None and comp.interface.component is not None:
+            out.append(declared(comp))
+    seen: set[tuple[str, str]] = set()
+    unique = []
+    for d in out:  # a component file given beside a system that runs it: once, as the instance
+        key = (d.node, d.comp.path)
+        if key not in seen:
+            seen.add(key)
+            unique.append(d)
+    return unique
+
+
+def resolve_name(node: str, name: str) -> str:
+    """A declared name on the graph: ``~/x`` inside the node, ``x`` in its namespace."""
+    if name.startswith("~"):
+        return node.rstrip("/") + "/" + name[1:].lstrip("/")
+    if name.startswith("/"):
+        return name
+    ns = node.rsplit("/", 1)[0]
+    return ns + "/" + name
+
+
+def ros_identity(ros_type: str) -> str:
+    """``pkg/msg/Name`` → ``pkg/Name`` (as compat names types)."""
+    parts = ros_type.split("/")
+    return f"{parts[0]}/{parts[-1]}"
+
+
+def qos_dict(q: Qos) -> dict[str, str]:
+    """A running endpoint's QoS as ``qos.*`` settings (for the matching rules)."""
+    out = {"reliability": q.reliability, "durability": q.durability, "liveliness": q.liveliness}
+    if q.deadline is not None:
+        out["deadline"] = duration_text(q.deadline)
+    if q.lease_duration is not None:
+        out["liveliness_lease_duration"] = duration_text(q.lease_duration)
+    return {k: v for k, v in out.items() if v not in ("unknown", "system_default")}
+
+
+_KIND = {"bool": "bool", "string": "string", "wstring": "string", "float32": "double", "float64": "double"}
+
+
+def param_kind(f: m.Field) -> str | None:
+    """The ROS 2 parameter type a declared parameter is held as (None when iface cannot tell)."""
+    t = f.type
+    suffix = ""
+    while isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef):
+        t = t.target.type
+    if isinstance(t, (m.ArrayType, m.SetType)):
+        t, suffix = t.element, "_array"
+    while isinstance(t, m.NamedType) and isinstance(t.target, m.Typedef):
+        t = t.target.type
+    if isinstance(t, m.NamedType) and isinstance(t.target, m.Enum):
+        return "integer" + suffix
+    if isinstance(t, m.BaseType):
+        name = t.name
+        if name in ("binary", "uuid"):  # uint8[] and uint8[16] in ROS 2
+            return "integer_array"
+        if name.startswith(("i", "u")) or name in ("char", "octet"):
+            return "integer" + suffix
+        kind = _KIND.get(name.split("<")[0])
+        return kind + suffix if kind else None
+    return None
+
+
+class _Checker:
+    def __init__(self, d: Declared, snap: NodeSnapshot) -> None:
+        self.d = d
+        self.snap = snap
+        self.source: Source = d.comp.source
+        self.iface = d.comp.interface
+        self.out: list[Finding] = []
+
+    def at(self, code: str, message: str, span: Span | None) -> None:
+        line = col = eline = ecol = 0
+        if span is not None:
+            line, col = self.source.position(span.start)
+            eline, ecol = self.source.position(span.end)
+            line, col, eline, ecol = line + 1, col + 1, eline + 1, ecol + 1
+        self.out.append(Finding(code, message, self.d.node, self.source.path, line, col, eline, ecol))
+
+    def anchor(self) -> Span | None:
+        decl = self.iface.component
+        return decl.name_span if decl is not None else None
+
+    def endpoints(self) -> None:
+        side = Side(self.d.comp)
+        topics = {(t.role, t.topic): t for t in own_topics(self.snap, everything=True)}
+        named = {(e.role, e.name): e for e in own_endpoints(self.snap, everything=True)}
+        seen_topics: set[tuple[str, str]] = set()
+        seen_named: set[tuple[str, str]] = set()
+        declared_eps = [(ep, "topic") for ep in [*self.iface.subscribed, *self.iface.published]]
+        declared_eps += [(ep, "service/action") for ep in [*self.iface.services, *self.iface.actions,
+                                                          *self.iface.diagnostics_endpoints]]
+        for ep, kind in declared_eps:
+            name = resolve_name(self.d.node, ep.name)
+            want = endpoint_type(side, ep)
+            span = ep.wiring.span if ep.wiring is not None else ep.span
+            running = topics.get((ep.role, name)) if kind == "topic" else named.get((ep.role, name))
+            what = {"publishes": "publisher", "subscribes": "subscription", "provides": "server",
+                    "calls": "client"}[ep.role]
+            if running is None:
+                self.at("live-endpoint-missing", f"{self.d.node} has no {what} on '{name}' (declared {ep.role} "
+                        f"{want})", span)
+                continue
+            (seen_topics if kind == "topic" else seen_named).add((ep.role, name))
+            got = ros_identity(running.type)
+            if got != want:
+                self.at("live-type-mismatch", f"'{name}': declared {want}, {self.d.node} has {got}", span)
+        for key, t in sorted(topics.items()):
+            if key not in seen_topics and t in own_topics(self.snap):
+                self.at("live-endpoint-undeclared", f"{self.d.node} {t.role} {ros_identity(t.type)} on "
+                        f"'{t.topic}', which its file does not declare", self.anchor())
+        for key, e in sorted(named.items()):
+            if key not in seen_named and e in own_endpoints(self.snap):
+                self.at("live-endpoint-undeclared", f"{self.d.node} {e.role} {e.kind} {ros_identity(e.type)} on "
+                        f"'{e.name}', which its file does not declare", self.anchor())
+
+    def parameters(self) -> None:
+        running = {p.name: p for p in own_params(self.snap, everything=True)}
+        if not running and self.snap.notes:
+            return  # its parameters could not be read: the note says so
+        for f in self.iface.parameters:
+            p = running.get(f.name)
+            if p is None:
+                self.at("live-param-missing", f"{self.d.node} has no parameter '{f.name}'", f.name_span)
+                continue
+            kind = param_kind(f)
+            if kind is not None and kind != p.kind and not (kind == "integer_array" and p.kind == "byte_array"):
+                self.at("live-param-type", f"parameter '{f.name}': declared {type_text(f.type)} (a ROS 2 {kind}), "
+                        f"{self.d.node} holds a {p.kind}", f.name_span)
+                continue
+            rng = f.range
+            if rng is None or p.value is None:
+                continue
+            values = p.value if isinstance(p.value, tuple) else (p.value,)
+            lo, hi = rng
+            for v in values:
+                if isinstance(v, bool) or not isinstance(v, (int, float)):
+                    continue
+                if (lo is not None and v < lo) or (hi is not None and v > hi):
+                    shown = "..".join("" if x is None else format(x, "g") for x in rng)
+                    self.at("live-param-out-of-range", f"parameter '{f.name}' is {v:g} on {self.d.node}, outside "
+                            f"its declared range {shown}", f.name_span)
+                    break
+
+    def describe(self) -> None:
+        if not self.snap.describe_hash:
+            return
+        mine = interface_hash(self.d.comp)
+        if mine != self.snap.describe_hash:
+            self.at("live-describe-hash", f"{self.d.node} describes itself with interface hash "
+                    f"{self.snap.describe_hash}, its file has {mine}", self.anchor())
+
+
+def _qos_pairs(decls: list[Declared], live: LiveGraph) -> list[Finding]:
+    """Every publisher/subscriber pair on a topic of a declared node whose QoS cannot match, once each."""
+    by_node = {d.node: d for d in decls}
+    out: list[Finding] = []
+    for topic in sorted(live.peers):
+        peers = live.peers[topic]
+        pubs = [p for p in peers if p.role == "publishes"]
+        subs = [p for p in peers if p.role == "subscribes"]
+        for pub in pubs:
+            for sub in subs:
+                if pub.node not in by_node and sub.node not in by_node:
+                    continue
+                why = qosrules.mismatches(qos_dict(pub.qos), qos_dict(sub.qos))
+                if not why:
+                    continue
+                where = by_node.get(sub.node) or by_node[pub.node]
+                checker = _Checker(where, live.nodes.get(where.node) or NodeSnapshot(where.node))
+                role = "subscribes" if where.node == sub.node else "publishes"
+                span = next((ep.wiring.span for ep in [*where.comp.interface.subscribed,
+                                                        *where.comp.interface.published]
+                             if ep.role == role and ep.wiring is not None
+                             and resolve_name(where.node, ep.name) == topic), None)
+                checker.at("live-qos-incompatible", f"'{topic}': {pub.node} publishes and {sub.node} subscribes "
+                           f"with QoS that cannot match: " + "; ".join(why), span or checker.anchor())
+                out.extend(Finding(f.code, f.message, f"{pub.node} -> {sub.node}", f.path, f.line, f.column,
+                                   f.end_line, f.end_column) for f in checker.out)
+    return out
+
+
+def verify(decls: list[Declared], live: LiveGraph) -> list[Finding]:
+    """Every finding of the declared nodes against the graph, in file and line order."""
+    out: list[Finding] = []
+    for d in decls:
+        snap = live.nodes.get(d.node)
+        if snap is None:
+            c = _Checker(d, NodeSnapshot(d.node))
+            if d.instance is not None:
+                c.source = d.instance[0]
+            c.at("live-node-missing", f"{d.node} is not running (declared by component {d.comp.interface.name})",
+                 d.instance[1] if d.instance is not None else c.anchor())
+            out.extend(c.out)
+            continue
+        c = _Checker(d, snap)
+        c.endpoints()
+        c.parameters()
+        c.describe()
+        out.extend(c.out)
+    out.extend(_qos_pairs(decls, live))
+    return sorted(out, key=lambda f: (f.path, f.line, f.column, f.code, f.message))
+
+
+def read_live(graph: Graph, nodes: list[str]) -> LiveGraph:
+    """Read the declared ``nodes`` and the peers on their topics off ``graph``."""
+    live = LiveGraph()
+    graph.wait_for(nodes)
+    live.names = graph.node_names()
+    live.nodes = graph.snapshots([n for n in nodes if n in live.names])
+    topics = sorted({t.topic for s in live.nodes.values() for t in own_topics(s)})
+    for topic in topics:
+        live.peers[topic] = [Peer(n, r, t, q) for n, r, t, q in graph.peers(topic)]
+    return live

@@ -1,0 +1,567 @@
+"""The component manager: keeps a system's instances up, keeps their state, replaces them safely (docs/system.md).
+
+``iface-lsp manager SYSTEM`` runs the node ``/iface_manager``. It starts each instance's process
+(``processes``), brings the instances up in order (configure, restore the last snapshot of an
+instance it started, activate) and, when told to stop, down in reverse order. It watches each
+one: its process, and a heartbeat (``~/control`` STATUS) answered within a timeout. A failed
+instance is restarted per its policy and the intensity limit (``restart``), its last snapshot
+restored before it is activated. Snapshots (``snapshots``) are taken per the instance's period,
+at every deactivate and on request. A new manager adopts the instances still running.
+
+It serves ``/iface_manager/status``, ``/iface_manager/snapshot`` and ``/iface_manager/replace``
+(types ``iface_msgs/srv/SystemStatus``, ``Snapshot``, ``Replace``). One lock orders the watch
+loop, snapshots and replacements; status answers read without it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import signal
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..semantics.compile import Compilation, Workspace
+from . import processes, protocol
+from .handover import ACTIVE, INACTIVE, UNCONFIGURED, HandOver, Refused, decide
+from .link import Link, LinkError
+from .processes import InstanceProcess, Records, StartError
+from .restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD, Intensity, should_restart
+from .snapshots import DEFAULT_KEEP, SnapshotStore, iso_time
+
+NODE_NAME = "iface_manager"
+STATUS_SERVICE = f"/{NODE_NAME}/status"
+SNAPSHOT_SERVICE = f"/{NODE_NAME}/snapshot"
+REPLACE_SERVICE = f"/{NODE_NAME}/replace"
+#: lifecycle_msgs/Transition ids the manager uses beyond configure/activate/deactivate.
+CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
+SHUTDOWN_FROM = {UNCONFIGURED: 5, INACTIVE: 6, ACTIVE: 7}
+#: Findings kept per instance.
+FINDINGS_KEPT = 20
+
+
+@dataclass
+class Options:
+    """How the manager runs; every default is in docs/system.md."""
+
+    state_dir: Path
+    trust_store: Path | None = None
+    max_restarts: int = DEFAULT_MAX_RESTARTS
+    restart_period: float = DEFAULT_PERIOD
+    heartbeat_period: float = 1.0
+    heartbeat_timeout: float = 5.0
+    call_timeout: float = 10.0
+    start_timeout: float = 30.0
+    grace: float = 3.0
+    keep: int = DEFAULT_KEEP
+
+
+@dataclass
+class Managed:
+    """One instance as the manager sees it."""
+
+    spec: Any
+    node: str
+    iface_file: str
+    interface_hash: str
+    package_dir: str
+    store: SnapshotStore
+    intensity: Intensity
+    generation: int = 1
+    state: str = "down"
+    process: InstanceProcess | None = None
+    restarts: int = 0
+    last_snapshot: float | None = None
+    next_snapshot: float = 0.0
+    heartbeat: Any = None
+    heartbeat_sent: float = 0.0
+    heartbeat_ok: float = 0.0
+    watched: float = 0.0
+    findings: list[str] = field(default_factory=list)
+
+    @property
+    def name(self) -> str:
+        """The instance name."""
+        return str(self.spec.name)
+
+    @property
+    def path(self) -> str:
+        """The node's fully qualified name."""
+        return "/" + self.node.lstrip("/")
+
+    def note(self, message: str) -> None:
+        """Keep a finding (the last :data:`FINDINGS_KEPT`)."""
+        self.findings.append(message)
+        del self.findings[:-FINDINGS_KEPT]
+
+
+class Manager:
+    """The manager of one system; ``serve`` runs it until ``stop`` is set."""
+
+    def __init__(self, system: Any, options: Options, env: dict[str, str]) -> None:
+        self.system = system
+        self.options = options
+        self.env = env
+        self.records = Records(options.state_dir)
+        self.lock = threading.RLock()
+        self.stop = threading.Event()
+        self.log_dir = options.state_dir / "logs"
+        self.instances = [
+            Managed(spec, spec.node, str(spec.iface_file), spec.interface_hash, "",
+                    SnapshotStore(options.state_dir / "snapshots" / spec.name, options.keep),
+                    Intensity(options.max_restarts, options.restart_period))
+            for spec in system.instances]
+        for m in self.instances:
+            latest = m.store.latest()
+            m.last_snapshot = latest.written if latest is not None else None
+
+    # ---- ROS --------------------------------------------------------------------------------------
+    def open(self) -> None:
+        """Create ``/iface_manager`` and its services, and spin it in a thread."""
+        import rclpy
+        from iface_msgs.srv import Replace, Snapshot, SystemStatus
+        from rclpy.callback_groups import ReentrantCallbackGroup
+        from rclpy.executors import MultiThreadedExecutor
+
+        self._rclpy = rclpy
+        self.node = rclpy.create_node(NODE_NAME)
+        group = ReentrantCallbackGroup()
+        self.link = Link(self.node, group)
+        self.node.create_service(SystemStatus, STATUS_SERVICE, self._on_status, callback_group=group)
+        self.node.create_service(Snapshot, SNAPSHOT_SERVICE, self._on_snapshot, callback_group=group)
+        self.node.create_service(Replace, REPLACE_SERVICE, self._on_replace, callback_group=group)
+        self.executor = MultiThreadedExecutor(num_threads=4)
+        self.executor.add_node(self.node)
+        self._spinner = threading.Thread(target=self._spin, name="iface-manager-spin", daemon=True)
+        self._spinner.start()
+
+    def _spin(self) -> None:
+        try:
+            while self._rclpy.ok() and not self._closing:
+                self.executor.spin_once(timeout_sec=0.1)
+        except Exception:  # noqa: BLE001 - the context was shut down under the executor
+            pass
+
+    _closing = False
+
+    def close(self) -> None:
+        """Stop spinning and destroy the node."""
+        self._closing = True
+        self._spinner.join(timeout=5)
+        self.executor.shutdown(timeout_sec=2.0)
+        self.node.destroy_node()
+
+    def log(self, message: str) -> None:
+        """One line on the manager's log."""
+        self.node.get_logger().info(message)
+
+    # ---- up, watch, down ---------------------------------------------------------------------------
+    def up(self) -> None:
+        """Adopt or start each instance, in order, and bring it to active."""
+        for m in self.instances:
+            if self.stop.is_set():
+                return
+            with self.lock:
+                if not self._adopt(m):
+                    self._start_or_fail(m, "start")
+
+    def serve(self) -> None:
+        """Watch the instances until ``stop`` is set."""
+        while not self.stop.is_set():
+            with self.lock:
+                for m in self.instances:
+                    self._watch(m, time.monotonic())
+            self.stop.wait(0.1)
+
+    def down(self) -> None:
+        """Deactivate (with a snapshot) and shut down each instance, in reverse order."""
+        for m in reversed(self.instances):
+            with self.lock:
+                self._down(m)
+
+    def _down(self, m: Managed) -> None:
+        if m.process is None or not m.process.alive():
+            self.records.remove(m.name)
+            m.state = "down" if m.state not in ("failed",) else m.state
+            return
+        t = self.options.call_timeout
+        try:
+            state = self.link.lifecycle_state(m.path, t)
+            if state == ACTIVE:
+                self.link.transition(m.path, DEACTIVATE, t)
+                state = INACTIVE
+                self._snapshot(m, "deactivate")
+            if state in SHUTDOWN_FROM:
+                self.link.transition(m.path, SHUTDOWN_FROM[state], t)
+        except LinkError as e:
+            m.note(f"down: {e}")
+        if not m.process.wait(10.0):
+            m.process.stop(5.0)
+        self.records.remove(m.name)
+        m.state = "down"
+        self.log(f"{m.name}: down")
+
+    def _adopt(self, m: Managed) -> bool:
+        """Manage again an instance a previous manager started, if it still runs; whether it did."""
+        record = self.records.load(m.name)
+        if record is not None and not processes.running(record):
+            self.log(f"{m.name}: recorded pid {record.pid} no longer runs")
+            record = None
+        if record is None:
+            # not recorded (a manager killed right after a start): the graph and /proc still know it
+            found = processes.find_by_node(m.node)
+            if len(found) != 1:
+                return False
+            record = dataclasses.replace(found[0], instance=m.name, iface_file=m.iface_file,
+                                         interface_hash=m.interface_hash)
+            self.records.save(record)
+        m.process = InstanceProcess(record)
+        m.node, m.iface_file, m.interface_hash = record.node, record.iface_file, record.interface_hash
+        m.package_dir, m.generation = record.package_dir, record.generation
+        t = self.options.call_timeout
+        try:
+            state = int(self.link.control(m.path, protocol.STATUS, t).lifecycle_state)
+            if state == UNCONFIGURED:
+                self.link.transition(m.path, CONFIGURE, t)
+                state = INACTIVE
+            if state == INACTIVE:
+                self.link.transition(m.path, ACTIVATE, t)
+        except LinkError as e:
+            m.note(f"adopted pid {record.pid} does not answer: {e}; restarting it")
+            self.log(f"{m.name}: {m.findings[-1]}")
+            m.process.stop(5.0)
+            return False
+        m.state = "active"
+        m.heartbeat_ok = time.monotonic()
+        m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
+        self.log(f"{m.name}: adopted pid {record.pid} ({m.path}, active)")
+        return True
+
+    def _start(self, m: Managed) -> None:
+        """Start a process for ``m``, configure it, restore its last snapshot, activate it."""
+        env = self.env
+        if m.package_dir:
+            env = processes.package_environment(Path(m.package_dir), self.env)
+        exe = processes.find_executable(m.spec.package, m.spec.executable, env)
+        argv = [exe, "--ros-args", "-r", f"__node:={m.node}"]
+        if m.spec.parameters:
+            argv += ["--params-file", str(m.spec.parameters)]
+        m.state = "starting"
+        m.process = processes.start(m.name, m.node, argv, env, self.log_dir / f"{m.name}.log",
+                                    package_dir=m.package_dir, iface_file=m.iface_file,
+                                    interface_hash=m.interface_hash, generation=m.generation)
+        self.records.save(m.process.record)
+        self._bring_up(m, m.process, restore=True)
+
+    def _bring_up(self, m: Managed, proc: InstanceProcess, restore: bool) -> None:
+        t = self.options.call_timeout
+        self._until_answers(m.path, proc)
+        self.link.transition(m.path, CONFIGURE, t, alive=proc.alive)
+        m.state = "inactive"
+        latest = m.store.latest() if restore else None
+        if latest is not None:
+            done = self.link.restore(m.path, latest.document, t, alive=proc.alive)
+            self.log(f"{m.name}: restored snapshot {latest.sequence} ({done})")
+        self.link.transition(m.path, ACTIVATE, t, alive=proc.alive)
+        if not proc.alive():
+            raise LinkError(f"{m.path} ended while it was activated")
+        m.state = "active"
+        m.heartbeat, m.heartbeat_ok = None, time.monotonic()
+        m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
+        self.log(f"{m.name}: active (pid {proc.pid})")
+
+    def _until_answers(self, node: str, proc: InstanceProcess) -> None:
+        deadline = time.monotonic() + self.options.start_timeout
+        while True:
+            if not proc.alive():
+                raise LinkError(f"{node}: its process ended (exit {proc.exit_code()}) before it answered")
+            try:
+                self.link.call(f"{node}/control", {"command": protocol.STATUS, "timeout_sec": 1.0},
+                               min(2.0, max(0.1, deadline - time.monotonic())), alive=proc.alive, resend=0.25)
+                return
+            except LinkError:
+                if time.monotonic() >= deadline:
+                    raise LinkError(f"{node} did not answer within {self.options.start_timeout:g} s") from None
+
+    def _start_or_fail(self, m: Managed, why: str) -> None:
+        """Start ``m``; on failure restart it per policy and intensity until it is up or stays down."""
+        while True:
+            try:
+                self._start(m)
+                return
+            except (StartError, LinkError, OSError) as e:
+                reason = f"{why} failed: {e}"
+            if not self._may_restart(m, reason, clean=False):
+                return
+            why = "restart"
+
+    def _may_restart(self, m: Managed, reason: str, clean: bool) -> bool:
+        """Record a failure of ``m``; whether it is to be started again (counted as a restart)."""
+        m.note(reason)
+        self.log(f"{m.name}: {reason}")
+        if m.process is not None and m.process.alive():
+            m.process.stop(2.0)
+        self.records.remove(m.name)
+        m.heartbeat = None
+        if not should_restart(m.spec.restart, failed=not clean):
+            m.state = "stopped"
+            m.note(f"not restarted (restart = {m.spec.restart})")
+            return False
+        if not m.intensity.allow(time.monotonic()):
+            m.state = "failed"
+            m.note(f"stays down: more than {m.intensity.max_restarts} restarts within {m.intensity.period:g} s")
+            self.log(f"{m.name}: stays down (restart intensity reached)")
+            return False
+        m.restarts += 1
+        return True
+
+    def _watch(self, m: Managed, now: float) -> None:
+        if m.state != "active" or m.process is None:
+            return
+        if now - m.watched > 2 * self.options.heartbeat_period:
+            # not watched for a while (a replacement or another restart held the lock): no heartbeat was
+            # asked for, so none is missing; the timeout runs from now
+            m.heartbeat, m.heartbeat_ok = None, now
+        m.watched = now
+        if not m.process.alive():
+            code = m.process.exit_code()
+            if self._may_restart(m, f"process {m.process.pid} ended" + (f" (exit {code})" if code is not None else ""),
+                                 clean=code == 0):
+                self._start_or_fail(m, "restart")
+            return
+        if m.heartbeat is not None and m.heartbeat.done():
+            answer = m.heartbeat.result()
+            m.heartbeat = None
+            if answer is not None:
+                m.heartbeat_ok = now
+        if m.heartbeat is not None and now - m.heartbeat_sent > 2 * self.options.heartbeat_period:
+            m.heartbeat = None  # sent again below: a reply may have been dropped
+        if m.heartbeat is None and now - m.heartbeat_sent >= self.options.heartbeat_period:
+            m.heartbeat = self.link.send(f"{m.path}/control", {"command": protocol.STATUS, "timeout_sec": 1.0})
+            m.heartbeat_sent = now
+        if now - m.heartbeat_ok > self.options.heartbeat_timeout:
+            if self._may_restart(m, f"no heartbeat for {self.options.heartbeat_timeout:g} s", clean=False):
+                self._start_or_fail(m, "restart")
+            return
+        period = m.spec.snapshot_period
+        if period and now >= m.next_snapshot:
+            m.next_snapshot = now + period
+            self._snapshot(m, "period")
+
+    # ---- snapshots ---------------------------------------------------------------------------------
+    def _snapshot(self, m: Managed, why: str) -> str | None:
+        """Save ``m``'s state to disk; the file, or None (the reason kept as a finding)."""
+        try:
+            document = self.link.save(m.path, self.options.call_timeout)
+            snap = m.store.write(document)
+        except (LinkError, OSError) as e:
+            m.note(f"snapshot ({why}) failed: {e}")
+            return None
+        m.last_snapshot = snap.written
+        return str(snap.path)
+
+    def snapshot_all(self, only: str = "") -> tuple[bool, list[str], str]:
+        """Snapshots of every running instance (or of ``only``): (all saved, files, message)."""
+        with self.lock:
+            chosen = [m for m in self.instances if not only or m.name == only]
+            if not chosen:
+                return False, [], f"no instance {only}"
+            files, missed = [], []
+            for m in chosen:
+                saved = self._snapshot(m, "request") if m.state == "active" else None
+                if saved is None:
+                    missed.append(m.name)
+                else:
+                    files.append(saved)
+            message = f"{len(files)} snapshot(s) saved" + (f"; not saved: {', '.join(missed)}" if missed else "")
+            return not missed, files, message
+
+    # ---- status ------------------------------------------------------------------------------------
+    def status(self) -> dict[str, Any]:
+        """The status as JSON data (the ``system status --format json`` form)."""
+        instances: list[dict[str, Any]] = []
+        findings: list[dict[str, str]] = []
+        for m in self.instances:
+            instances.append({
+                "name": m.name, "node": m.path, "state": m.state,
+                "pid": m.process.pid if m.process is not None and m.process.alive() else 0,
+                "restarts": m.restarts, "interface_hash": m.interface_hash,
+                "last_snapshot": iso_time(m.last_snapshot) if m.last_snapshot is not None else None})
+            findings.extend({"instance": m.name, "message": f} for f in m.findings)
+        return {"system": self.system.name, "instances": instances, "findings": findings}
+
+    def _on_status(self, request: Any, response: Any) -> Any:
+        from iface_msgs.msg import InstanceStatus
+
+        data = self.status()
+        response.system = self.system.name
+        response.instances = [
+            InstanceStatus(name=i["name"], node=i["node"], state=i["state"], pid=i["pid"], restarts=i["restarts"],
+                           interface_hash=i["interface_hash"], last_snapshot=i["last_snapshot"] or "",
+                           findings=[f["message"] for f in data["findings"] if f["instance"] == i["name"]])
+            for i in data["instances"]]
+        return response
+
+    def _on_snapshot(self, request: Any, response: Any) -> Any:
+        response.success, response.files, response.message = self.snapshot_all(request.instance)
+        return response
+
+    def _on_replace(self, request: Any, response: Any) -> Any:
+        timeout = request.timeout_sec if request.timeout_sec > 0 else self.options.call_timeout
+        record = self.replace(request.instance, request.new_iface, request.package, timeout)
+        response.success = record["result"] == "replaced"
+        response.result = record["result"]
+        response.record = json.dumps(record)
+        return response
+
+    # ---- replace -----------------------------------------------------------------------------------
+    def replace(self, instance: str, new_iface: str, package: str, timeout: float) -> dict[str, Any]:
+        """Replace ``instance`` by NEW (``new_iface`` built in ``package``); the hand-over's record."""
+        with self.lock:
+            m = next((x for x in self.instances if x.name == instance), None)
+            if m is None or m.state != "active":
+                why = f"no instance {instance}" if m is None else f"{instance} is {m.state}, not active"
+                return {"result": "refused", "instance": instance, "steps": [{"step": "refused", "ok": False,
+                                                                             "detail": why}]}
+            return self._replace(m, new_iface, Path(package), timeout)
+
+    def _replace(self, m: Managed, new_iface: str, package: Path, timeout: float) -> dict[str, Any]:
+        new_node = f"{m.spec.node}_{m.generation + 1}"
+        ws = Workspace()
+        old, new = ws.compile_path(m.iface_file), ws.compile_path(new_iface)
+        others = [ws.compile_path(x.iface_file) for x in self.instances if x is not m]
+        report = decide(old, new, others)
+        h = HandOver(m.path, new_node, report.new_hash, timeout, None, package)
+        if _broken(new) or report.exit_code != 0:
+            h._note("compat", f"{report.verdict}: {new_iface} may not replace {m.iface_file}", ok=False)
+            return _record(h, report, m, "refused")
+        h._note("compat", f"{report.verdict}: {new_iface} may replace {m.iface_file}")
+        if self.options.trust_store is not None:
+            h.trust_store = self.options.trust_store
+            try:
+                h._check_trust()
+            except Refused as e:
+                h._note("refused", str(e), ok=False)
+                return _record(h, report, m, "refused")
+            h.trust_store = None  # checked: NEW is started only when trusted
+        try:
+            env = processes.package_environment(package, self.env)
+            exe = processes.find_executable(m.spec.package, m.spec.executable, env)
+            proc = processes.start(m.name, new_node, [exe, "--ros-args", "-r", f"__node:={new_node}"], env,
+                                   self.log_dir / f"{m.name}.{m.generation + 1}.log", package_dir=str(package),
+                                   iface_file=str(new_iface), interface_hash=report.new_hash,
+                                   generation=m.generation + 1)
+        except StartError as e:
+            h._note("start NEW", str(e), ok=False)
+            return _record(h, report, m, "refused")
+        try:
+            self._until_answers("/" + new_node, proc)
+            h._note("start NEW", f"{new_node} started (pid {proc.pid})")
+        except LinkError as e:
+            h._note("start NEW", str(e), ok=False)
+            proc.stop(2.0)
+            return _record(h, report, m, "refused")
+        done = h.run()
+        if done:
+            failure = self._grace(new_node, proc)
+            if failure is None:
+                return self._commit(m, h, report, proc, new_node, str(new_iface), str(package))
+            h._note("grace", failure, ok=False)
+        # OLD was paused when the hand-over saved its state or, failing after the pause, resumed it.
+        paused = h.state_before is not None or any(s.step == "resume OLD" for s in h.steps)
+        proc.stop(2.0)
+        self.link.forget("/" + new_node)
+        if not paused:
+            return _record(h, report, m, "refused")
+        self._roll_back(m, h)
+        return _record(h, report, m, "rolled_back")
+
+    def _grace(self, node: str, proc: InstanceProcess) -> str | None:
+        """NEW's first heartbeats within the grace period; None when it stayed up and active."""
+        end = time.monotonic() + self.options.grace
+        answered = False
+        while time.monotonic() < end or not answered:
+            if not proc.alive():
+                return f"/{node} ended within the grace period"
+            try:
+                status = self.link.control("/" + node, protocol.STATUS, max(0.5, end - time.monotonic()))
+            except LinkError:
+                return f"/{node} missed its first heartbeat"
+            if status.lifecycle_state != ACTIVE:
+                return f"/{node} is no longer active"
+            answered = True
+            time.sleep(min(0.2, max(0.0, end - time.monotonic())))
+        return None
+
+    def _roll_back(self, m: Managed, h: HandOver) -> None:
+        """OLD active again with the state it had when it was paused."""
+        t = self.options.call_timeout
+        try:
+            state = self.link.lifecycle_state(m.path, t)
+            if h.state_before is not None:
+                self.link.restore(m.path, json.dumps(h.state_before, sort_keys=True, separators=(",", ":")), t)
+            if state == INACTIVE:
+                self.link.transition(m.path, ACTIVATE, t)
+            status = self.link.control(m.path, protocol.STATUS, t)
+            if status.paused:
+                self.link.control(m.path, protocol.RESUME, t)
+            h._note("rollback", f"{m.path} active again with its state")
+        except LinkError as e:
+            h._note("rollback", f"{m.path} could not be made active again: {e}", ok=False)
+            m.note(f"rollback failed: {e}")
+
+    def _commit(self, m: Managed, h: HandOver, report: Any, proc: InstanceProcess, new_node: str, iface: str,
+                package: str) -> dict[str, Any]:
+        old_proc, old_path = m.process, m.path
+        try:
+            self.link.transition(old_path, SHUTDOWN_FROM[INACTIVE], self.options.call_timeout)
+        except LinkError:
+            pass
+        if old_proc is not None and not old_proc.wait(5.0):
+            old_proc.stop(2.0)
+        self.link.forget(old_path)
+        m.process, m.node, m.iface_file, m.package_dir = proc, new_node, iface, package
+        m.interface_hash, m.generation = report.new_hash, m.generation + 1
+        m.heartbeat, m.heartbeat_ok = None, time.monotonic()
+        self.records.save(proc.record)
+        self._snapshot(m, "replace")
+        h._note("commit", f"{m.name} is {m.path} (pid {proc.pid}); OLD {old_path} shut down")
+        return _record(h, report, m, "replaced")
+
+
+def _broken(c: Compilation) -> bool:
+    return c.has_errors
+
+
+def _record(h: HandOver, report: Any, m: Managed, result: str) -> dict[str, Any]:
+    out = h.record(report)
+    out["result"] = result
+    out["instance"] = m.name
+    return out
+
+
+def run(system: Any, options: Options) -> int:
+    """Run the manager until SIGINT or SIGTERM; 0 after a clean shutdown."""
+    import rclpy
+    from rclpy.signals import SignalHandlerOptions
+
+    env = dict(os.environ)
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+    manager = Manager(system, options, env)
+    previous = {s: signal.signal(s, lambda *_: manager.stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        manager.open()
+        manager.log(f"managing {system.name} ({len(manager.instances)} instances), state in {options.state_dir}")
+        manager.up()
+        manager.serve()
+        manager.down()
+        manager.close()
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        rclpy.try_shutdown()
+    return 0
