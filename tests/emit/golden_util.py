@@ -26,3 +26,16 @@ def check_golden(target: str, case: str, files: list[GeneratedFile]) -> None:
     assert sorted(actual) == sorted(expected), f"golden {target}/{case}: file lists differ"
     for path, data in actual.items():
         assert data == expected[path], f"golden {target}/{case}/{path} differs (UPDATE_GOLDEN=1 rewrites it)"
+
+
+def check_component_golden(target: str, case: str, files: list[GeneratedFile]) -> None:
+    """Like :func:`check_golden` for a runtime target, with the shared packages (``iface_msgs``, the
+    runtime) kept once in golden/<target>/shared/ instead of in every case: they do not depend on the case."""
+    from iface.runtime.shared import PACKAGES
+
+    shared_names = {e.name for e in PACKAGES if target in e.targets}
+    shared = [f for f in files if f.path.split("/", 1)[0] in shared_names]
+    own = [f for f in files if f.path.split("/", 1)[0] not in shared_names]
+    assert {f.path.split("/", 1)[0] for f in shared} == shared_names, f"{target}/{case}: a shared package is missing"
+    check_golden(target, "shared", shared)
+    check_golden(target, case, own)

@@ -13,7 +13,7 @@ import pytest
 from iface.emit import generate, get_target
 from iface.emit.base import GeneratedFile
 from iface.semantics.compile import Workspace
-from tests.emit.golden_util import check_golden
+from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml
 
 from .ros import DATA, ROOT
@@ -44,7 +44,7 @@ def test_found_through_the_entry_point() -> None:
 
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_golden(case: str) -> None:
-    check_golden("rclcpp", case, files_of(case))
+    check_component_golden("rclcpp", case, files_of(case))
 
 
 @pytest.mark.parametrize("case", sorted(CASES))

@@ -15,7 +15,7 @@ from iface.emit import generate, get_target
 from iface.emit.base import GeneratedFile
 from iface.runtime import protocol
 from iface.semantics.compile import Workspace
-from tests.emit.golden_util import check_golden
+from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml, rosbags_parse, rosidl_parse
 
 from .ros import DATA, ROOT
@@ -52,7 +52,7 @@ def test_found_through_the_entry_point() -> None:
 
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_golden(case: str) -> None:
-    check_golden("rclpy", case, files_of(case))
+    check_component_golden("rclpy", case, files_of(case))
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
