@@ -73,3 +73,19 @@ def run_main(*args: str) -> subprocess.CompletedProcess[str]:
 def cli():
     """The CLI runner as a fixture."""
     return run_cli
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under pytest-xdist (``--dist loadgroup``, as scripts/test.sh runs it), each module's tests run in one
+    worker, so that its module-scoped fixtures (servers, builds) are made once, and every test that runs ROS 2
+    goes to one worker, because they share one colcon workspace built per session. That group is the longest,
+    so it is handed out first."""
+    if config.getoption("dist", "no") == "no":
+        return
+    ros = [item for item in items if "ros_venv" in getattr(item, "fixturenames", ())]
+    for item in ros:
+        item.add_marker(pytest.mark.xdist_group("ros"))
+    rest = [item for item in items if "ros_venv" not in getattr(item, "fixturenames", ())]
+    for item in rest:
+        item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))
+    items[:] = ros + rest
