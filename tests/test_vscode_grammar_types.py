@@ -23,3 +23,16 @@ def test_the_grammar_and_its_tests_list_every_base_type_name() -> None:
     assert sorted(grammar) == sorted(tested) == sorted(BASE_ALIASES)
     generated = (EXTENSION / "syntaxes" / "iface.tmLanguage.json").read_text(encoding="utf-8")
     assert "|char|wchar|octet|string|wstring)" in generated
+
+
+def test_every_keyword_of_the_language_is_coloured_and_tested() -> None:
+    """Every keyword of grammar.lark is in the extension's keyword list, which its unit tests hold the grammar
+    tests to (``system`` and ``instance`` were once missing)."""
+    lark = (EXTENSION.parent / "grammar.lark").read_text(encoding="utf-8")
+    rules = "\n".join(line for line in lark.splitlines() if not line.lstrip().startswith("//"))
+    keywords = set(re.findall(r'"([a-z_]+)"', rules))
+    listed = set(_array((EXTENSION / "test" / "unit" / "manifest.test.ts").read_text(encoding="utf-8"), "KEYWORDS"))
+    assert keywords - listed == set()
+    generated = (EXTENSION / "syntaxes" / "iface.tmLanguage.json").read_text(encoding="utf-8")
+    for word in sorted(keywords):
+        assert re.search(rf"\b{word}\b", generated), f"the grammar never matches {word}"

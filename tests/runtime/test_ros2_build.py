@@ -1,4 +1,4 @@
-"""The interface packages the rclpy target writes (with the protocol services) build with Debian's rosidl.
+"""The interface packages the rclpy target writes (each component's and ``iface_msgs``) build with Debian's rosidl.
 
 ``../shared/ros2-build/build.sh`` compiles every message, service and action in C and C++ and runs a
 program for each; it needs its apt packages (its README; .ci/run installs them) and skips without
@@ -29,6 +29,9 @@ def test_interface_packages_build_in_c_and_cpp(tmp_path: Path) -> None:
     for package_xml in list(gen.glob("*/package.xml")):
         if "<build_type>ament_python</build_type>" in package_xml.read_text():
             shutil.rmtree(package_xml.parent)
+    interface_packages = sorted(p.parent.name for p in gen.glob("*/package.xml"))
+    # each component's interface package and the protocol's, written once beside them
+    assert interface_packages == sorted([f"{name}_msgs" for name in COMPONENTS] + ["iface_msgs"]), interface_packages
     done = subprocess.run(["bash", str(shared / "ros2-build" / "build.sh"), str(gen), str(tmp_path / "ws")],
                           capture_output=True, text=True, timeout=1200, check=False)
     last = done.stdout.strip().splitlines()[-1] if done.stdout.strip() else done.stderr
@@ -36,5 +39,5 @@ def test_interface_packages_build_in_c_and_cpp(tmp_path: Path) -> None:
         pytest.skip(f"Debian's rosidl is not installed ({last}): apt-get install the packages of "
                     "../shared/ros2-build/apt-packages.txt")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-2000:]
-    assert "ros2-build: OK:" in last and "(2 generated)" in last, last
+    assert "ros2-build: OK:" in last and f"({len(interface_packages)} generated)" in last, last
     print(f"\n{last}")

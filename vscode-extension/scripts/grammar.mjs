@@ -57,6 +57,7 @@ const grammar = {
     { include: '#include' },
     { include: '#namespace' },
     { include: '#component' },
+    { include: '#instance' },
     { include: '#external' },
     { include: '#wiring' },
     { include: '#const' },
@@ -161,12 +162,21 @@ const grammar = {
       },
     },
     component: {
-      match: String.raw`${B}(component)${E}(?:\s+(${ID})${E})?(?:\s+(version)${E})?|${B}(version)${E}`,
+      match: String.raw`${B}(component|system)${E}(?:\s+(${ID})${E})?(?:\s+(version)${E})?|${B}(version)${E}`,
       captures: {
         1: { name: 'storage.type.component.iface' },
         2: { name: 'entity.name.type.component.iface' },
         3: { name: 'keyword.other.version.iface' },
         4: { name: 'keyword.other.version.iface' },
+      },
+    },
+    instance: {
+      match: String.raw`${B}(instance)${E}(?:\s+(${ID})${E})?(?:\s*(:)\s*(${ID})${E})?`,
+      captures: {
+        1: { name: 'storage.type.instance.iface' },
+        2: { name: 'entity.name.instance.iface' },
+        3: { name: 'punctuation.separator.type.iface' },
+        4: { name: 'entity.name.type.component.iface' },
       },
     },
     external: {

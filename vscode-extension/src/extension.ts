@@ -52,23 +52,6 @@ class VirtualDocuments implements vscode.TextDocumentContentProvider {
     this.changed.fire(uri);
   }
 
-  /** Verify against the running system: the server compares the ROS 2 graph with the workspace's files and
-   * publishes the findings as diagnostics on them; the report opens beside. */
-  private async verifyRunning(): Promise<void> {
-    const uris = await this.graphUris();
-    if (uris.length === 0) {
-      void vscode.window.showErrorMessage('iface: no .iface files in this workspace.');
-      return;
-    }
-    const answer = await this.execute('iface.verify', { uris }, 'iface: verifying against the running system');
-    if (answer === undefined) {
-      return;
-    }
-    const virtual = vscode.Uri.from({ scheme: PREVIEW_SCHEME, path: '/verify/running-system.txt' });
-    this.documents.set(virtual, asText(answer.result));
-    await vscode.window.showTextDocument(virtual, { preview: false });
-  }
-
   dispose(): void {
     this.changed.dispose();
     this.contents.clear();
@@ -752,6 +735,23 @@ class IfaceExtension implements vscode.Disposable {
   }
 
   /** The .iface files of the workspace and the active one, as URIs (the server reads its own index; older servers read these). */
+  /** Verify against the running system: the server compares the ROS 2 graph with the workspace's files and
+   * publishes the findings as diagnostics on them; the report opens beside. */
+  private async verifyRunning(): Promise<void> {
+    const uris = await this.graphUris();
+    if (uris.length === 0) {
+      void vscode.window.showErrorMessage('iface: no .iface files in this workspace.');
+      return;
+    }
+    const answer = await this.execute('iface.verify', { uris }, 'iface: verifying against the running system');
+    if (answer === undefined) {
+      return;
+    }
+    const virtual = vscode.Uri.from({ scheme: PREVIEW_SCHEME, path: '/verify/running-system.txt' });
+    this.documents.set(virtual, asText(answer.result));
+    await vscode.window.showTextDocument(virtual, { preview: false });
+  }
+
   private async graphUris(): Promise<string[]> {
     const found = await vscode.workspace.findFiles('**/*.iface', '**/{node_modules,.git}/**');
     const active = vscode.window.activeTextEditor?.document;

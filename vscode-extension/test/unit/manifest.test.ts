@@ -33,7 +33,7 @@ export const KEYWORDS = [
   'include', 'cpp_include', 'namespace', 'component', 'version', 'external', 'publishes', 'subscribes',
   'provides', 'calls', 'on', 'const', 'typedef', 'enum', 'senum', 'struct', 'union', 'exception', 'message',
   'configuration', 'state', 'service', 'extends', 'action', 'oneway', 'void', 'throws', 'required', 'optional',
-  'xsd_all', 'map', 'set', 'list', 'cpp_type',
+  'xsd_all', 'map', 'set', 'list', 'cpp_type', 'system', 'instance',
 ];
 export const BUILTIN_TYPES = [
   'bool', 'byte', 'i8', 'i16', 'i32', 'i64', 'double', 'binary', 'uuid', 'u8', 'u16', 'u32', 'u64', 'int8',
