@@ -28,4 +28,6 @@ if command -v npm >/dev/null; then
   (cd vscode-extension && { [ -d node_modules ] || npm ci --no-audit --no-fund --loglevel=error; })
 fi
 
-python3 -m pytest -q "$@"
+# One worker per core (pytest-xdist); tests/conftest.py keeps each module, and all ROS 2 tests, in one worker.
+# IFACE_TEST_WORKERS=0 runs everything in this process.
+python3 -m pytest -q -n "${IFACE_TEST_WORKERS:-auto}" --dist loadgroup "$@"

@@ -203,7 +203,9 @@ def every_member_cpp(workspaces: dict[str, Any], ros_workspace: Any) -> tuple[Pa
     ok, tail, seconds = build_cpp(venv, env, gen, ws)
     assert ok, f"every_member (C++) did not build (log: {ws}/colcon.log):\n{tail}"
     print(f"\nrclcpp build of every_member (C++): {seconds:.0f} s")
-    run_env = overlay(overlay(environment(venv, ros_workspace.path, root / "ros-log"), workspaces["ws_cpp"]), ws)
+    # ws_cpp's setup.bash chains the rclcpp install (librclcpp, composition_interfaces); the Python workspace's does not
+    run_env = overlay(environment(venv, workspaces["ws_cpp"], root / "ros-log"), ros_workspace.path, "setup.bash")
+    run_env = overlay(overlay(run_env, workspaces["ws_cpp"]), ws)
     return ws, run_env
 
 
