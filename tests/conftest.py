@@ -75,12 +75,14 @@ def cli():
     return run_cli
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under pytest-xdist (``--dist loadgroup``, as scripts/test.sh runs it), each module's tests run in one
     worker, so that its module-scoped fixtures (servers, builds) are made once, and every test that runs ROS 2
     goes to one worker, because they share one colcon workspace built per session. That group is the longest,
     so it is handed out first."""
-    if config.getoption("dist", "no") == "no":
+    # in a worker xdist turns "dist" into "no" and keeps "loadgroup"; the controller collects nothing
+    if not getattr(config.option, "loadgroup", False):
         return
     ros = [item for item in items if "ros_venv" in getattr(item, "fixturenames", ())]
     for item in ros:
