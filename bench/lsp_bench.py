@@ -260,7 +260,8 @@ async def main() -> int:
         goal(f"idle completion, {n}k / 10k", med(ours["completion"]) / med(small["completion"]), 1.5)
     goal("start → initialize / python -c 'import pygls.lsp.server'", med(started) / med(pygls), 1.2)
     goal("start → initialize (serve()) / import pygls.lsp.server", med(direct) / med(pygls), 1.2)
-    goal("memory of the open document / its text", med(ours["memory"]) / text_mb, 15)
+    ratio = med(ours["memory"]) / text_mb
+    print(f"  {'memory of the open document / its text':58} {ratio:7.2f}×  reported (the 15× goal was retired by issue 25)")
     return 0
 
 
