@@ -121,9 +121,10 @@ def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | Non
             "lost": lost, "repeated": repeated, "counts": len(arrivals)}
 
 
-def overlay(env: dict[str, str], ws: Path) -> dict[str, str]:
-    """``env`` with the workspace ``ws`` sourced on top."""
-    script = f'set +u; . "{ws}/install/local_setup.bash" >/dev/null && env -0'
+def overlay(env: dict[str, str], ws: Path, first: Path | None = None) -> dict[str, str]:
+    """``env`` with the script ``first`` (if given), then the workspace ``ws``, sourced on top."""
+    before = f'. "{first}" >/dev/null && ' if first is not None else ""
+    script = f'set +u; {before}. "{ws}/install/local_setup.bash" >/dev/null && env -0'
     dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=env).stdout
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
 
@@ -208,7 +209,8 @@ def main() -> int:
         env = environment(venv, ws, root / "ros-log")
         env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
         if cpp is not None:
-            env = overlay(env, root / "ws_cpp")
+            # the rclcpp install first: ws_cpp's local_setup.bash does not chain it (librclcpp_action)
+            env = overlay(env, root / "ws_cpp", venv / "cpp" / "cpp-env.sh")
         run = subprocess.run([sys.executable, __file__, "--measure", str(rate), "--handovers", str(args.handovers),
                               "--python", sys.executable, "--logs", str(logs),
                               *(["--cpp", cpp] if cpp else [])], env=env, capture_output=True,
