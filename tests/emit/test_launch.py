@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from tests.conftest import ROOT, run_main
+from tests.conftest import ROOT, run_cli, run_main
 from tests.core.helpers import write_home
 
 
@@ -105,3 +105,18 @@ def test_generation_is_stable_and_refuses_what_is_no_system(generated: Path, hom
     system = run_main("generate", str(home), "--target", "rclpy", "--out", str(tmp_path))
     assert system.returncode == 2 and "is a system file" in system.stderr
     assert not any(tmp_path.iterdir())
+
+
+def test_a_binary_or_broken_file_gets_its_own_error_before_the_targets_kind(tmp_path: Path) -> None:
+    """A file that cannot be read as an interface declares neither a system nor a component: its own error
+    (file:line:col, a code, exit 1) comes first, not "declares no system" (it once did)."""
+    binary = tmp_path / "bin.iface"
+    binary.write_bytes(b"\x00\x01\xff")
+    broken = tmp_path / "broken.iface"
+    broken.write_text("system s\ninstance a : \n", encoding="utf-8")
+    for path, code in ((binary, "binary-file"), (broken, "syntax")):
+        done = run_cli("generate", str(path), "--target", "launch", "--out", str(tmp_path / "out"))
+        assert done.returncode == 1, done.stderr
+        assert f"{path.name}:" in done.stderr + done.stdout and code in done.stderr + done.stdout, done.stderr
+        assert "declares no system" not in done.stderr
+        assert not (tmp_path / "out").exists()

@@ -82,6 +82,9 @@ def _generate(target: Target, args: argparse.Namespace,
     for f in args.files:
         check_suffix(f)
     comps = compile_files(args.files, args.include_path)
+    diags = gather(comps)
+    if has_errors(diags):  # a file's own errors first: a binary or broken file declares neither kind
+        return [], diags, 1
     for comp in comps:
         if (comp.interface.system is not None) != (target.name == LAUNCH.name):
             raise UsageError(f"{display_path(comp.path)} is a system file: generate its launch file with "
@@ -89,9 +92,6 @@ def _generate(target: Target, args: argparse.Namespace,
                              if comp.interface.system is not None else
                              f"{display_path(comp.path)} declares no system: --target launch writes a system "
                              "file's launch file")
-    diags = gather(comps)
-    if has_errors(diags):
-        return [], diags, 1
     options: dict[str, Any] = {"out": args.out, "check": bool(args.check)}
     if args.templates:
         options["templates"] = args.templates
