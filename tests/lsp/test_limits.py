@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import gc
+import tracemalloc
 from pathlib import Path
 from typing import Any
 
@@ -90,6 +91,54 @@ async def test_closing_documents_releases_what_was_cached_for_them(tmp_path: Pat
     finally:
         project.model.shutdown(wait=True)
         await asyncio.sleep(0)
+
+
+def _generated(lines: int) -> str:
+    """About ``lines`` lines of valid text: messages that use each other, enums and wirings."""
+    out = ['component big version "1.0"', ""]
+    i = 0
+    while len(out) < lines:
+        used = f"Reading{i - 1} previous" if i else "string name"
+        out += [f"/** Message {i}. */", f"message Reading{i} {{", "    u8 count", f"    float64[] value_{i % 7}",
+                f"    {used}", "}", "", f"enum Mode{i} {{", "    IDLE = 0,", "    RUNNING = 1,", "}", "",
+                f'publishes Reading{i} on "/r/{i}"']
+        i += 1
+    return "\n".join(out) + "\n"
+
+
+async def _open_document_bytes(tmp_path: Path, lines: int) -> tuple[int, int]:
+    """(bytes Python holds for one open, compiled document of about ``lines`` lines, its characters)."""
+    project = Project(lambda uri, version, diags: None)
+    try:
+        warm = path_to_uri(str(tmp_path / f"warm{lines}.iface"))
+        project.open(warm, _generated(40), 1)  # what is built once per process or project is not counted
+        await _compiled(project, warm)
+        text = _generated(lines)
+        uri = path_to_uri(str(tmp_path / f"big{lines}.iface"))
+        gc.collect()
+        tracemalloc.start()
+        try:
+            project.open(uri, text, 1)
+            await _compiled(project, uri)
+            gc.collect()
+            held = tracemalloc.get_traced_memory()[0]
+        finally:
+            tracemalloc.stop()
+        return held, len(text)
+    finally:
+        project.model.shutdown(wait=True)
+        await asyncio.sleep(0)
+
+
+async def test_an_open_documents_memory_grows_linearly_with_its_text(tmp_path: Path) -> None:
+    """What an open document holds (text, model, analysis, snapshot) is the same per character at 1,500 and
+    6,000 lines: a structure that grows faster than the text (per-line lists of growing objects, tables
+    kept per pair of items) shows as a larger share at 6,000. Live objects are counted, not resident memory,
+    which grows by steps and keeps what a parse freed (``bench/lsp_bench.py`` reports that)."""
+    small, small_chars = await _open_document_bytes(tmp_path, 1_500)
+    large, large_chars = await _open_document_bytes(tmp_path, 6_000)
+    per_small, per_large = small / small_chars, large / large_chars
+    assert per_large <= 1.15 * per_small, f"{per_small:.1f} bytes a character at 1,500 lines, {per_large:.1f} at 6,000"
 
 
 async def test_notifications_leave_no_future_behind(tmp_path: Path) -> None:
