@@ -95,6 +95,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--before", type=Path, help="another checkout (e.g. /work/main) to compare with")
     ap.add_argument("--build", action="store_true", help="also time colcon build of each rclcpp component")
+    ap.add_argument("--cases", nargs="+", choices=sorted(CASES), default=list(CASES),
+                    help="the components to build with --build (default: every one)")
     args = ap.parse_args()
     venv = Path(os.environ.get("IFACE_ROS2_VENV", Path.home() / ".cache" / "ros2-runtime"))
     runs = [("after", ROOT)] + ([("before", args.before.resolve())] if args.before else [])
@@ -108,7 +110,7 @@ def main() -> int:
                                  for label, _ in runs)
                 print(f"{case:<12} {target:<7} {cells}")
         if args.build:
-            for case in CASES:
+            for case in args.cases:
                 cells = []
                 for label, _ in runs:
                     folder = results[label][(case, "rclcpp")][2]

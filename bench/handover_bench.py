@@ -6,9 +6,13 @@ with the ROS 2 runtime of ``../shared/ros2-runtime`` (``IFACE_ROS2_VENV``, defau
 ``~/.cache/ros2-runtime``), starts two instances on loopback, one active, and hands over between them
 back and forth. For each rate it prints the median and p95 of
 
-- the silence on ``/count``: the longest time between two messages received around the hand-over
-  (one period when no tick is lost);
-- the critical section (pause → save → restore → deactivate → activate, as ``handover`` reports it);
+- the silence on ``/count`` across the switch: from OLD's last count (the one in the state it saved
+  at the pause) to NEW's first (one period when no tick is lost);
+- the longest gap between two counts while the command ran (the switch's or one from the load the
+  command itself puts on the machine: start-up, compat, discovery);
+- the critical section (OLD paused, its state restored into NEW, OLD deactivated, NEW activated, as
+  ``handover`` reports it), and the median of the pause before it (OLD's current work and, when a
+  work timer is due within 0.1 s, its next tick ending);
 - the whole command (``python -m iface handover``: start-up, compat, preparation, switch);
 
 and how many counts were lost or repeated (0 expected). Python → Python by default; with
@@ -74,6 +78,8 @@ def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | Non
                                       stderr=subprocess.STDOUT, start_new_session=True))
     silences: list[float] = []
     critical: list[float] = []
+    pauses: list[float] = []
+    longest: list[float] = []
     whole: list[float] = []
     refused = 0
     try:
@@ -99,8 +105,14 @@ def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | Non
             time.sleep(0.5 + 2.0 / rate)
             times = [t for t, _ in arrivals]
             gaps = [b - a for a, b in zip(times, times[1:]) if b >= start and a <= stop + 0.5]
-            silences.append(max(gaps) * 1000 if gaps else float("nan"))
+            longest.append(max(gaps) * 1000 if gaps else float("nan"))
+            # OLD's last count is the one in the state it saved at the pause; NEW publishes the next one
+            last_old = (record.get("state_before") or {}).get("count")
+            at = {v: t for t, v in arrivals}
+            switch = at[last_old + 1] - at[last_old] if last_old in at and last_old + 1 in at else max(gaps)
+            silences.append(switch * 1000)
             critical.append(float(record["critical_section_ms"]))
+            pauses.append(float(record["pause_ms"]))
             whole.append((stop - start) * 1000)
         values = [v for _, v in arrivals]
         lost = sum(max(0, b - a - 1) for a, b in zip(values, values[1:]))
@@ -117,8 +129,8 @@ def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | Non
         executor.shutdown(timeout_sec=2.0)
         node.destroy_node()
         rclpy.try_shutdown()
-    return {"rate": rate, "silence_ms": silences, "critical_ms": critical, "command_ms": whole, "refused": refused,
-            "lost": lost, "repeated": repeated, "counts": len(arrivals)}
+    return {"rate": rate, "silence_ms": silences, "critical_ms": critical, "pause_ms": pauses, "longest_gap_ms": longest, "command_ms": whole,
+            "refused": refused, "lost": lost, "repeated": repeated, "counts": len(arrivals)}
 
 
 def overlay(env: dict[str, str], ws: Path, first: Path | None = None) -> dict[str, str]:
@@ -203,8 +215,9 @@ def main() -> int:
             if cpp is None:
                 print(f"handover_bench: the C++ counter did not build: {why}", file=sys.stderr)
                 return 3
-    print(f"{'rate':>6} {'n':>3} {'silence median':>15} {'p95':>8} {'critical median':>16} {'p95':>8} "
-          f"{'command median':>15} {'p95':>8} {'lost':>5} {'repeated':>8}")
+    print(f"{'rate':>6} {'n':>3} {'silence median':>15} {'p95':>8} {'longest gap median':>19} {'p95':>8} "
+          f"{'critical median':>16} {'p95':>8} {'pause median':>13} {'command median':>15} {'p95':>8} {'lost':>5} "
+          f"{'repeated':>8}")
     for rate in args.rates:
         env = environment(venv, ws, root / "ros-log")
         env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
@@ -219,12 +232,16 @@ def main() -> int:
             print(f"handover_bench: {rate:g} Hz failed: {run.stderr[-1500:]}", file=sys.stderr)
             return 3
         r = json.loads(run.stdout.strip().splitlines()[-1])
+        (logs / f"figures-{rate:g}.json").write_text(json.dumps(r, indent=1))
         s, c, w = r["silence_ms"], r["critical_ms"], r["command_ms"]
         if not s:
             print(f"{rate:>5g}Hz: every hand-over refused (see {logs})")
             continue
+        g = r["longest_gap_ms"]
         print(f"{rate:>4g}Hz {len(s):>3} {statistics.median(s):>12.1f} ms {percentile(s, 0.95):>5.1f} ms "
-              f"{statistics.median(c):>13.1f} ms {percentile(c, 0.95):>5.1f} ms {statistics.median(w):>12.0f} ms "
+              f"{statistics.median(g):>16.1f} ms {percentile(g, 0.95):>5.1f} ms "
+              f"{statistics.median(c):>13.1f} ms {percentile(c, 0.95):>5.1f} ms "
+              f"{statistics.median(r['pause_ms']):>10.1f} ms {statistics.median(w):>12.0f} ms "
               f"{percentile(w, 0.95):>5.0f} ms {r['lost']:>5} {r['repeated']:>8}"
               + (f"  ({r['refused']} refused)" if r["refused"] else ""))
     if not args.keep:

@@ -147,6 +147,9 @@ def main() -> int:
             check(names.index("deactivate OLD") < names.index("activate NEW"), f"both active at once: {names}")
             critical = record.get("critical_section_ms")
             check(isinstance(critical, (int, float)) and critical > 0, f"critical section {critical!r}")
+            saved = next(s["detail"] for s in record["steps"] if s["step"] == "save OLD")
+            check(saved == "saved with the pause" and record.get("pause_ms", 0) > 0,
+                  f"OLD's answer to the pause did not carry its state: {saved!r}, pause {record.get('pause_ms')!r} ms")
             return f"{record['result']}: {names}; critical section {critical} ms"
 
         def carried() -> str:

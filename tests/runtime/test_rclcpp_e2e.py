@@ -3,8 +3,8 @@
 rclcpp has no wheel: ../shared/ros2-runtime/build-cpp.sh builds it from its sources into
 VENV/cpp (scripts/install-ros.sh does, in CI). Without it these tests skip, saying so.
 
-Workspaces are built once per module: ws_cpp, the shared packages (iface_msgs, iface_runtime_cpp)
-with counter_msgs and the C++ counter 2.0 (examples/counter_v2.iface with
+Workspaces are built once per module: ws_cpp, iface_runtime_cpp and the C++ counter 2.0 on
+iface_msgs and counter_msgs (built once per process: tests/runtime/ros.py) (examples/counter_v2.iface with
 tests/runtime/data/counter_v2_node.cpp); the Python counter 1.0 for the hand-overs across
 languages; on top of ws_cpp, each package alone: every_member's C++ package with the user file
 iface writes (every kind of member: its templates compile; every_member_msgs comes from the
@@ -29,7 +29,7 @@ from typing import Any
 
 import pytest
 
-from .ros import DATA, ROOT, build, environment, generate, run_bounded
+from .ros import DATA, ROOT, build, environment, generate, own_packages, reused_underlays, run_bounded, sourced
 
 DRIVER = Path(__file__).parent / "rclcpp_drive.py"
 COUNTER_V2 = ROOT / "examples" / "counter_v2.iface"
@@ -72,9 +72,18 @@ def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> 
 
 
 def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path) -> tuple[bool, str, float]:
-    """colcon build of every package under ``generated`` against rclcpp, as docs/targets.md says."""
+    """colcon build of every package under ``generated`` against rclcpp, as docs/targets.md says.
+
+    Its interface packages (iface_msgs, counter_msgs…) come from the workspaces the other scenarios of
+    this process built them in when they did (``ros.reused_underlays``); iface_runtime_cpp and the
+    components are built here.
+    """
     start = time.monotonic()
-    shutil.copytree(generated, ws / "src")  # with iface_msgs and iface_runtime_cpp where generate wrote them
+    underlays, taken, why = reused_underlays(venv, generated, ws)
+    if why:
+        return False, why, time.monotonic() - start
+    shutil.copytree(own_packages(generated, ws, taken) if taken else generated, ws / "src")
+    env = sourced(env, underlays)
     cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
            "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
            f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
@@ -221,7 +230,7 @@ def counter_v1_cpp(workspaces: dict[str, Any]) -> tuple[Path, dict[str, str]]:
     shutil.copyfile(DATA / "counter_node.cpp", gen / "counter" / "src" / "node.cpp")
     ws = root / "ws_counter_v1"
     ws.mkdir()
-    ok, tail, seconds = build_cpp(venv, overlay(workspaces["env"], workspaces["ws_cpp"]), gen, ws)
+    ok, tail, seconds = build_cpp(venv, overlay(workspaces["env"], workspaces["ws_cpp"], "setup.bash"), gen, ws)
     assert ok, f"counter 1.0 (C++) did not build (log: {ws}/colcon.log):\n{tail}"
     print(f"\nrclcpp build of counter 1.0 (C++, the component alone): {seconds:.0f} s")
     return ws, overlay(environment(venv, workspaces["ws_cpp"], root / "ros-log"), ws)

@@ -12,8 +12,8 @@ the standard lifecycle services, with rclpy:
 3. NEW is configured if it is not yet; every service the switch needs is found, its client made and
    answered once (OLD's current state is restored into NEW as a rehearsal: a state NEW refuses is
    found before OLD pauses);
-4. the critical section, kept to a few round trips: OLD pauses after its current work transaction;
-   its state is saved and restored into NEW; OLD is deactivated, then NEW activated (never both
+4. the critical section, kept to a few round trips: OLD pauses after its current work transaction
+   (right after a tick of a fast work timer) and answers with its state, which is restored into NEW; OLD is deactivated, then NEW activated (never both
    active), and OLD's gate opened again after it. NEW's work timers continue OLD's schedule (the
    state document carries when each last ran).
 
@@ -84,8 +84,10 @@ class HandOver:
     steps: list[Step] = field(default_factory=list)
     state_before: dict[str, Any] | None = None
     state_after: dict[str, Any] | None = None
-    #: Milliseconds from sending OLD's pause to NEW's answer to its activation; None before the section ran.
+    #: Milliseconds from OLD's answer to the pause (OLD paused) to NEW's answer to its activation; None before.
     critical_ms: float | None = None
+    #: Milliseconds the pause took: OLD's current work transaction (and a fast timer's next tick) ending.
+    pause_ms: float | None = None
 
     def __post_init__(self) -> None:
         self.old, self.new = fully_qualified(self.old), fully_qualified(self.new)
@@ -201,15 +203,20 @@ class HandOver:
                 self._transition(self.new, CONFIGURE, "configure")
                 self._note("configure NEW", f"{self.new} configured")
             self._prepare()
-            start = time.perf_counter()
+            asked = time.perf_counter()
             pause = self._control(self.old, protocol.PAUSE)
+            start = time.perf_counter()
+            self.pause_ms = (start - asked) * 1000
             if not pause.success:
                 raise Refused(f"OLD {self.old} did not pause: {pause.message}")
             paused = True
-            saved = self._call(f"{self.old}/save_state", {"timeout_sec": self.timeout}, self.timeout + 5)
-            if not saved.success:
-                raise Refused(f"OLD {self.old} could not save its state: {saved.message}")
-            restored = self._call(f"{self.new}/restore_state", {"state": saved.state, "timeout_sec": self.timeout},
+            state, saved_note = pause.state, "saved with the pause"
+            if not state:  # a runtime before 1.1 answers PAUSE without the state
+                saved = self._call(f"{self.old}/save_state", {"timeout_sec": self.timeout}, self.timeout + 5)
+                if not saved.success:
+                    raise Refused(f"OLD {self.old} could not save its state: {saved.message}")
+                state, saved_note = saved.state, saved.message
+            restored = self._call(f"{self.new}/restore_state", {"state": state, "timeout_sec": self.timeout},
                                   self.timeout + 5)
             if not restored.success:
                 raise Refused(f"NEW {self.new} refused the state: {restored.message}")
@@ -218,9 +225,9 @@ class HandOver:
             self._transition(self.new, ACTIVATE, "activate")
             self.critical_ms = (time.perf_counter() - start) * 1000
             self._note("pause OLD", f"{self.old} paused after its current work transaction "
-                       f"({pause.transactions} done)")
-            self.state_before = json.loads(saved.state)
-            self._note("save OLD", saved.message)
+                       f"({pause.transactions} done) in {self.pause_ms:.1f} ms")
+            self.state_before = json.loads(state)
+            self._note("save OLD", saved_note)
             self._note("restore NEW", f"restored {', '.join(restored.restored) or 'nothing'}"
                        + (f"; kept {', '.join(restored.kept)}" if restored.kept else ""))
             self._note("deactivate OLD", f"{self.old} inactive")
@@ -313,6 +320,7 @@ class HandOver:
             "state_before": (self.state_before or {}).get("values"),
             "state_after": (self.state_after or {}).get("values"),
             "critical_section_ms": None if self.critical_ms is None else round(self.critical_ms, 2),
+            "pause_ms": None if self.pause_ms is None else round(self.pause_ms, 2),
         }
         if report is not None:
             out["verdict"] = report.verdict

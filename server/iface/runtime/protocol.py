@@ -63,6 +63,9 @@ DIAGNOSTICS_TOPIC = "/diagnostics"
 DEFAULT_DIAGNOSTICS_RATE = 1.0
 #: How long PAUSE, SAVE and RESTORE wait for a work transaction to end when the request says 0.
 DEFAULT_TIMEOUT_SEC = 10.0
+#: PAUSE first lets the next tick of a work timer run when it is due within this many seconds, so that
+#: a hand-over's silence on the timer's topic holds the critical section only, not also part of a period.
+ALIGN_SEC = 0.1
 
 #: ComponentControl commands.
 STATUS, PAUSE, RESUME, SAVE = 0, 1, 2, 3
@@ -151,7 +154,8 @@ SERVICES: tuple[ProtocolService, ...] = (
     ProtocolService(
         "ComponentControl", CONTROL,
         ("Control of a running component: answered from the control thread, also while work is in progress.",
-         "PAUSE returns once the current work transaction has ended; new work is then refused until RESUME."),
+         "PAUSE returns once the current work transaction has ended (and the next tick of a work timer due within",
+         f"{ALIGN_SEC:g} s has run); new work is then refused until RESUME, and the answer carries the state."),
         (SrvField("uint8", "command"), _TIMEOUT),
         (SrvField("bool", "success"), SrvField("string", "message"),
          SrvField("bool", "paused", "true while work is refused"),
@@ -159,7 +163,7 @@ SERVICES: tuple[ProtocolService, ...] = (
          SrvField("uint32", "in_flight", "work transactions running now"),
          SrvField("uint64", "transactions", "work transactions done since the start"),
          SrvField("string", "component"), SrvField("string", "version"), _HASH,
-         SrvField("string", "state", "SAVE: the state document"), _PROTOCOL,
+         SrvField("string", "state", "SAVE, PAUSE: the state document (PAUSE: as it was at the pause)"), _PROTOCOL,
          SrvField("uint32", "pid", "the process the node runs in")),
         (SrvConst("uint8", "STATUS", STATUS, "read the status"),
          SrvConst("uint8", "PAUSE", PAUSE, "pause after the current work transaction"),

@@ -21,7 +21,7 @@ from .render import cpp_str
 
 PACKAGE = "iface_runtime_cpp"
 #: The library's version: its major number is the protocol's; raise the minor one with every change.
-VERSION = f"{protocol.PROTOCOL_VERSION}.0.0"
+VERSION = f"{protocol.PROTOCOL_VERSION}.1.0"
 TEMPLATES = Path(__file__).parent / "templates"
 #: What the library uses in its public headers (exported to the components) and privately.
 PUBLIC_DEPENDS = ("diagnostic_msgs", protocol.PACKAGE, "rcl_interfaces", "rclcpp", "rclcpp_action", "rclcpp_lifecycle")
@@ -41,7 +41,7 @@ def package() -> SharedPackage:
     templates = TemplateSet(TEMPLATES, "rclcpp_runtime", filters={"cpp": cpp_str})
     ctx = {"runtime_version": VERSION, "protocol_version": protocol.PROTOCOL_VERSION,
            "state_format": protocol.STATE_FORMAT, "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
-           "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC),
+           "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC), "align_sec": repr(protocol.ALIGN_SEC),
            "commands": [protocol.STATUS, protocol.PAUSE, protocol.RESUME, protocol.SAVE],
            "depends": sorted(PUBLIC_DEPENDS + PRIVATE_DEPENDS), "exported": list(PUBLIC_DEPENDS),
            "public_depends": [_TARGETS.get(d, f"${{{d}_TARGETS}}") for d in PUBLIC_DEPENDS],
@@ -49,6 +49,7 @@ def package() -> SharedPackage:
     files = [("package.xml", "library.package.xml.j2", generated_header("<!--", " -->")),
              ("CMakeLists.txt", "library.CMakeLists.txt.j2", generated_header("#")),
              ("include/iface_runtime_cpp/iface_runtime.hpp", "iface_runtime.hpp.j2", generated_header("//")),
+             ("include/iface_runtime_cpp/run.hpp", "run.hpp.j2", generated_header("//")),
              ("src/iface_runtime.cpp", "iface_runtime.cpp.j2", generated_header("//"))]
     return SharedPackage(PACKAGE, VERSION, tuple(
         GeneratedFile(f"{PACKAGE}/{path}", templates.render(name, header=header, **ctx)) for path, name, header in files))

@@ -18,7 +18,7 @@ from ..component import HANDLER_PREFIXES
 from .render import py
 
 NAME = "iface_runtime_py"
-VERSION = "1.0.0"
+VERSION = "1.1.0"
 TEMPLATES = Path(__file__).parent / "templates" / NAME
 #: What the runtime imports at run time.
 DEPENDS = ("ament_index_python", "diagnostic_msgs", protocol.PACKAGE, "lifecycle_msgs", "rcl_interfaces", "rclpy")
@@ -35,6 +35,7 @@ def runtime_files(maintainer: tuple[str, str], license_name: str) -> list[Genera
         "depends": sorted(DEPENDS), "state_format": protocol.STATE_FORMAT,
         "handler_prefixes": list(HANDLER_PREFIXES), "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
         "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC), "runtime_version": VERSION,
+        "align_sec": repr(protocol.ALIGN_SEC),
         "generated_mark": GENERATED_MARK,
         "commands": ", ".join(str(c) for c in (protocol.STATUS, protocol.PAUSE, protocol.RESUME, protocol.SAVE)),
     }

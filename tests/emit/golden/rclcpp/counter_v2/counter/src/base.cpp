@@ -128,4 +128,9 @@ const iface_runtime::MessageTypes & CounterBase::message_types() const
   return types;
 }
 
+std::shared_ptr<iface_runtime::ComponentNode> make_component(const rclcpp::NodeOptions & options)
+{
+  return make_node(options);
+}
+
 }  // namespace counter

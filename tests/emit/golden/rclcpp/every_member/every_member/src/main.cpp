@@ -5,15 +5,18 @@
 // --ros-args (-p name:=value, -r __node:=other_name…). --activate configures and activates it at
 // start; otherwise drive it through its lifecycle services. The same command line as the rclpy
 // target's `python -m every_member`.
+// It includes no rclcpp header (iface_runtime_cpp/run.hpp), so it compiles in a moment.
 #include <memory>
 
-#include "every_member/base.hpp"
+#include "iface_runtime_cpp/run.hpp"
+
+namespace every_member
+{
+//! The user's node as the runtime's node (src/base.cpp).
+std::shared_ptr<iface_runtime::ComponentNode> make_component(const rclcpp::NodeOptions & options);
+}  // namespace every_member
 
 int main(int argc, char ** argv)
 {
-  return iface_runtime::run(
-    argc, argv, "every_member", "every_member.params.yaml",
-    [](const rclcpp::NodeOptions & options) -> std::shared_ptr<iface_runtime::ComponentNode> {
-      return every_member::make_node(options);
-    });
+  return iface_runtime::run(argc, argv, "every_member", "every_member.params.yaml", every_member::make_component);
 }

@@ -200,4 +200,9 @@ const iface_runtime::MessageTypes & RobotArmBase::message_types() const
   return types;
 }
 
+std::shared_ptr<iface_runtime::ComponentNode> make_component(const rclcpp::NodeOptions & options)
+{
+  return make_node(options);
+}
+
 }  // namespace robot_arm

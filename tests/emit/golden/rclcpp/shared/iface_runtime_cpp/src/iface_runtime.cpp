@@ -1410,8 +1410,38 @@ rclcpp::TimerBase::SharedPtr ComponentNode::create_work_timer(
 void ComponentNode::tick(WorkTimer & t)
 {
   if (work(t.callback, "timer " + t.name)) {
-    t.last_ns = wall_now_ns();
+    {
+      std::lock_guard<std::mutex> lock(tick_mutex_);
+      t.last_ns = wall_now_ns();
+    }
+    ticked_.notify_all();
   }
+}
+
+void ComponentNode::await_tick(double timeout_sec)
+{
+  if (!active_ || gate_.paused()) {
+    return;
+  }
+  std::shared_ptr<WorkTimer> soonest;
+  double wait = 0.0;
+  for (const auto & entry : work_timers_) {
+    if (!entry->timer || entry->timer->is_canceled()) {
+      continue;
+    }
+    const double left = std::max(0.0, std::chrono::duration<double>(entry->timer->time_until_trigger()).count());
+    if (soonest == nullptr || left < wait) {
+      soonest = entry;
+      wait = left;
+    }
+  }
+  if (soonest == nullptr || wait > std::min(ALIGN_SEC, timeout_sec)) {
+    return;
+  }
+  std::unique_lock<std::mutex> lock(tick_mutex_);
+  const int64_t last = soonest->last_ns;
+  ticked_.wait_for(lock, std::chrono::duration<double>(wait + std::min(soonest->period, ALIGN_SEC)),
+    [&soonest, last] {return soonest->last_ns != last;});
 }
 
 void ComponentNode::continue_schedule()
@@ -1794,7 +1824,15 @@ ControlAnswer ComponentNode::answer_control(uint8_t command, double timeout_sec)
   bool ok = true;
   std::string message;
   if (command == PAUSE) {
+    await_tick(timeout);
     std::tie(ok, message) = gate_.pause(timeout);
+    if (ok) {  // the state at the pause, so that a hand-over needs no second round trip for it
+      try {
+        answer.state = save_state(timeout);
+      } catch (const std::exception & e) {
+        message = std::string("paused; the state could not be saved: ") + e.what();
+      }
+    }
   } else if (command == RESUME) {
     std::tie(ok, message) = gate_.resume();
   } else if (command == SAVE) {
@@ -1898,9 +1936,7 @@ void on_signal(int)
 
 }  // namespace
 
-int run(
-  int argc, char ** argv, const std::string & package, const std::string & params_file,
-  const std::function<std::shared_ptr<ComponentNode>(const rclcpp::NodeOptions &)> & make)
+int run(int argc, char ** argv, const std::string & package, const std::string & params_file, const MakeNode & make)
 {
   const std::vector<std::string> own = rclcpp::remove_ros_arguments(argc, argv);
   const std::string usage = "usage: " + package + " [-h] [--activate] [--no-default-params] [--ros-args ...]";

@@ -104,6 +104,9 @@ private:
 //! component library is built with hidden symbols, so two versions of it load into one container).
 __attribute__((visibility("default"))) std::shared_ptr<CounterBase> make_node(
   const rclcpp::NodeOptions & options);
+//! make_node's node as the runtime's node: what the executable's src/main.cpp starts (src/base.cpp).
+__attribute__((visibility("default"))) std::shared_ptr<iface_runtime::ComponentNode> make_component(
+  const rclcpp::NodeOptions & options);
 
 }  // namespace counter
 
