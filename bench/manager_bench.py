@@ -151,13 +151,22 @@ def inner(config: Path) -> int:  # noqa: PLR0915 - three measurements in a row
             time.sleep(1.0)
             request = Replace.Request(instance="thermostat", new_iface=str(root / "thermostat.iface"),
                                       package=str(root / side / "install" / "thermostat"), timeout_sec=10.0)
+            asked = time.monotonic()
             answer = probe.call(Replace, "/iface_manager/replace", request, timeout=120)
+            answered = time.monotonic()
             time.sleep(1.0)
             if not answer.success:
                 print(f"manager_bench: replace {run} {answer.result}: {answer.record[-400:]}", file=sys.stderr)
                 return 1
             seen = list(stamps)
-            gaps.append(max(b - a for a, b in zip(seen, seen[1:], strict=False)))
+            gap, at = max((b - a, a) for a, b in zip(seen, seen[1:], strict=False))
+            gaps.append(gap)
+            record = json.loads(answer.record)
+            detail = {st["step"]: st["detail"] for st in record.get("steps", [])}
+            print(f"  replace {run}: longest gap {gap * 1000:.0f} ms, from {(at - asked) * 1000:.0f} ms after the request"
+                  f" ({(answered - asked) * 1000:.0f} ms to the answer); critical section "
+                  f"{record.get('critical_section_ms')} ms, pause {record.get('pause_ms')} ms; "
+                  f"{detail.get('start NEW', '')}", flush=True)
         gaps.sort()
         p95 = gaps[min(len(gaps) - 1, round(0.95 * (len(gaps) - 1)))]
         print(f"silence on /room/heater (10 Hz) across a managed replacement: median {statistics.median(gaps) * 1000:.0f} "

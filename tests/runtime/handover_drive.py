@@ -144,6 +144,10 @@ def main() -> int:
             result.update(record)
             names = [s["step"] for s in record["steps"]]
             check(names.index("prepare") < names.index("pause OLD"), f"not prepared before OLD paused: {names}")
+            match = next((s["detail"] for s in record["steps"] if s["step"] == "match"), "")
+            check(names.index("prepare") < names.index("match") < names.index("pause OLD")
+                  and "/count" in match and "matched as OLD's are" in match,
+                  f"NEW's publishers not matched before OLD paused: {match!r} in {names}")
             check(names.index("deactivate OLD") < names.index("activate NEW"), f"both active at once: {names}")
             critical = record.get("critical_section_ms")
             check(isinstance(critical, (int, float)) and critical > 0, f"critical section {critical!r}")

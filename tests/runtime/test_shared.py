@@ -68,7 +68,8 @@ def test_iface_msgs_holds_every_protocol_type_and_passes_rosidl() -> None:
 def test_two_components_share_one_copy_and_a_newer_one_is_kept(tmp_path: Path) -> None:
     out = tmp_path / "src"
     first = generate(out, "robot_arm.iface")
-    assert "iface_msgs 1.0.0: new in" in first.stderr
+    v = protocol.PACKAGE_VERSION
+    assert f"iface_msgs {v}: new in" in first.stderr
     written = contents(out / "iface_msgs")
     second = generate(out, "counter.iface", "rclcpp")
     assert "is this version: reused" in second.stderr and "wrote " + str(out / "iface_msgs") not in second.stderr
@@ -76,14 +77,14 @@ def test_two_components_share_one_copy_and_a_newer_one_is_kept(tmp_path: Path) -
 
     set_version(out / "iface_msgs" / "package.xml", "0.9.0")
     older = generate(out, "counter.iface")
-    assert "(0.9.0) is older than this iface's (1.0.0): updated" in older.stderr
-    assert "<version>1.0.0</version>" in (out / "iface_msgs" / "package.xml").read_text(encoding="utf-8")
+    assert f"(0.9.0) is older than this iface's ({v}): updated" in older.stderr
+    assert f"<version>{v}</version>" in (out / "iface_msgs" / "package.xml").read_text(encoding="utf-8")
 
-    set_version(out / "iface_msgs" / "package.xml", "1.1.0")
+    set_version(out / "iface_msgs" / "package.xml", "9.1.0")
     (out / "iface_msgs" / "srv" / "Describe.srv").unlink()
     newer = generate(out, "counter.iface")
-    assert "(1.1.0) is newer than this iface's (1.0.0): kept" in newer.stderr
-    assert "<version>1.1.0</version>" in (out / "iface_msgs" / "package.xml").read_text(encoding="utf-8")
+    assert f"(9.1.0) is newer than this iface's ({v}): kept" in newer.stderr
+    assert "<version>9.1.0</version>" in (out / "iface_msgs" / "package.xml").read_text(encoding="utf-8")
     assert not (out / "iface_msgs" / "srv" / "Describe.srv").exists()  # left as found: not even a missing file
     quiet = cli("generate", str(EXAMPLES / "counter.iface"), "--target", "rclpy", "--out", str(out), "-q")
     assert quiet.returncode == 0 and quiet.stderr == ""

@@ -11,7 +11,8 @@ the standard lifecycle services, with rclpy:
    valid signature (``iface.runtime.trust``);
 3. NEW is configured if it is not yet; every service the switch needs is found, its client made and
    answered once (OLD's current state is restored into NEW as a rehearsal: a state NEW refuses is
-   found before OLD pauses);
+   found before OLD pauses); NEW's publishers are matched by the subscriptions OLD's have (a NEW
+   started a moment ago is not yet known to every subscriber);
 4. the critical section, kept to a few round trips: OLD pauses after its current work transaction
    (right after a tick of a fast work timer) and answers with its state, which is restored into NEW; OLD is deactivated, then NEW activated (never both
    active), and OLD's gate opened again after it. NEW's work timers continue OLD's schedule (the
@@ -46,6 +47,8 @@ CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
 GOAL = {CONFIGURE: INACTIVE, ACTIVATE: ACTIVE, DEACTIVATE: INACTIVE}
 #: Seconds before an unanswered idempotent request is sent again.
 RESEND = 2.0
+#: At most this many seconds (and the timeout) for NEW's publishers to match the subscriptions OLD's have.
+MATCH_WAIT = 5.0
 
 
 class Refused(Exception):
@@ -271,6 +274,37 @@ class HandOver:
             if not client.wait_for_service(timeout_sec=self.timeout):
                 raise Refused(f"{node}/change_state does not answer within {self.timeout:g} s")
         self._note("prepare", "every service of the switch answered; NEW took OLD's current state in a rehearsal")
+        self._await_matches()
+
+    def _matched(self, node: str) -> dict[str, int]:
+        """Each publisher topic of ``node`` and the subscriptions it has matched (none from a runtime before 1.1)."""
+        status = self._control(node, protocol.STATUS)
+        return dict(zip(getattr(status, "publisher_topics", []), getattr(status, "publisher_matched", []),
+                        strict=False))
+
+    def _await_matches(self) -> None:
+        """Before OLD pauses: NEW's publishers matched by as many subscriptions as OLD's on the same topic.
+
+        A NEW started a moment ago may not be discovered yet by every subscriber; what it published
+        before they match it would be lost, and the silence would last until discovery ends. Waited
+        for at most ``MATCH_WAIT`` s (and the timeout); then the hand-over goes on and says so.
+        """
+        limit = min(self.timeout, MATCH_WAIT)
+        start = time.monotonic()
+        while True:
+            old, new = self._matched(self.old), self._matched(self.new)
+            short = {t: (new[t], n) for t, n in old.items() if t in new and new[t] < n}
+            waited = time.monotonic() - start
+            if not short:
+                shared = sorted(t for t in old if t in new)
+                self._note("match", f"NEW's publishers on {', '.join(shared)} matched as OLD's are "
+                           f"({waited * 1000:.0f} ms)" if shared else "no topic published by both")
+                return
+            if waited >= limit:
+                self._note("match", "after {:g} s NEW's publishers still match fewer subscriptions than OLD's: {}; "
+                           "going on".format(limit, ", ".join(f"{t} {a} of {b}" for t, (a, b) in sorted(short.items()))))
+                return
+            time.sleep(0.05)
 
     def _reactivate_old(self) -> None:
         try:

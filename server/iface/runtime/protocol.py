@@ -47,7 +47,7 @@ PROTOCOL_VERSION = "1"
 #: The interface package of the protocol, and its version (major: PROTOCOL_VERSION; minor: raised when a
 #: message or service is added).
 PACKAGE = "iface_msgs"
-PACKAGE_VERSION = f"{PROTOCOL_VERSION}.0.0"
+PACKAGE_VERSION = f"{PROTOCOL_VERSION}.1.0"
 #: The version tag of the state document.
 STATE_FORMAT = "iface-state/1"
 #: The runtimes a component may run on (``Describe.runtime``).
@@ -164,7 +164,9 @@ SERVICES: tuple[ProtocolService, ...] = (
          SrvField("uint64", "transactions", "work transactions done since the start"),
          SrvField("string", "component"), SrvField("string", "version"), _HASH,
          SrvField("string", "state", "SAVE, PAUSE: the state document (PAUSE: as it was at the pause)"), _PROTOCOL,
-         SrvField("uint32", "pid", "the process the node runs in")),
+         SrvField("uint32", "pid", "the process the node runs in"),
+         SrvField("string[]", "publisher_topics", "the topic of each of the node's publishers (while configured)"),
+         SrvField("uint32[]", "publisher_matched", "how many subscriptions each of them has matched")),
         (SrvConst("uint8", "STATUS", STATUS, "read the status"),
          SrvConst("uint8", "PAUSE", PAUSE, "pause after the current work transaction"),
          SrvConst("uint8", "RESUME", RESUME, "accept work again"),

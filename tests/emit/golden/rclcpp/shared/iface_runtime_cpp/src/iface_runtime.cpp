@@ -1330,6 +1330,8 @@ void ComponentNode::serve_protocol()
         response->state = answer.state;
         response->protocol_version = PROTOCOL_VERSION;
         response->pid = static_cast<uint32_t>(::getpid());
+        response->publisher_topics = answer.publisher_topics;
+        response->publisher_matched = answer.publisher_matched;
       }, rclcpp::ServicesQoS(), control_group));
   keep_service(
     create_service<Describe>(
@@ -1544,6 +1546,10 @@ void ComponentNode::destroy_members()
   }
   entities_.clear();
   work_timers_.clear();
+  {
+    std::lock_guard<std::mutex> lock(lock_);
+    publishers_.clear();
+  }
   forget_members();
 }
 
@@ -1854,6 +1860,13 @@ ControlAnswer ComponentNode::answer_control(uint8_t command, double timeout_sec)
   answer.lifecycle_state = state.id();
   answer.in_flight = static_cast<uint32_t>(gate_.in_flight());
   answer.transactions = gate_.transactions();
+  std::lock_guard<std::mutex> lock(lock_);
+  for (const auto & weak : publishers_) {
+    if (const auto pub = weak.lock()) {
+      answer.publisher_topics.emplace_back(pub->get_topic_name());
+      answer.publisher_matched.push_back(static_cast<uint32_t>(pub->get_subscription_count()));
+    }
+  }
   return answer;
 }
 

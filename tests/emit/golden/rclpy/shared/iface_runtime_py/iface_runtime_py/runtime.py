@@ -725,7 +725,23 @@ class ComponentNode(LifecycleNode):
         response.component, response.version = self.COMPONENT, self.VERSION
         response.interface_hash = self.INTERFACE_HASH
         response.protocol_version, response.pid = PROTOCOL_VERSION, os.getpid()
+        response.publisher_topics, response.publisher_matched = self._matched()
         return response
+
+    def _matched(self) -> tuple[list[str], list[int]]:
+        """Each publisher's topic and how many subscriptions it has matched (a hand-over waits for NEW's)."""
+        topics: list[str] = []
+        matched: list[int] = []
+        for kind, entity in list(self._entities):
+            if kind != "publisher":
+                continue
+            try:
+                count = entity.get_subscription_count()
+            except Exception:  # noqa: BLE001 - destroyed by a cleanup meanwhile
+                continue
+            topics.append(entity.topic_name)
+            matched.append(count)
+        return topics, matched
 
     def _on_describe(self, request: Any, response: Any) -> Any:
         response.node_name = self.get_fully_qualified_name()

@@ -404,6 +404,9 @@ struct ControlAnswer
   uint32_t in_flight = 0;
   uint64_t transactions = 0;
   std::string state;
+  //! Each publisher's topic and how many subscriptions it has matched (a hand-over waits for NEW's).
+  std::vector<std::string> publisher_topics;
+  std::vector<uint32_t> publisher_matched;
 };
 
 //! A managed node built from an interface; subclassed by the generated base class.
@@ -481,6 +484,10 @@ protected:
   {
     auto pub = this->create_publisher<MsgT>(name, qos(settings));
     keep(pub);
+    {
+      std::lock_guard<std::mutex> lock(lock_);
+      publishers_.push_back(pub);
+    }
     return pub;
   }
 
@@ -722,6 +729,8 @@ private:
   std::atomic<bool> finalized_{false};
   std::vector<std::shared_ptr<void>> entities_;
   std::vector<std::shared_ptr<WorkTimer>> work_timers_;
+  //! The publishers of the members, for the matched counts of ~/control (guarded by lock_).
+  std::vector<std::weak_ptr<rclcpp::PublisherBase>> publishers_;
   std::mutex tick_mutex_;
   std::condition_variable ticked_;
   //! The restored document's schedule, until the next activation continues from it.
