@@ -80,6 +80,8 @@ def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | Non
     critical: list[float] = []
     pauses: list[float] = []
     longest: list[float] = []
+    bursts: list[int] = []
+    offsets: list[float] = []
     whole: list[float] = []
     refused = 0
     try:
@@ -106,6 +108,10 @@ def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | Non
             times = [t for t, _ in arrivals]
             gaps = [b - a for a, b in zip(times, times[1:]) if b >= start and a <= stop + 0.5]
             longest.append(max(gaps) * 1000 if gaps else float("nan"))
+            if gaps:  # counts that came in a burst after the longest gap: the probe, not OLD, had stalled
+                end_of_gap = next(b for a, b in zip(times, times[1:]) if b - a == max(gaps))
+                bursts.append(sum(1 for t in times if end_of_gap <= t < end_of_gap + 0.002))
+                offsets.append((end_of_gap - max(gaps) - start) * 1000)
             # OLD's last count is the one in the state it saved at the pause; NEW publishes the next one
             last_old = (record.get("state_before") or {}).get("count")
             at = {v: t for t, v in arrivals}
@@ -129,7 +135,8 @@ def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | Non
         executor.shutdown(timeout_sec=2.0)
         node.destroy_node()
         rclpy.try_shutdown()
-    return {"rate": rate, "silence_ms": silences, "critical_ms": critical, "pause_ms": pauses, "longest_gap_ms": longest, "command_ms": whole,
+    return {"rate": rate, "silence_ms": silences, "critical_ms": critical, "pause_ms": pauses, "longest_gap_ms": longest, "burst_after_longest": bursts,
+            "longest_from_ms": offsets, "command_ms": whole,
             "refused": refused, "lost": lost, "repeated": repeated, "counts": len(arrivals)}
 
 

@@ -166,7 +166,7 @@ def inner(config: Path) -> int:  # noqa: PLR0915 - three measurements in a row
             print(f"  replace {run}: longest gap {gap * 1000:.0f} ms, from {(at - asked) * 1000:.0f} ms after the request"
                   f" ({(answered - asked) * 1000:.0f} ms to the answer); critical section "
                   f"{record.get('critical_section_ms')} ms, pause {record.get('pause_ms')} ms; "
-                  f"{detail.get('start NEW', '')}", flush=True)
+                  f"{detail.get('start NEW', '')}; {detail.get('match', '')}", flush=True)
         gaps.sort()
         p95 = gaps[min(len(gaps) - 1, round(0.95 * (len(gaps) - 1)))]
         print(f"silence on /room/heater (10 Hz) across a managed replacement: median {statistics.median(gaps) * 1000:.0f} "

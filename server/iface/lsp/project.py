@@ -22,7 +22,7 @@ from .convert import UTF16, LineIndex, LineIndexes
 from .documents import DocState, Document, path_to_uri, uri_to_path
 from .findings import Findings, capped
 from .settings import Settings
-from .snapshots import Snapshot, View, names_of
+from .snapshots import DocumentView, Snapshot, names_of
 
 if TYPE_CHECKING:
     from ..model.nodes import Interface
@@ -328,14 +328,14 @@ class Project:
         self._flush()
         return await fut
 
-    async def view(self, uri: str, fn: Callable[[View], T], fresh: bool = False) -> T | None:
+    async def view(self, uri: str, fn: Callable[[DocumentView], T], fresh: bool = False) -> T | None:
         """Run ``fn`` on the model thread over the latest snapshot of ``uri`` seen from its current text."""
         snap = await self.snapshot(uri, fresh)
         if snap is None:
             return None
         return await self.run(self._in_view, uri, fn)
 
-    def _in_view(self, uri: str, fn: Callable[[View], T]) -> T | None:
+    def _in_view(self, uri: str, fn: Callable[[DocumentView], T]) -> T | None:
         doc = self.docs.get(uri)
         snap = self.snapshots.get(uri)
         if doc is None:
@@ -343,12 +343,12 @@ class Project:
             if snap is None:
                 return None
             state = DocState(snap.text, snap.version, snap.seq, self.encoding)
-            return fn(View(self, snap, state, []))
+            return fn(DocumentView(self, snap, state, []))
         if snap is None:
             return None
         state = doc.state
         edits = doc.log.between(snap.seq, state.seq) if state.seq > snap.seq else []
-        return fn(View(self, snap, state, edits))
+        return fn(DocumentView(self, snap, state, edits))
 
     def open_interfaces(self) -> list[Interface]:
         """Interfaces of every open document and everything they include (model thread)."""

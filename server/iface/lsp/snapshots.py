@@ -1,7 +1,7 @@
 """Compiled versions of a document and how a request sees them from the current text.
 
 A ``Snapshot`` is one compiled version (read on the model thread only, but for
-``names``); a ``View`` is a snapshot seen from its document's current text,
+``names``); a ``DocumentView`` is a snapshot seen from its document's current text,
 mapping positions through the edits made since.
 """
 
@@ -68,7 +68,7 @@ class Snapshot:
 
 
 @dataclass(eq=False)
-class View:
+class DocumentView:
     """A snapshot seen from the current text of its document."""
 
     project: Project

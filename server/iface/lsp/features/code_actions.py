@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 from lsprotocol import types as lsp
 
 from .. import convert
-from ..snapshots import View
+from ..snapshots import DocumentView
 from . import package_metadata, ros_habits
 
 if TYPE_CHECKING:
@@ -36,7 +36,7 @@ ZERO = {"bool": "false", "string": '""', "wstring": '""', "binary": '""', "float
 class Fixes:
     """Code actions for one request, built over one view."""
 
-    def __init__(self, view: View, params: lsp.CodeActionParams) -> None:
+    def __init__(self, view: DocumentView, params: lsp.CodeActionParams) -> None:
         self.view = view
         self.params = params
         self.out: list[lsp.CodeAction] = []
@@ -326,7 +326,7 @@ def register(server: IfaceServer) -> None:
             from .commands import available_targets
             targets = available_targets()
 
-        def answer(view: View) -> list[lsp.CodeAction] | None:
+        def answer(view: DocumentView) -> list[lsp.CodeAction] | None:
             fixes = Fixes(view, params)
             if _wants(only, QUICKFIX):
                 for diag in params.context.diagnostics:

@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 WORDS = {"publishes": "published by", "subscribes": "subscribed by", "provides": "provided by",
          "calls": "called by"}
@@ -22,7 +22,7 @@ def register(server: IfaceServer) -> None:
 
     @server.feature(lsp.TEXT_DOCUMENT_CODE_LENS)
     async def code_lens(ls: IfaceServer, params: lsp.CodeLensParams) -> list[lsp.CodeLens] | None:
-        def answer(view: View) -> list[lsp.CodeLens] | None:
+        def answer(view: DocumentView) -> list[lsp.CodeLens] | None:
             from ...model import nodes as m
 
             iface = view.iface

@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 
 def register(server: IfaceServer) -> None:
@@ -19,7 +19,7 @@ def register(server: IfaceServer) -> None:
 
     @server.feature(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
     async def folding(ls: IfaceServer, params: lsp.FoldingRangeParams) -> list[lsp.FoldingRange] | None:
-        def answer(view: View) -> list[lsp.FoldingRange] | None:
+        def answer(view: DocumentView) -> list[lsp.FoldingRange] | None:
             from ...semantics.compile import too_large
             from ...semantics.query import folding_spans
 

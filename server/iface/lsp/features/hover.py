@@ -12,7 +12,7 @@ if TYPE_CHECKING:
     from ...model import nodes as m
     from ...semantics.compile import Compilation
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 
 def register(server: IfaceServer) -> None:
@@ -23,7 +23,7 @@ def register(server: IfaceServer) -> None:
     async def hover(ls: IfaceServer, params: lsp.HoverParams) -> lsp.Hover | None:
         pos = params.position
 
-        def answer(view: View) -> lsp.Hover | None:
+        def answer(view: DocumentView) -> lsp.Hover | None:
             from ...semantics.query import locate
             from ..describe import describe
 

@@ -10,10 +10,10 @@ if TYPE_CHECKING:
     from ...model.nodes import Interface
     from ...model.source import Span
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 
-def locate(view: View, line: int, character: int) -> Any:
+def locate(view: DocumentView, line: int, character: int) -> Any:
     """The hit under an LSP position of the current text, or None."""
     from ...semantics.query import locate as find
 
@@ -24,12 +24,12 @@ def locate(view: View, line: int, character: int) -> Any:
     return find(iface, offset)
 
 
-def location(view: View, iface: Interface, span: Span) -> lsp.Location | None:
+def location(view: DocumentView, iface: Interface, span: Span) -> lsp.Location | None:
     """A location in the viewed document or in another file."""
     return view.location(iface.source, span)
 
 
-def home_of(view: View, target: object) -> Interface | None:
+def home_of(view: DocumentView, target: object) -> Interface | None:
     """The interface that defines ``target`` (this file, an included one, or one in the workspace)."""
     from ...semantics.query import defining_interface
 
@@ -42,7 +42,7 @@ def home_of(view: View, target: object) -> Interface | None:
     return found
 
 
-def workspace_interfaces(view: View) -> list[Interface]:
+def workspace_interfaces(view: DocumentView) -> list[Interface]:
     """Every interface the server knows: the workspace index and the open documents."""
     index = view.project.workspace_index
     if index is not None:
@@ -50,7 +50,7 @@ def workspace_interfaces(view: View) -> list[Interface]:
     return view.project.open_interfaces()
 
 
-def referring_interfaces(view: View, home: Interface, name: str) -> list[Interface]:
+def referring_interfaces(view: DocumentView, home: Interface, name: str) -> list[Interface]:
     """The interfaces the server knows (the workspace index and the open documents) that may use ``name``
     defined in ``home``."""
     index = view.project.workspace_index
@@ -67,7 +67,7 @@ def register(server: IfaceServer) -> None:
     async def definition(ls: IfaceServer, params: lsp.DefinitionParams) -> list[lsp.Location] | None:
         pos = params.position
 
-        def answer(view: View) -> list[lsp.Location] | None:
+        def answer(view: DocumentView) -> list[lsp.Location] | None:
             from ...model import nodes as m
 
             hit = locate(view, pos.line, pos.character)
@@ -90,7 +90,7 @@ def register(server: IfaceServer) -> None:
     async def type_definition(ls: IfaceServer, params: lsp.TypeDefinitionParams) -> list[lsp.Location] | None:
         pos = params.position
 
-        def answer(view: View) -> list[lsp.Location] | None:
+        def answer(view: DocumentView) -> list[lsp.Location] | None:
             from ...model import nodes as m
             from ...model.walk import named_types, resolve_typedefs
 
@@ -125,7 +125,7 @@ def register(server: IfaceServer) -> None:
         if project.workspace_index is not None:
             await project.workspace_index.ready.wait()
 
-        def answer(view: View) -> list[lsp.Location] | None:
+        def answer(view: DocumentView) -> list[lsp.Location] | None:
             from ...semantics.query import references as refs
 
             hit = locate(view, pos.line, pos.character)
@@ -145,7 +145,7 @@ def register(server: IfaceServer) -> None:
     async def highlight(ls: IfaceServer, params: lsp.DocumentHighlightParams) -> list[lsp.DocumentHighlight] | None:
         pos = params.position
 
-        def answer(view: View) -> list[lsp.DocumentHighlight] | None:
+        def answer(view: DocumentView) -> list[lsp.DocumentHighlight] | None:
             from ...semantics.query import highlights
 
             hit = locate(view, pos.line, pos.character)

@@ -15,7 +15,7 @@ from .navigation import home_of, locate, referring_interfaces
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 
 class RenameRefused(JsonRpcInvalidRequest):
@@ -30,7 +30,7 @@ def register(server: IfaceServer) -> None:
     async def prepare(ls: IfaceServer, params: lsp.PrepareRenameParams) -> lsp.PrepareRenamePlaceholder | None:
         pos = params.position
 
-        def answer(view: View) -> lsp.PrepareRenamePlaceholder | None:
+        def answer(view: DocumentView) -> lsp.PrepareRenamePlaceholder | None:
             from ...model import nodes as m
             from ...semantics.query import local_name_span, renameable
 
@@ -55,7 +55,7 @@ def register(server: IfaceServer) -> None:
         if project.workspace_index is not None:
             await project.workspace_index.ready.wait()
 
-        def answer(view: View) -> lsp.WorkspaceEdit | None:
+        def answer(view: DocumentView) -> lsp.WorkspaceEdit | None:
             from ...semantics.query import references, rename_problem, renameable
             from .. import convert
 

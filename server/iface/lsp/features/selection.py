@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 
 def register(server: IfaceServer) -> None:
@@ -19,7 +19,7 @@ def register(server: IfaceServer) -> None:
 
     @server.feature(lsp.TEXT_DOCUMENT_SELECTION_RANGE)
     async def selection(ls: IfaceServer, params: lsp.SelectionRangeParams) -> list[lsp.SelectionRange] | None:
-        def answer(view: View) -> list[lsp.SelectionRange] | None:
+        def answer(view: DocumentView) -> list[lsp.SelectionRange] | None:
             from ...semantics.query import selection_chain
 
             if view.iface is None:

@@ -17,7 +17,7 @@ from .. import convert
 if TYPE_CHECKING:
     from ...model.nodes import Interface
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 TOKEN_TYPES = ["namespace", "type", "struct", "enum", "interface", "enumMember", "property", "variable",
                "keyword", "comment", "string", "number", "decorator", "function"]
@@ -156,7 +156,7 @@ def register(server: IfaceServer) -> None:
 
     @server.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, LEGEND)
     async def full(ls: IfaceServer, params: lsp.SemanticTokensParams) -> lsp.SemanticTokens | None:
-        def answer(view: View) -> lsp.SemanticTokens | None:
+        def answer(view: DocumentView) -> lsp.SemanticTokens | None:
             from ...semantics.compile import too_large
 
             if view.iface is None or too_large(view.snap.text):
@@ -167,7 +167,7 @@ def register(server: IfaceServer) -> None:
 
     @server.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE, LEGEND)
     async def in_range(ls: IfaceServer, params: lsp.SemanticTokensRangeParams) -> lsp.SemanticTokens | None:
-        def answer(view: View) -> lsp.SemanticTokens | None:
+        def answer(view: DocumentView) -> lsp.SemanticTokens | None:
             from ...semantics.compile import too_large
 
             if view.iface is None or too_large(view.snap.text):

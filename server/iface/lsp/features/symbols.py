@@ -12,7 +12,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import View
+    from ..snapshots import DocumentView
 
 MAX_WORKSPACE_SYMBOLS = 500
 
@@ -27,7 +27,7 @@ def register(server: IfaceServer) -> None:
         caps = ls.client_capabilities.text_document
         hierarchical = bool(caps and caps.document_symbol and caps.document_symbol.hierarchical_document_symbol_support)
 
-        def answer(view: View) -> list[lsp.DocumentSymbol] | list[lsp.SymbolInformation] | None:
+        def answer(view: DocumentView) -> list[lsp.DocumentSymbol] | list[lsp.SymbolInformation] | None:
             from ...semantics.query import outline
 
             if view.iface is None:
