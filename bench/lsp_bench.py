@@ -38,6 +38,7 @@ from pygls.lsp.client import LanguageClient
 
 sys.path.insert(0, str(Path(__file__).parent))
 from lsp_gendoc import generate  # noqa: E402
+from lsp_progress import on_progress  # noqa: E402
 
 OURS = [sys.executable, "-m", "iface", "--stdio"]
 #: The server without the command line in front (which imports every command's module first).
@@ -60,17 +61,12 @@ class Probe:
             self.arrived.setdefault(params.version, time.perf_counter())
             self.event.set()
 
-        @self.client.feature(lsp.WINDOW_WORK_DONE_PROGRESS_CREATE)
-        def create(params: lsp.WorkDoneProgressCreateParams) -> None:
-            return None
+        on_progress(self.client, self._heard)
 
-        @self.client.feature(lsp.PROGRESS)
-        def progress(params: lsp.ProgressParams) -> None:
-            value = params.value
-            kind = value.get("kind") if isinstance(value, dict) else getattr(value, "kind", None)
-            if kind == "end":
-                self.ended += 1
-                self.event.set()
+    def _heard(self, kind: str) -> None:
+        if kind == "end":
+            self.ended += 1
+            self.event.set()
 
     async def work_done(self, timeout: float = 120) -> None:
         """Wait until a piece of server work (the workspace index at start) has ended."""

@@ -33,6 +33,7 @@ from pygls.lsp.client import LanguageClient
 
 sys.path.insert(0, str(Path(__file__).parent))
 from lsp_gendoc import generate  # noqa: E402
+from lsp_progress import on_progress  # noqa: E402
 from workspace_gen import SHARED, write  # noqa: E402
 
 SERVER = [sys.executable, "-m", "iface", "--stdio"]
@@ -53,16 +54,11 @@ class Probe:
             self.published.append((time.perf_counter(), params.uri, params.version))
             self.event.set()
 
-        @self.client.feature(lsp.WINDOW_WORK_DONE_PROGRESS_CREATE)
-        def create(params: lsp.WorkDoneProgressCreateParams) -> None:
-            return None
+        on_progress(self.client, self._heard)
 
-        @self.client.feature(lsp.PROGRESS)
-        def progress(params: lsp.ProgressParams) -> None:
-            value = params.value
-            kind = value.get("kind", "?") if isinstance(value, dict) else getattr(value, "kind", "?")
-            self.progress.append((time.perf_counter(), str(kind)))
-            self.event.set()
+    def _heard(self, kind: str) -> None:
+        self.progress.append((time.perf_counter(), kind))
+        self.event.set()
 
         @self.client.feature(lsp.WINDOW_LOG_MESSAGE)
         def logged(params: lsp.LogMessageParams) -> None:
@@ -304,7 +300,7 @@ async def run(args: argparse.Namespace) -> int:
     row("  per 10k lines indexed", f"{(rss_indexed - rss_before) * 10_000 / lines:8.1f} MB",
         f"(after initialize: {rss_before:.0f} MB; peak while indexing {peak_indexed:.0f} MB)")
     row(f"memory of one open 10k-line document ({big_bytes / 1e6:.2f} MB text)",
-        f"{rss_big - rss_open:8.1f} MB", f"{per_doc:.1f}× its text (goal <= 15×)", per_doc <= 15)
+        f"{rss_big - rss_open:8.1f} MB", f"{per_doc:.1f}× its text (reported; the 15× goal was retired by issue 25)")
     row("server memory at the end (peak)", f"{rss_big:8.0f} MB", f"(peak {peak:.0f} MB)")
     return 0
 

@@ -277,10 +277,9 @@ class HandOver:
         self._await_matches()
 
     def _matched(self, node: str) -> dict[str, int]:
-        """Each publisher topic of ``node`` and the subscriptions it has matched (none from a runtime before 1.1)."""
+        """Each publisher topic of ``node`` and the subscriptions it has matched."""
         status = self._control(node, protocol.STATUS)
-        return dict(zip(getattr(status, "publisher_topics", []), getattr(status, "publisher_matched", []),
-                        strict=False))
+        return dict(zip(status.publisher_topics, status.publisher_matched, strict=True))
 
     def _await_matches(self) -> None:
         """Before OLD pauses: NEW's publishers matched by as many subscriptions as OLD's on the same topic.
