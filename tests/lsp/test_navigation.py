@@ -64,3 +64,27 @@ async def test_document_highlight(client: Client, planner: str) -> None:
     assert lines == [6, 13, 27, 36, 46]
     kinds = {h.range.start.line: h.kind for h in found or []}
     assert kinds[6] == lsp.DocumentHighlightKind.Write and kinds[46] == lsp.DocumentHighlightKind.Read
+
+
+async def test_a_request_waits_for_the_included_file_just_changed(client: Client) -> None:
+    """Go-to right after an included file's text changed answers from that text, not from the includer's
+    check against the text before (the includer is re-checked first)."""
+    (client.root / "stale_arm.iface").write_text('component stale_arm version "1"\nmessage Pose {\n    float64 x\n}\n')
+    (client.root / "stale_user.iface").write_text(
+        'component stale_user version "1"\ninclude "stale_arm.iface"\nmessage Goal {\n    stale_arm.Pose where\n}\n')
+    renamed = 'component stale_arm version "1"\nmessage Posed {\n    float64 x\n}\n'
+    arm = client.open("stale_arm.iface", renamed)
+    await client.wait_diagnostics(arm, 1)
+    user = client.open("stale_user.iface")
+    await client.wait_diagnostics(user, 1)
+    for round_ in range(3):
+        client.replace(arm, (client.root / "stale_arm.iface").read_text())
+        found = await client.text_document_definition_async(
+            lsp.DefinitionParams(client.doc(user), client.pos(user, "stale_arm.Pose where", 11)))
+        assert found and [at(x) for x in found] == [("stale_arm.iface", 1, 8)], round_
+        client.replace(arm, renamed)
+        gone = await client.text_document_definition_async(
+            lsp.DefinitionParams(client.doc(user), client.pos(user, "stale_arm.Pose where", 11)))
+        assert gone is None, round_
+    client.close(arm)
+    client.close(user)

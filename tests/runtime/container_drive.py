@@ -28,8 +28,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).parent))
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
-from rclcpp_drive import Process  # noqa: E402
-from rosdrive import Probe, Protocol, Report, check  # noqa: E402
+from rosdrive import Component, Probe, Protocol, Report, check  # noqa: E402
 
 CONTAINER = "iface_container"
 
@@ -57,15 +56,15 @@ def main() -> int:
 
     probe = Probe()
     env = cfg["env"]
-    started: list[Process] = []
+    started: list[Component] = []
     counts: list[tuple[float, int]] = []
     qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
     probe.node.create_subscription(Count, "/count", lambda m: counts.append((time.monotonic(), m.value)), qos)
     base = f"/{CONTAINER}/_container"
     loaded: dict[str, int] = {}
 
-    def start(argv: list[str], name: str, penv: dict[str, str]) -> Process:
-        p = Process(argv, name, penv, a.logs)
+    def start(argv: list[str], name: str, penv: dict[str, str]) -> Component:
+        p = Component("", name, a.logs, [], argv=argv, env=penv)
         started.append(p)
         return p
 

@@ -20,29 +20,9 @@ sys.path.insert(0, str(Path(__file__).parent))
 import itertools
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rosdrive import Probe, Report, check
+from rosdrive import Component, Probe, Report, check  # noqa: E402
 
 OLD, NEW = "counter", "counter_new"
-
-
-class Process:
-    """A component started from its entry point with its own environment."""
-
-    def __init__(self, python: str, name: str, env: dict[str, str], logs: Path, activate: bool) -> None:
-        self.log_path = logs / f"{name}.log"
-        self._log = open(self.log_path, "w")  # noqa: SIM115 - closed in stop()
-        argv = [python, "-m", "counter", *(["--activate"] if activate else []), "--ros-args", "-r", f"__node:={name}"]
-        self.proc = subprocess.Popen(argv, env=env, stdout=self._log, stderr=subprocess.STDOUT)
-
-    def stop(self) -> None:
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait(timeout=10)
-        self._log.close()
 
 
 def main() -> int:
@@ -63,8 +43,8 @@ def main() -> int:
     qos = QoSProfile(reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST, depth=1000)
     probe.node.create_subscription(Count, "/count", lambda m: counts.append(m.value), qos)
     probe.node.create_subscription(Parity, "/parity", parities.append, 10)
-    old = Process(cfg["ros_python"], OLD, cfg["env_old"], a.logs, activate=True)
-    new = Process(cfg["ros_python"], NEW, cfg["env_new"], a.logs, activate=False)
+    old = Component("", OLD, a.logs, [], argv=[cfg["ros_python"], "-m", "counter", "--activate"], env=cfg["env_old"])
+    new = Component("", NEW, a.logs, [], argv=[cfg["ros_python"], "-m", "counter"], env=cfg["env_new"])
 
     def status(node: str) -> Any:
         request = ComponentControl.Request(command=ComponentControl.Request.STATUS, timeout_sec=5.0)

@@ -25,36 +25,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).parent))
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
-from rosdrive import Probe, Protocol, Report, check, incompatible  # noqa: E402
-
-
-class Process:
-    """A component process with its own environment and log, stopped by its own handle."""
-
-    def __init__(self, argv: list[str], name: str, env: dict[str, str], logs: Path) -> None:
-        self.name = name
-        self.log_path = logs / f"{name}.log"
-        self._log = open(self.log_path, "w")  # noqa: SIM115 - closed in stop()
-        self.proc = subprocess.Popen([*argv, "--ros-args", "-r", f"__node:={name}"], env=env, stdout=self._log,
-                                     stderr=subprocess.STDOUT)
-
-    def log(self) -> str:
-        self._log.flush()
-        return self.log_path.read_text(errors="replace")
-
-    def wait_exit(self, timeout: float) -> int | None:
-        try:
-            return self.proc.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            return None
-
-    def stop(self) -> None:
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            if self.wait_exit(10) is None:
-                self.proc.kill()
-                self.proc.wait(timeout=10)
-        self._log.close()
+from rosdrive import Component, Probe, Protocol, Report, check, incompatible  # noqa: E402
 
 
 def main() -> int:
@@ -73,10 +44,10 @@ def main() -> int:
     probe = Probe()
     proto = Protocol(probe, "counter_msgs")
     cpp = [cfg["cpp_executable"]]
-    started: list[Process] = []
+    started: list[Component] = []
 
-    def start(argv: list[str], name: str, env: dict[str, str]) -> Process:
-        p = Process(argv, name, env, a.logs)
+    def start(argv: list[str], name: str, env: dict[str, str]) -> Component:
+        p = Component("", name, a.logs, [], argv=argv, env=env)
         started.append(p)
         return p
 

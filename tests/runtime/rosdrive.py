@@ -14,6 +14,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
+import signal
 import subprocess
 import sys
 import threading
@@ -74,27 +76,49 @@ class Report:
         return ok
 
 
+def stacks_note(pid: int, path: Path) -> str:
+    """Write the stacks of every thread of a running process to ``path`` (gdb, bounded); a line saying where."""
+    gdb = shutil.which("gdb")
+    if gdb is None:
+        return ""
+    try:
+        done = subprocess.run([gdb, "-p", str(pid), "-batch", "-nx", "-ex", "thread apply all bt"],
+                              capture_output=True, text=True, timeout=60, check=False)
+    except subprocess.TimeoutExpired:
+        return f"\n(gdb on {pid} did not end within 60 s)"
+    path.write_text(done.stdout + done.stderr)
+    return f"\n(stacks of {pid}: {path})"
+
+
 class Component:
-    """A component process started from its entry point."""
+    """A component process with its log, stopped by its own handle: started from its Python entry point
+    (``package``), or from ``argv`` with its own environment."""
 
     started: list[Component] = []
 
-    def __init__(self, package: str, name: str, logs: Path, ros_args: list[str], own: tuple[str, ...] = ()) -> None:
+    def __init__(self, package: str, name: str, logs: Path, ros_args: list[str], own: tuple[str, ...] = (),
+                 argv: list[str] | None = None, env: dict[str, str] | None = None) -> None:
         Component.started.append(self)
         self.name = name
         self.log_path = logs / f"{name}.log"
         self._log = open(self.log_path, "w")  # noqa: SIM115 - closed in stop()
-        argv = [sys.executable, "-m", package, *own, "--ros-args", "-r", f"__node:={name}", *ros_args]
-        self.proc = subprocess.Popen(argv, stdout=self._log, stderr=subprocess.STDOUT)
+        command = argv if argv is not None else [sys.executable, "-m", package, *own]
+        self.proc = subprocess.Popen([*command, "--ros-args", "-r", f"__node:={name}", *ros_args], env=env,
+                                     stdout=self._log, stderr=subprocess.STDOUT)
 
     @classmethod
     def status_of_all(cls) -> str:
-        """Each started process: running or its exit status, and the end of its log (for a failed step)."""
+        """Each started process: running (with its threads' stacks, when gdb is there) or its exit status,
+        and the end of its log (for a failed step)."""
         parts = []
         for comp in cls.started:
             code = comp.proc.poll()
             tail = (comp.log() if not comp._log.closed else comp.log_path.read_text(errors="replace"))[-600:]
-            parts.append(f"\n--- {comp.name}: {'running' if code is None else f'exited {code}'}\n{tail}")
+            state = "running" if code is None else f"exited {code}" + (
+                f" (signal {signal.Signals(-code).name})" if code < 0 and -code in signal.valid_signals() else "")
+            parts.append(f"\n--- {comp.name}: {state}\n{tail}")
+            if code is None and not comp._log.closed:
+                parts.append(stacks_note(comp.proc.pid, comp.log_path.with_suffix(".stacks.txt")))
         return "".join(parts)
 
     def log(self) -> str:

@@ -51,6 +51,7 @@ class Project:
         self.model = ThreadPoolExecutor(max_workers=1, thread_name_prefix="iface-model")
         self._ws: Workspace | None = None
         self._dirty: set[str] = set()
+        self._compiling: str | None = None
         self._edited: set[str] = set()  # the dirty documents that are not only dependents of another
         self._task: asyncio.Task[None] | None = None
         self._kick: asyncio.Event | None = None
@@ -229,11 +230,27 @@ class Project:
         if self._kick is not None:
             self._kick.set()
 
+    def _changed_deps(self, uri: str) -> list[str]:
+        """The open documents that ``uri``'s last check included and that changed since (their check pending)."""
+        snap = self.snapshots.get(uri)
+        if snap is None or not snap.deps:
+            return []
+        pending = self._dirty | ({self._compiling} if self._compiling else set())
+        return sorted(u for u in pending if u != uri and u in self.docs and self.docs[u].path in snap.deps)
+
+    def _behind(self, uri: str) -> bool:
+        """Whether ``uri``'s last check read a file that changed since: its re-check is due, or the changed
+        file's own check is still to come."""
+        return (uri in self._dirty and uri not in self._edited) or bool(self._changed_deps(uri))
+
     def _next(self) -> str:
-        """The document to compile next: one a request waits for, then an edited one, then a dependent."""
+        """The document to compile next: one a request waits for (after the changed files it includes), then
+        an edited one, then a dependent."""
         for group in (self._dirty & self._waiters.keys(), self._dirty & self._edited, self._dirty):
             if group:
-                return min(group)
+                first = min(group)
+                deps = [u for u in self._changed_deps(first) if u in self._dirty] if first in self._waiters else []
+                return deps[0] if deps else first
         raise LookupError("nothing to compile")
 
     async def _drain(self) -> None:
@@ -256,10 +273,13 @@ class Project:
                 uri = self._next()
                 self._dirty.discard(uri)
                 self._edited.discard(uri)
+                self._compiling = uri
                 try:
                     await self._check(uri)
                 except Exception:  # keep checking the other documents, and the next edits
                     log.exception("checking %s failed", uri)
+                finally:
+                    self._compiling = None
                 if self._dirty & self._edited and not self._kick.is_set() and delay > 0:
                     break  # an edit came meanwhile: let its burst end first
 
@@ -320,7 +340,7 @@ class Project:
             snap = self.snapshots.get(uri)
             return snap if snap is not None else await self.run(self.compile_disk, uri)
         snap = self.snapshots.get(uri)
-        if snap is not None and (not fresh or snap.version == doc.state.version):
+        if snap is not None and (not fresh or snap.version == doc.state.version) and not self._behind(uri):
             return snap
         fut: asyncio.Future[Snapshot | None] = asyncio.get_running_loop().create_future()
         self._waiters.setdefault(uri, []).append((doc.state.version, fut))
