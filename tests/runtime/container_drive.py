@@ -52,6 +52,7 @@ def main() -> int:
     report = Report(a.out)
     from composition_interfaces.srv import ListNodes, LoadNode, UnloadNode
     from counter_msgs.msg import Count
+    from counter_msgs.srv import Reset
     from iface_msgs.srv import ComponentControl, Describe
 
     probe = Probe()
@@ -159,6 +160,19 @@ def main() -> int:
         report.step("container: handover from counter 1.0 to 2.0 inside the container", in_container)
 
         def unload() -> str:
+            # counter 2.0's reset holds a work transaction for 2.5 s: the container's executor is inside the
+            # node when it is unloaded, and the unload must wait for that callback, not delete the node under it.
+            sent = time.monotonic()
+            probe.call_async(Reset, "/counter/reset", Reset.Request())
+            probe.wait_until(lambda: status("counter_two").in_flight == 1, 10, "a reset running in counter 2.0")
+            answer = probe.call(UnloadNode, f"{base}/unload_node", UnloadNode.Request(unique_id=loaded["counter_two"]),
+                                timeout=30)
+            waited = time.monotonic() - sent
+            check(answer.success, f"unload counter_two: {answer.error_message!r}")
+            check(waited >= 2.4, f"the unload answered {waited:.2f} s after the reset was sent, before its 2.5-s "
+                                 "callback could end: the node was deleted under a running callback")
+            check(container.proc.poll() is None, "the container exited unloading a node inside a callback")
+            loaded.pop("counter_two")
             for node, unique_id in list(loaded.items()):
                 answer = probe.call(UnloadNode, f"{base}/unload_node", UnloadNode.Request(unique_id=unique_id),
                                     timeout=30)
@@ -168,7 +182,8 @@ def main() -> int:
             check(not listed.unique_ids, f"list_nodes after unload: {list(listed.full_node_names)}")
             check(container.proc.poll() is None, "the container has exited")
             container.stop()
-            return f"all unloaded; the container stopped with {container.proc.returncode}"
+            return (f"counter 2.0 unloaded inside its reset (answered {waited:.1f} s after it: the callback ended "
+                    f"first), then the rest; the container stopped with {container.proc.returncode}")
 
         report.step("container: the components unload, the container keeps running", unload)
 

@@ -10,7 +10,9 @@ import functools
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -247,3 +249,51 @@ def test_findings_render_as_text_json_and_sarif(tmp_path: Path) -> None:
     assert result["locations"][0]["physicalLocation"]["region"]["startLine"] == found[0].line
     assert {r["id"] for r in sarif["runs"][0]["tool"]["driver"]["rules"]} == set(CODES)
     assert render_text([], str, 2) == "verify: 2 nodes conform to their interfaces\n"
+
+
+class _ArrivingGraph:
+    """A graph on which the node ``/live/listener`` shows at once with its parameter services, and its
+    subscription ``/chatter`` only ``late`` seconds after (endpoints are discovered one by one)."""
+
+    def __init__(self, late: float) -> None:
+        self.start = time.monotonic()
+        self.late = late
+
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        return [("listener", "/live")]
+
+    def get_publisher_names_and_types_by_node(self, name: str, ns: str) -> list[tuple[str, list[str]]]:
+        return [("/rosout", ["rcl_interfaces/msg/Log"])]
+
+    def get_subscriber_names_and_types_by_node(self, name: str, ns: str) -> list[tuple[str, list[str]]]:
+        arrived = time.monotonic() - self.start >= self.late
+        return [("/chatter", ["std_msgs/msg/String"])] if arrived else []
+
+    def get_service_names_and_types_by_node(self, name: str, ns: str) -> list[tuple[str, list[str]]]:
+        return [("/live/listener/list_parameters", ["rcl_interfaces/srv/ListParameters"])]
+
+    def get_client_names_and_types_by_node(self, name: str, ns: str) -> list[tuple[str, list[str]]]:
+        return []
+
+
+def _graph_over(fake: _ArrivingGraph, timeout: float) -> Any:
+    from iface.runtime.live.graph import Graph
+
+    graph = object.__new__(Graph)  # the reading logic alone, over a stand-in for rclpy's node
+    graph.timeout = timeout
+    graph.node = fake
+    return graph
+
+
+def test_verify_waits_for_each_declared_endpoint_past_a_pause_in_discovery() -> None:
+    """An endpoint the file declares, seen a second after its node, is waited for; one never seen costs the
+    grace, not the whole timeout."""
+    fake = _ArrivingGraph(late=1.0)
+    graph = _graph_over(fake, timeout=30)
+    assert graph.wait_for(["/live/listener"], expect={"/live/listener": {"/chatter"}}) == []
+    assert ("/chatter", ["std_msgs/msg/String"]) in fake.get_subscriber_names_and_types_by_node("listener", "/live")
+    never = _ArrivingGraph(late=1e9)
+    graph = _graph_over(never, timeout=30)
+    began = time.monotonic()
+    assert graph.wait_for(["/live/listener"], expect={"/live/listener": {"/chatter"}}) == []
+    assert time.monotonic() - began < 25, "a never-seen endpoint held the wait to the timeout"

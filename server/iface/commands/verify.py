@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return 2
     with open_graph(args.timeout) as graph:
-        live = read_live(graph, sorted({d.node for d in decls}))
+        live = read_live(graph, decls)
     findings = verify(decls, live)
     if args.format == "json":
         sys.stdout.write(render_json(findings, display_path, len(decls)))

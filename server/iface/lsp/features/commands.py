@@ -258,7 +258,7 @@ class Runner:
 
         def read() -> Any:
             with open_graph(float(timeout)) as graph:
-                return read_live(graph, sorted({d.node for d in decls}))
+                return read_live(graph, decls)
 
         live = await asyncio.to_thread(read)
         findings = verify(decls, live)

@@ -105,11 +105,15 @@ class Graph:
         except Exception:  # the node left the graph between the two calls
             return ()
 
-    def wait_for(self, names: list[str], settle: float = 0.3, grace: float = 2.0) -> list[str]:
+    def wait_for(self, names: list[str], settle: float = 0.3, grace: float = 2.0,
+                 expect: dict[str, set[str]] | None = None) -> list[str]:
         """Wait until every name is on the graph and what each has stops changing; the names missing at the end.
 
         A name still missing when others have come and the graph has not changed for ``grace`` seconds
-        is taken as not running (so a missing node costs ``grace``, not the whole timeout).
+        is taken as not running (so a missing node costs ``grace``, not the whole timeout). ``expect``
+        names, per node, the topics and services it should have: while one of those is not seen, what
+        the nodes have must stay the same for ``grace`` (not ``settle``) before it counts as absent,
+        since endpoints of a node are discovered one by one, with pauses under load.
         """
         start = time.monotonic()
         deadline = start + self.timeout
@@ -129,9 +133,19 @@ class Graph:
         if len(missing) == len(names):
             return missing
         names = [n for n in names if n not in missing]
+        wanted = {n: (expect or {}).get(n, set()) for n in names}
+
+        def complete(shape: tuple[Any, ...]) -> bool:
+            for n, parts in zip(names, shape, strict=True):
+                seen = {name for group in parts for name, _ in group}
+                if not wanted[n] <= seen:
+                    return False
+            return True
+
         shape = tuple(self._shape(n) for n in names)
         stable_since = time.monotonic()
-        while time.monotonic() < deadline and time.monotonic() - stable_since < settle:
+        while time.monotonic() < deadline and \
+                time.monotonic() - stable_since < (settle if complete(shape) else max(settle, grace)):
             time.sleep(0.05)
             now = tuple(self._shape(n) for n in names)
             if now != shape:

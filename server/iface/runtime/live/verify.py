@@ -326,10 +326,25 @@ def verify(decls: list[Declared], live: LiveGraph) -> list[Finding]:
     return sorted(out, key=lambda f: (f.path, f.line, f.column, f.code, f.message))
 
 
-def read_live(graph: Graph, nodes: list[str]) -> LiveGraph:
-    """Read the declared ``nodes`` and the peers on their topics off ``graph``."""
+def expected_names(d: Declared) -> set[str]:
+    """The topics and services the node ``d`` should have by its file (actions aside: their names are
+    the action's hidden ones), and its ``list_parameters`` service when it declares parameters."""
+    iface = d.comp.interface
+    eps = [*iface.subscribed, *iface.published, *iface.services, *iface.diagnostics_endpoints]
+    names = {resolve_name(d.node, ep.name) for ep in eps}
+    if iface.parameters:
+        names.add(d.node + "/list_parameters")
+    return names
+
+
+def read_live(graph: Graph, decls: list[Declared]) -> LiveGraph:
+    """Read the nodes of ``decls`` and the peers on their topics off ``graph``."""
     live = LiveGraph()
-    graph.wait_for(nodes)
+    nodes = sorted({d.node for d in decls})
+    expect: dict[str, set[str]] = {}
+    for d in decls:
+        expect.setdefault(d.node, set()).update(expected_names(d))
+    graph.wait_for(nodes, expect=expect)
     live.names = graph.node_names()
     live.nodes = graph.snapshots([n for n in nodes if n in live.names])
     topics = sorted({t.topic for s in live.nodes.values() for t in own_topics(s)})

@@ -21,7 +21,7 @@ from .render import cpp_str
 
 PACKAGE = "iface_runtime_cpp"
 #: The library's version: its major number is the protocol's; raise the minor one with every change.
-VERSION = f"{protocol.PROTOCOL_VERSION}.1.0"
+VERSION = f"{protocol.PROTOCOL_VERSION}.2.0"
 TEMPLATES = Path(__file__).parent / "templates"
 #: What the library uses in its public headers (exported to the components) and privately.
 PUBLIC_DEPENDS = ("diagnostic_msgs", protocol.PACKAGE, "rcl_interfaces", "rclcpp", "rclcpp_action", "rclcpp_lifecycle")

@@ -1353,6 +1353,40 @@ ComponentNode::~ComponentNode()
   join_goals();
 }
 
+void ComponentNode::quiesce(double timeout_sec)
+{
+  closing_ = true;
+  std::vector<rclcpp::CallbackGroup::SharedPtr> groups;
+  get_node_base_interface()->for_each_callback_group(
+    [&groups](const rclcpp::CallbackGroup::SharedPtr & group) {groups.push_back(group);});
+  for (const auto & group : groups) {
+    group->collect_all_ptrs(
+      [](const rclcpp::SubscriptionBase::SharedPtr &) {}, [](const rclcpp::ServiceBase::SharedPtr &) {},
+      [](const rclcpp::ClientBase::SharedPtr &) {}, [](const rclcpp::TimerBase::SharedPtr & timer) {timer->cancel();},
+      [](const rclcpp::Waitable::SharedPtr &) {});
+  }
+  // A mutually exclusive group cannot be taken from while one of its callbacks runs. An executor may still
+  // take a callback it saw ready before the node was removed from it: the groups must stay free a while.
+  const auto busy = [&] {
+      return gate_.in_flight() > 0 || std::any_of(groups.begin(), groups.end(), [](const auto & group) {
+               return group->type() == rclcpp::CallbackGroupType::MutuallyExclusive &&
+               !group->can_be_taken_from().load();
+             });
+    };
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_sec);
+  auto free_since = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() < deadline) {
+    const auto now = std::chrono::steady_clock::now();
+    if (busy()) {
+      free_since = now;
+    } else if (now - free_since >= std::chrono::milliseconds(100)) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  join_goals();
+}
+
 const MessageTypes & ComponentNode::message_types() const
 {
   static const MessageTypes none;
@@ -1497,6 +1531,9 @@ void ComponentNode::failed(const std::string & what, const std::string & error)
 
 bool ComponentNode::work(const std::function<void()> & body, const std::string & what)
 {
+  if (closing_) {
+    return false;
+  }
   if (!active_) {
     std::lock_guard<std::mutex> lock(lock_);
     ++dropped_inactive_;
@@ -1517,6 +1554,9 @@ bool ComponentNode::work(const std::function<void()> & body, const std::string &
 void ComponentNode::serve(
   const std::string & name, bool is_work, const std::function<void()> & body, const std::function<void()> & reset)
 {
+  if (closing_) {
+    return;
+  }
   if (is_work && !active_) {
     RCLCPP_WARN_THROTTLE(get_logger(), *get_clock(), 5000, "%s: called while %s: default response",
       name.c_str(), lifecycle_label().c_str());
@@ -1874,6 +1914,9 @@ ControlAnswer ComponentNode::answer_control(uint8_t command, double timeout_sec)
 
 void ComponentNode::publish_diagnostics()
 {
+  if (closing_) {
+    return;
+  }
   using diagnostic_msgs::msg::DiagnosticStatus;
   const std::string label = lifecycle_label();
   uint8_t level = DiagnosticStatus::OK;
