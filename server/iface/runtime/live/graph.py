@@ -60,6 +60,12 @@ def _value(value: Any) -> bool | int | float | str | tuple[bool | int | float | 
     return got
 
 
+#: How long the graph must stay unchanged before a node not on it counts as not running: longer than
+#: Fast DDS's participant announcement period (3 s), so a node whose first announcements were lost
+#: (a loaded machine) is heard once more before it is called missing.
+GRACE_SEC = 4.0
+
+
 class Graph:
     """A probe node on the graph and the calls that read other nodes."""
 
@@ -105,7 +111,7 @@ class Graph:
         except Exception:  # the node left the graph between the two calls
             return ()
 
-    def wait_for(self, names: list[str], settle: float = 0.3, grace: float = 2.0,
+    def wait_for(self, names: list[str], settle: float = 0.3, grace: float = GRACE_SEC,
                  expect: dict[str, set[str]] | None = None) -> list[str]:
         """Wait until every name is on the graph and what each has stops changing; the names missing at the end.
 
