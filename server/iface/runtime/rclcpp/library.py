@@ -26,6 +26,8 @@ TEMPLATES = Path(__file__).parent / "templates"
 #: What the library uses in its public headers (exported to the components) and privately.
 PUBLIC_DEPENDS = ("diagnostic_msgs", protocol.PACKAGE, "rcl_interfaces", "rclcpp", "rclcpp_action", "rclcpp_lifecycle")
 PRIVATE_DEPENDS = ("ament_index_cpp", "lifecycle_msgs")
+#: What only the header-only component.hpp uses: the component packages that include it link it themselves.
+HEADER_DEPENDS = ("rclcpp_components",)
 #: The CMake targets of the public dependencies that are not message packages.
 _TARGETS = {"rclcpp": "rclcpp::rclcpp", "rclcpp_action": "rclcpp_action::rclcpp_action",
             "rclcpp_lifecycle": "rclcpp_lifecycle::rclcpp_lifecycle"}
@@ -43,13 +45,15 @@ def package() -> SharedPackage:
            "state_format": protocol.STATE_FORMAT, "diagnostics_topic": protocol.DIAGNOSTICS_TOPIC,
            "default_timeout": repr(protocol.DEFAULT_TIMEOUT_SEC), "align_sec": repr(protocol.ALIGN_SEC),
            "commands": [protocol.STATUS, protocol.PAUSE, protocol.RESUME, protocol.SAVE],
-           "depends": sorted(PUBLIC_DEPENDS + PRIVATE_DEPENDS), "exported": list(PUBLIC_DEPENDS),
+           "depends": sorted(PUBLIC_DEPENDS + PRIVATE_DEPENDS + HEADER_DEPENDS),
+           "exported": sorted(PUBLIC_DEPENDS + HEADER_DEPENDS),
            "public_depends": [_TARGETS.get(d, f"${{{d}_TARGETS}}") for d in PUBLIC_DEPENDS],
            "maintainer": MAINTAINER, "license": LICENSE}
     files = [("package.xml", "library.package.xml.j2", generated_header("<!--", " -->")),
              ("CMakeLists.txt", "library.CMakeLists.txt.j2", generated_header("#")),
              ("include/iface_runtime_cpp/iface_runtime.hpp", "iface_runtime.hpp.j2", generated_header("//")),
              ("include/iface_runtime_cpp/run.hpp", "run.hpp.j2", generated_header("//")),
+             ("include/iface_runtime_cpp/component.hpp", "component.hpp.j2", generated_header("//")),
              ("src/iface_runtime.cpp", "iface_runtime.cpp.j2", generated_header("//"))]
     return SharedPackage(PACKAGE, VERSION, tuple(
         GeneratedFile(f"{PACKAGE}/{path}", templates.render(name, header=header, **ctx)) for path, name, header in files))

@@ -26,6 +26,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "iface_runtime_cpp/component.hpp"
 #include "iface_runtime_cpp/iface_runtime.hpp"
 #include "rclcpp_components/register_node_macro.hpp"
 #include "every_member_msgs/action/travel.hpp"
@@ -215,9 +216,8 @@ __attribute__((visibility("default"))) std::shared_ptr<iface_runtime::ComponentN
 
 //! Names the user's class of the component (at the end of src/node.cpp, outside any namespace) and
 //! registers it as the rclcpp component every_member::EveryMember: a class that does not match
-//! every_member.iface stops the build here with the reason. Its factory is rclcpp_components' own but
-//! for the deletion: a container that unloads the node keeps spinning, so the node is first quiesced
-//! (ComponentNode::quiesce: no callback of it runs any more) and only then deleted.
+//! every_member.iface stops the build here with the reason. Its factory is iface_runtime::ComponentFactory
+//! (iface_runtime_cpp/component.hpp): rclcpp_components' own, but the node is quiesced before it is deleted.
 #define EVERY_MEMBER_COMPONENT(Class) \
   static_assert( \
     std::is_base_of_v<::every_member::EveryMemberBase, Class>, \
@@ -236,21 +236,7 @@ __attribute__((visibility("default"))) std::shared_ptr<iface_runtime::ComponentN
     return std::make_shared<Class>(options); \
   } \
   template<> \
-  class rclcpp_components::NodeFactoryTemplate<Class>: public rclcpp_components::NodeFactory \
-  { \
-public: \
-    rclcpp_components::NodeInstanceWrapper create_node_instance(const rclcpp::NodeOptions & options) override \
-    { \
-      auto node = std::make_shared<Class>(options); \
-      Class * raw = node.get(); \
-      std::shared_ptr<void> instance(raw, [owner = std::move(node)](void *) mutable { \
-          owner->quiesce(); \
-          owner.reset(); \
-        }); \
-      return rclcpp_components::NodeInstanceWrapper( \
-        instance, [raw](const std::shared_ptr<void> &) {return raw->get_node_base_interface();}); \
-    } \
-  }; \
+  class rclcpp_components::NodeFactoryTemplate<Class>: public ::iface_runtime::ComponentFactory<Class> {}; \
   RCLCPP_COMPONENTS_REGISTER_NODE(Class)
 
 #endif  // EVERY_MEMBER__BASE_HPP_

@@ -23,6 +23,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "iface_runtime_cpp/component.hpp"
 #include "iface_runtime_cpp/iface_runtime.hpp"
 #include "rclcpp_components/register_node_macro.hpp"
 #include "iface_msgs/srv/component_control.hpp"
@@ -174,9 +175,8 @@ __attribute__((visibility("default"))) std::shared_ptr<iface_runtime::ComponentN
 
 //! Names the user's class of the component (at the end of src/node.cpp, outside any namespace) and
 //! registers it as the rclcpp component robot_arm::RobotArm: a class that does not match
-//! robot_arm.iface stops the build here with the reason. Its factory is rclcpp_components' own but
-//! for the deletion: a container that unloads the node keeps spinning, so the node is first quiesced
-//! (ComponentNode::quiesce: no callback of it runs any more) and only then deleted.
+//! robot_arm.iface stops the build here with the reason. Its factory is iface_runtime::ComponentFactory
+//! (iface_runtime_cpp/component.hpp): rclcpp_components' own, but the node is quiesced before it is deleted.
 #define ROBOT_ARM_COMPONENT(Class) \
   static_assert( \
     std::is_base_of_v<::robot_arm::RobotArmBase, Class>, \
@@ -195,21 +195,7 @@ __attribute__((visibility("default"))) std::shared_ptr<iface_runtime::ComponentN
     return std::make_shared<Class>(options); \
   } \
   template<> \
-  class rclcpp_components::NodeFactoryTemplate<Class>: public rclcpp_components::NodeFactory \
-  { \
-public: \
-    rclcpp_components::NodeInstanceWrapper create_node_instance(const rclcpp::NodeOptions & options) override \
-    { \
-      auto node = std::make_shared<Class>(options); \
-      Class * raw = node.get(); \
-      std::shared_ptr<void> instance(raw, [owner = std::move(node)](void *) mutable { \
-          owner->quiesce(); \
-          owner.reset(); \
-        }); \
-      return rclcpp_components::NodeInstanceWrapper( \
-        instance, [raw](const std::shared_ptr<void> &) {return raw->get_node_base_interface();}); \
-    } \
-  }; \
+  class rclcpp_components::NodeFactoryTemplate<Class>: public ::iface_runtime::ComponentFactory<Class> {}; \
   RCLCPP_COMPONENTS_REGISTER_NODE(Class)
 
 #endif  // ROBOT_ARM__BASE_HPP_
