@@ -65,7 +65,7 @@ def main() -> int:
     loaded: dict[str, int] = {}
 
     def start(argv: list[str], name: str, penv: dict[str, str]) -> Component:
-        p = Component("", name, a.logs, [], argv=argv, env=penv)
+        p = Component(name, a.logs, argv, env=penv)
         started.append(p)
         return p
 

@@ -43,8 +43,8 @@ def main() -> int:
     qos = QoSProfile(reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST, depth=1000)
     probe.node.create_subscription(Count, "/count", lambda m: counts.append(m.value), qos)
     probe.node.create_subscription(Parity, "/parity", parities.append, 10)
-    old = Component("", OLD, a.logs, [], argv=[cfg["ros_python"], "-m", "counter", "--activate"], env=cfg["env_old"])
-    new = Component("", NEW, a.logs, [], argv=[cfg["ros_python"], "-m", "counter"], env=cfg["env_new"])
+    old = Component(OLD, a.logs, [cfg["ros_python"], "-m", "counter", "--activate"], env=cfg["env_old"])
+    new = Component(NEW, a.logs, [cfg["ros_python"], "-m", "counter"], env=cfg["env_new"])
 
     def status(node: str) -> Any:
         request = ComponentControl.Request(command=ComponentControl.Request.STATUS, timeout_sec=5.0)

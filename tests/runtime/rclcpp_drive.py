@@ -47,7 +47,7 @@ def main() -> int:
     started: list[Component] = []
 
     def start(argv: list[str], name: str, env: dict[str, str]) -> Component:
-        p = Component("", name, a.logs, [], argv=argv, env=env)
+        p = Component(name, a.logs, argv, env=env)
         started.append(p)
         return p
 

@@ -90,20 +90,24 @@ def stacks_note(pid: int, path: Path) -> str:
     return f"\n(stacks of {pid}: {path})"
 
 
+def entry_point(package: str, *own: str) -> list[str]:
+    """The command that starts a generated Python component from its entry point (``own``: its own flags)."""
+    return [sys.executable, "-m", package, *own]
+
+
 class Component:
-    """A component process with its log, stopped by its own handle: started from its Python entry point
-    (``package``), or from ``argv`` with its own environment."""
+    """A component process started by ``argv`` (with ``env``, else this one), its log, stopped by its own
+    handle."""
 
     started: list[Component] = []
 
-    def __init__(self, package: str, name: str, logs: Path, ros_args: list[str], own: tuple[str, ...] = (),
-                 argv: list[str] | None = None, env: dict[str, str] | None = None) -> None:
+    def __init__(self, name: str, logs: Path, argv: list[str], ros_args: tuple[str, ...] = (),
+                 env: dict[str, str] | None = None) -> None:
         Component.started.append(self)
         self.name = name
         self.log_path = logs / f"{name}.log"
         self._log = open(self.log_path, "w")  # noqa: SIM115 - closed in stop()
-        command = argv if argv is not None else [sys.executable, "-m", package, *own]
-        self.proc = subprocess.Popen([*command, "--ros-args", "-r", f"__node:={name}", *ros_args], env=env,
+        self.proc = subprocess.Popen([*argv, "--ros-args", "-r", f"__node:={name}", *ros_args], env=env,
                                      stdout=self._log, stderr=subprocess.STDOUT)
 
     @classmethod
@@ -388,7 +392,7 @@ def robot_arm(report: Report, logs: Path) -> None:
 
     probe = Probe()
     proto = Protocol(probe, "robot_arm_msgs")
-    a = Component("robot_arm", "robot_arm", logs, [])
+    a = Component("robot_arm", logs, entry_point("robot_arm"))
     b: Component | None = None
     try:
         def start() -> str:
@@ -560,7 +564,7 @@ def robot_arm(report: Report, logs: Path) -> None:
             check(proto.control("robot_arm", 1).paused, "not paused")
             doc = proto.save("robot_arm")
             saved.update(doc)
-            b = Component("robot_arm", "robot_arm_b", logs, [])
+            b = Component("robot_arm_b", logs, entry_point("robot_arm"))
             probe.wait_ready("robot_arm_b")
             probe.transition("robot_arm_b", "configure")
             answer = proto.restore("robot_arm_b", doc)
@@ -641,12 +645,12 @@ def every_member(report: Report, logs: Path) -> None:
 
     probe = Probe()
     proto = Protocol(probe, "every_member_msgs")
-    s = Component("every_member", "every_member", logs, [])
+    s = Component("every_member", logs, entry_point("every_member"))
     peer_remaps = []
     for name in ("/station/command", "/station/sample", "/station/events", "/station/work", "/station/travel",
                  "/station/limits/get_limit", "/station/limits/reset"):
         peer_remaps += ["-r", f"{name}:={name.replace('/station/', '/peer/')}"]
-    peer = Component("every_member", "peer", logs, peer_remaps, own=("--activate",))
+    peer = Component("peer", logs, entry_point("every_member", "--activate"), tuple(peer_remaps))
     s2: Component | None = None
     names = ["gain", "retries", "priority", "enabled", "label", "start_mode", "offsets", "ids", "tags", "serial"]
     try:
@@ -847,7 +851,7 @@ def every_member(report: Report, logs: Path) -> None:
             saved.update(doc)
             check(set(doc["values"]) == {"counter", "last_label", "position", "target", "mode", "busy", "history",
                                          "flags"}, f"variables {sorted(doc['values'])}")
-            s2 = Component("every_member", "every_member_b", logs, [])
+            s2 = Component("every_member_b", logs, entry_point("every_member"))
             probe.wait_ready("every_member_b")
             probe.transition("every_member_b", "configure")
             answer = proto.restore("every_member_b", doc)

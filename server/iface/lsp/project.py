@@ -249,7 +249,7 @@ class Project:
         for group in (self._dirty & self._waiters.keys(), self._dirty & self._edited, self._dirty):
             if group:
                 first = min(group)
-                deps = [u for u in self._changed_deps(first) if u in self._dirty] if first in self._waiters else []
+                deps = self._changed_deps(first) if first in self._waiters else []
                 return deps[0] if deps else first
         raise LookupError("nothing to compile")
 
