@@ -151,7 +151,7 @@ def overlay(env: dict[str, str], ws: Path, first: Path | None = None) -> dict[st
 def build_cpp_counter(venv: Path, root: Path) -> tuple[str | None, str]:
     """The C++ counter 1.0 and iface_runtime_cpp, built on the Python workspace (counter_msgs, iface_msgs):
     the executable's path, or None and why."""
-    from tests.runtime.ros import environment, generate
+    from tests.ros_harness.ros import environment, generate
 
     gen = root / "gen_cpp"
     done = generate(COUNTER, gen, "--target", "rclcpp")
@@ -192,7 +192,7 @@ def main() -> int:
         print(json.dumps(measure(args.measure, args.handovers, args.python, args.logs, args.cpp)), flush=True)
         os._exit(0)  # rclpy's threads may abort the interpreter's own teardown ("terminate called…")
     os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "server"), os.environ.get("PYTHONPATH")) if p)
-    from tests.runtime.ros import build, environment, generate, runtime_venv  # generate runs this checkout's iface
+    from tests.ros_harness.ros import build, environment, generate, runtime_venv  # generate runs this checkout's iface
 
     venv, why = runtime_venv()
     if venv is None:

@@ -61,9 +61,9 @@ def main() -> int:
     parser.add_argument("--nodes", type=int, default=10)
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
-    from iface.runtime.live.graph import open_graph, ros_missing
-    from iface.runtime.live.to_iface import node_iface
-    from iface.runtime.live.verify import declared, read_live, verify
+    from iface.live.graph import open_graph, ros_missing
+    from iface.live.to_iface import node_iface
+    from iface.live.verify import declared, read_live, verify
     from iface.semantics.compile import Workspace
 
     why = ros_missing()
@@ -86,11 +86,11 @@ def main() -> int:
             one: list[float] = []
             for _ in range(args.repeat):
                 start = time.perf_counter()
-                node_iface(graph.snapshot(names[0]))
+                node_iface(graph.read_node(names[0]))
                 one.append(time.perf_counter() - start)
             files = []
             for n in names:
-                imported = node_iface(graph.snapshot(n))
+                imported = node_iface(graph.read_node(n))
                 path = tmp / imported.path
                 path.write_text(imported.text, encoding="utf-8")
                 files.append(path)

@@ -31,8 +31,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def prepare(args: argparse.Namespace) -> int:
     sys.path.insert(0, str(ROOT))
     sys.path.insert(0, str(ROOT / "server"))
-    from tests.runtime.manager_pkgs import generate_system
-    from tests.runtime.ros import build, environment, runtime_venv
+    from tests.ros_harness.systems import generate_system
+    from tests.ros_harness.ros import build, environment, runtime_venv
 
     venv, why = runtime_venv()
     if venv is None:
@@ -87,9 +87,10 @@ def stop_manager(proc: subprocess.Popen[bytes]) -> None:
 
 
 def inner(config: Path) -> int:  # noqa: PLR0915 - three measurements in a row
-    sys.path.insert(0, str(ROOT / "tests" / "runtime"))
+    sys.path.insert(0, str(ROOT))
     from iface_msgs.srv import Replace, SystemStatus
-    from rosdrive import Probe, import_interface
+
+    from tests.ros_harness.probe import Probe, import_interface
     from thermostat_msgs.msg import Heater
     from thermostat_msgs.srv import SetPoint
 

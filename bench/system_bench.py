@@ -19,8 +19,8 @@ from pathlib import Path
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "server"))
 
 from iface.compat.systemfile import system_findings  # noqa: E402
-from iface.runtime.launch import generate  # noqa: E402
-from iface.runtime.system import spec_of  # noqa: E402
+from iface.nodes.launch import generate  # noqa: E402
+from iface.nodes.system import spec_of  # noqa: E402
 from iface.semantics.compile import Workspace  # noqa: E402
 
 

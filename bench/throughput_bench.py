@@ -145,7 +145,7 @@ def main() -> int:
         print(json.dumps(drive(args.drive)), flush=True)
         os._exit(0)  # rclpy's threads may abort the interpreter's own teardown ("terminate called…")
     os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "server"), os.environ.get("PYTHONPATH")) if p)
-    from tests.runtime.ros import build, environment, generate, runtime_venv  # generate runs this checkout's iface
+    from tests.ros_harness.ros import build, environment, generate, runtime_venv  # generate runs this checkout's iface
 
     venv, why = runtime_venv()
     if venv is None:

@@ -166,7 +166,7 @@ def test_builtin_svg_matches_its_golden(tmp_path: Path) -> None:
     data = graph_json(build([cached(p) for p in ARM]), lambda p: os.path.relpath(p, DATA))
     text = builtin_svg(data)
     golden = GOLDEN / "arm-system.svg"
-    if os.environ.get("IFACE_UPDATE_GOLDEN") == "1":
+    if os.environ.get("UPDATE_GOLDEN") == "1":
         golden.parent.mkdir(exist_ok=True)
         golden.write_text(text, encoding="utf-8")
     assert text == golden.read_text(encoding="utf-8")

@@ -22,7 +22,7 @@ def test_model_dump_matches_golden(name: str) -> None:
     comp = compile_file(DATA / "valid" / name)
     text = json.dumps(dump_interface(comp.interface), indent=2, ensure_ascii=False) + "\n"
     golden = GOLDEN / (name + ".json")
-    if os.environ.get("UPDATE_GOLDEN"):
+    if os.environ.get("UPDATE_GOLDEN") == "1":
         golden.write_text(text, encoding="utf-8")
     assert golden.read_text(encoding="utf-8") == text
 

@@ -2,7 +2,9 @@
 
 The layer order is written once, here, and drawn in docs/architecture.md:
 model → syntax → semantics → text → forms → emit → importers; compat beside them;
-runtime above compat; commands and lsp on top, neither importing the other.
+nodes (generating node packages) above emit and compat; live (reading the graph) and operate (running a
+system) above nodes, operate above live; commands and lsp on top, neither importing the other.
+Generation never imports the code that reads or runs a live system.
 """
 
 from __future__ import annotations
@@ -24,10 +26,13 @@ ALLOWED: dict[str, frozenset[str]] = {
     "emit": frozenset({"model", "syntax", "semantics", "text", "forms"}),
     "importers": frozenset({"model", "syntax", "semantics", "text", "forms", "emit"}),
     "compat": frozenset({"model", "syntax", "semantics"}),
-    "runtime": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "compat"}),
+    "nodes": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "compat"}),
+    "live": frozenset({"model", "syntax", "semantics", "text", "forms", "compat", "nodes"}),
+    "operate": frozenset({"model", "syntax", "semantics", "text", "forms", "compat", "nodes", "live"}),
     "commands": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "importers", "compat",
-                           "runtime"}),
-    "lsp": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "importers", "compat", "runtime"}),
+                           "nodes", "live", "operate"}),
+    "lsp": frozenset({"model", "syntax", "semantics", "text", "forms", "emit", "importers", "compat", "nodes",
+                      "live", "operate"}),
 }
 #: Modules at the top of the package: the entry points, which may import every stage.
 TOP = frozenset({"__init__", "__main__", "cli"})

@@ -11,7 +11,7 @@ import pytest
 
 from iface.forms.jsonform import items_from_json, schema_text, to_json
 from iface.model import nodes as m
-from iface.runtime.system import SystemFileError, system_spec
+from iface.nodes.system import SystemFileError, system_spec
 from iface.semantics.compile import Workspace
 from iface.semantics.systems import period, start_order
 from iface.syntax.parse import parse_text

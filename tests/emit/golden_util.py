@@ -31,7 +31,7 @@ def check_golden(target: str, case: str, files: list[GeneratedFile]) -> None:
 def check_component_golden(target: str, case: str, files: list[GeneratedFile]) -> None:
     """Like :func:`check_golden` for a runtime target, with the shared packages (``iface_msgs``, the
     runtime) kept once in golden/<target>/shared/ instead of in every case: they do not depend on the case."""
-    from iface.runtime.shared import PACKAGES
+    from iface.nodes.shared import PACKAGES
 
     shared_names = {e.name for e in PACKAGES if target in e.targets}
     shared = [f for f in files if f.path.split("/", 1)[0] in shared_names]

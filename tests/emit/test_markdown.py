@@ -88,7 +88,7 @@ def test_found_through_entry_point() -> None:
 def test_golden(case: str) -> None:
     text = render(DATA / f"{case}.iface")
     golden = GOLDEN / f"{case}.md"
-    if os.environ.get("UPDATE_GOLDEN"):
+    if os.environ.get("UPDATE_GOLDEN") == "1":
         golden.parent.mkdir(parents=True, exist_ok=True)
         golden.write_bytes(text.encode("utf-8"))
     assert text.encode("utf-8") == golden.read_bytes()

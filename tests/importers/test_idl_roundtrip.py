@@ -136,7 +136,9 @@ print(json.dumps(out))
 
 def test_the_generated_idl_files_parse_with_rosidl_parser(tmp_path: Path) -> None:
     """ROS 2's own IDL parser (rosidl_parser, in the ROS 2 runtime venv) reads every .idl the ros2 target wrote."""
-    venv = Path(os.environ.get("IFACE_ROS2_VENV", "/root/.cache/ros2-runtime"))
+    from ..ros_harness.ros import DEFAULT_VENV
+
+    venv = Path(os.environ.get("IFACE_ROS2_VENV", DEFAULT_VENV))
     python = venv / "bin" / "python"
     if not python.is_file() or subprocess.run([str(python), "-c", "import rosidl_parser.parser"],
                                               capture_output=True).returncode:
@@ -171,7 +173,7 @@ def test_the_regenerated_idl_packages_build_with_rosidl(tmp_path: Path) -> None:
     """ROS 2's own generators build what the ros2 target wrote (.idl with wchar, includes across packages,
     a service and an action in IDL) in C and C++ and run a program per type: ../shared/ros2-build with Debian's
     rosidl."""
-    from ..runtime.ros import shared_dir
+    from ..ros_harness.ros import shared_dir
 
     shared = shared_dir()
     if shared is None or not (shared / "ros2-build" / "build.sh").is_file():

@@ -21,7 +21,7 @@ RANGE_MSGS = ROS2 / "range_msgs"
 
 
 def _corpus() -> Path | None:
-    """/work/shared/corpus or the folder IFACE_CORPUS names (absent on a fresh clone)."""
+    """../shared/corpus beside the clone, or the folder IFACE_CORPUS names (absent on a fresh clone)."""
     for p in (os.environ.get("IFACE_CORPUS"), ROOT.parent / "shared" / "corpus", ROOT.parents[1] / "shared" / "corpus"):
         if p and (Path(p) / "ros2").is_dir():
             return Path(p)

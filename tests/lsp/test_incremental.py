@@ -19,10 +19,10 @@ from lsprotocol import types as lsp
 
 from iface.lsp.documents import path_to_uri
 from iface.lsp.project import Project
-from iface.lsp.snapshots import names_of
+from iface.lsp.versions import names_of
 
 from .harness import DATA
-from .test_robustness import TOKENS, position, random_edit, snap
+from .test_robustness import TOKENS, position, random_edit, ver
 
 EDITS = int(os.environ.get("IFACE_SOAK_EDITS", "1000"))
 #: Text typed where the problems showed: a constant, then Enter, at a line start inside a struct.
@@ -46,8 +46,8 @@ class Recorder:
         self.published[uri] = (version, diags)
 
     async def diagnostics(self, uri: str) -> list[tuple[Any, ...]]:
-        snapshot = await self.project.snapshot(uri, fresh=True)
-        assert snapshot is not None
+        latest = await self.project.latest(uri, fresh=True)
+        assert latest is not None
         version, diags = self.published[uri]
         assert version == self.project.docs[uri].state.version
         return sorted(_key(d) for d in diags)
@@ -140,18 +140,18 @@ async def test_random_edits_leave_the_diagnostics_of_a_fresh_compile(tmp_path: P
                 new = ""
             else:
                 a, b, new = random_edit(rng, text)
-            a, b = snap(text, a), snap(text, b)
+            a, b = ver(text, a), ver(text, b)
             version += 1
             text = await _edit(rec, uri, text, a, b, new, version)
             if len(text) > 6000:  # keep the document near its size: drop a random stretch
                 cut = rng.randint(0, len(text) - 3000)
-                cut = snap(text, cut)
+                cut = ver(text, cut)
                 version += 1
-                text = await _edit(rec, uri, text, cut, snap(text, cut + 2000), "", version)
+                text = await _edit(rec, uri, text, cut, ver(text, cut + 2000), "", version)
             got = await rec.diagnostics(uri)
             want = await _fresh(uri, text)
             assert got == want, f"step {step}: the published diagnostics differ from a fresh compile\n{text!r}"
-            kept = rec.project.snapshots[uri]
+            kept = rec.project.compiled[uri]
             if kept.comp is not None:  # completion's names, kept or spliced from the last version's, as made anew
                 fresh = await rec.project.run(names_of, kept.comp)
                 assert (kept.names, kept.topics) == fresh, f"step {step}: names differ\n{text!r}"

@@ -54,7 +54,7 @@ async def test_findings_per_file_are_capped_with_one_that_counts_the_rest(client
 
 
 async def _compiled(project: Project, uri: str) -> None:
-    assert await project.view(uri, lambda view: view.snap.comp is not None, fresh=True)
+    assert await project.view(uri, lambda view: view.ver.comp is not None, fresh=True)
 
 
 async def test_closing_documents_releases_what_was_cached_for_them(tmp_path: Path) -> None:
@@ -72,7 +72,7 @@ async def test_closing_documents_releases_what_was_cached_for_them(tmp_path: Pat
             project.close(uri)
         await project.run(lambda: None)  # the model thread has released them
         assert project.workspace().cached_paths() == set()
-        assert not project.docs and not project.snapshots and not project.line_indexes
+        assert not project.docs and not project.compiled and not project.line_indexes
 
         keeper = path_to_uri(str(tmp_path / "keeper.iface"))
         project.open(keeper, 'include "shared.iface"\nstruct K { 1: shared.Vec v }\n', 1)
@@ -131,7 +131,7 @@ async def _open_document_bytes(tmp_path: Path, lines: int) -> tuple[int, int]:
 
 
 async def test_an_open_documents_memory_grows_linearly_with_its_text(tmp_path: Path) -> None:
-    """What an open document holds (text, model, analysis, snapshot) is the same per character at 1,500 and
+    """What an open document holds (text, model, analysis, compiled version) is the same per character at 1,500 and
     6,000 lines: a structure that grows faster than the text (per-line lists of growing objects, tables
     kept per pair of items) shows as a larger share at 6,000. Live objects are counted, not resident memory,
     which grows by steps and keeps what a parse freed (``bench/lsp_bench.py`` reports that)."""

@@ -50,7 +50,7 @@ def random_edit(rng: random.Random, text: str) -> tuple[int, int, str]:
     return a, a, "".join(c for c in chars if not 0xD800 <= ord(c) <= 0xDFFF)
 
 
-def snap(text: str, offset: int) -> int:
+def ver(text: str, offset: int) -> int:
     """Never split a \\r\\n pair: an edit between them would change the line count in two ways at once."""
     return offset - 1 if 0 < offset < len(text) and text[offset - 1] == "\r" and text[offset] == "\n" else offset
 
@@ -72,7 +72,7 @@ async def test_random_edits_each_get_diagnostics_and_hover_answers(fuzz_client: 
     await client.wait_diagnostics(uri, 1)
     for _ in range(EDITS):
         a, b, new = random_edit(rng, text)
-        a, b = snap(text, a), snap(text, b)
+        a, b = ver(text, a), ver(text, b)
         start_pos, end_pos = position(text, a), position(text, b)
         text = text[:a] + new + text[b:]
         version = client.edit(uri, (start_pos.line, start_pos.character), (end_pos.line, end_pos.character), new)

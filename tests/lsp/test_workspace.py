@@ -154,7 +154,7 @@ async def test_a_second_edit_goes_before_dependents_still_waiting_and_nothing_st
             project.open(uri, component(i), 1)
         project.open(shared, SHARED, 1)
         for uri in [*users, shared]:
-            assert await project.snapshot(uri, fresh=True) is not None
+            assert await project.latest(uri, fresh=True) is not None
 
         def settled() -> bool:  # the dependents were re-checked after the shared file's first compile
             at = [i for i, (u, _, _) in enumerate(rec.published) if u == shared]

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from .manager_pkgs import COMPONENTS as SYSTEM_COMPONENTS
-from .ros import DATA, ROOT, build, generate, runtime_venv
+from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
+from ..ros_harness.ros import DATA, ROOT, build, generate, runtime_venv
 
 #: The components the end-to-end tests build and run: (interface, user module of the tests).
 COMPONENTS = {

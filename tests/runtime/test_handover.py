@@ -1,7 +1,7 @@
 """End to end: `iface-lsp handover` replaces a running counter 1.0 by counter 2.0, and refuses what it must.
 
 Both components are generated from examples/counter.iface and examples/counter_v2.iface, built each
-into its own workspace with the ROS 2 runtime, and run on loopback; handover_drive.py runs the
+into its own workspace with the ROS 2 runtime, and run on loopback; drive_handover.py runs the
 scenario (every wait bounded, every process stopped by its own handle). Skipped, saying why, without
 the runtime.
 """
@@ -17,11 +17,11 @@ from typing import Any
 
 import pytest
 
-from iface.runtime.trust import keygen, sign
+from iface.operate.trust import keygen, sign
 
-from .ros import DATA, ROOT, build, environment, generate, run_bounded
+from ..ros_harness.ros import DATA, HARNESS, ROOT, build, environment, generate, run_bounded
 
-DRIVER = Path(__file__).parent / "handover_drive.py"
+DRIVER = HARNESS / "drive_handover.py"
 STEPS = [
     "start: OLD active and counting, NEW started",
     "protocol: one SaveState type for both components, ~/describe answers",

@@ -12,8 +12,8 @@ from typing import Any
 
 import pytest
 
-from iface.runtime import handover
-from iface.runtime.handover import ACTIVATE, ACTIVE, INACTIVE, HandOver, Refused
+from iface.operate import handover
+from iface.operate.handover import ACTIVATE, ACTIVE, INACTIVE, HandOver, Refused
 
 
 class Future:

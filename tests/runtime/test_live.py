@@ -23,7 +23,7 @@ from typing import Any
 import pytest
 
 from .conftest import Workspace
-from .ros import DATA, environment
+from ..ros_harness.ros import DATA, environment
 
 LIVE = DATA / "live"
 NODES = ["/live/talker", "/live/listener", "/live/lifer", "/live_probe"]

@@ -1,7 +1,7 @@
-"""The live import and verify without ROS 2: snapshots written as .iface, findings from a graph given as data.
+"""The live import and verify without ROS 2: readings written as .iface, findings from a graph given as data.
 
 The graph is read by rclpy in ``test_live.py``; here the two pure halves are checked on hand-made
-snapshots, so they run everywhere, and the commands' answer when ROS 2 is not sourced.
+readings, so they run everywhere, and the commands' answer when ROS 2 is not sourced.
 """
 
 from __future__ import annotations
@@ -16,18 +16,18 @@ from typing import Any
 
 import pytest
 
-from iface.runtime.live.snapshot import NamedEndpoint, NodeSnapshot, Param, Qos, TopicEndpoint
-from iface.runtime.live.to_iface import UNKNOWN_DEPTH, node_iface
-from iface.runtime.live.verify import CODES, LiveGraph, Peer, declared, verify
+from iface.live.reading import NamedEndpoint, NodeReading, Param, Qos, TopicEndpoint
+from iface.live.to_iface import UNKNOWN_DEPTH, node_iface
+from iface.live.verify import CODES, LiveGraph, Peer, declared, verify
 from iface.semantics.compile import Workspace
 
 ROOT = Path(__file__).resolve().parents[2]
 DEFAULT = Qos("reliable", "volatile", "automatic")
 
 
-def talker() -> NodeSnapshot:
+def talker() -> NodeReading:
     """A node as the graph tells it, with ROS 2's own endpoints among its own."""
-    snap = NodeSnapshot("/live/talker")
+    snap = NodeReading("/live/talker")
     snap.topics = [
         TopicEndpoint("publishes", "/chatter", "std_msgs/msg/String",
                       Qos("best_effort", "transient_local", "automatic", deadline=2.0, history="keep_last", depth=5)),
@@ -57,7 +57,7 @@ def compiled(path: Path, text: str):
     return Workspace().compile_path(str(path))
 
 
-def test_a_snapshot_is_written_as_a_checked_file_naming_exactly_what_the_node_has(tmp_path: Path) -> None:
+def test_a_reading_is_written_as_a_checked_file_naming_exactly_what_the_node_has(tmp_path: Path) -> None:
     out = node_iface(talker())
     assert out.path == "talker.iface"
     comp = compiled(tmp_path / out.path, out.text)
@@ -81,7 +81,7 @@ def test_a_snapshot_is_written_as_a_checked_file_naming_exactly_what_the_node_ha
 
 
 def test_a_lifecycle_node_is_marked_and_its_lifecycle_services_left_out() -> None:
-    snap = NodeSnapshot("/lifer", lifecycle=True)
+    snap = NodeReading("/lifer", lifecycle=True)
     snap.endpoints = [NamedEndpoint("provides", "service", "/lifer/get_state", "lifecycle_msgs/srv/GetState")]
     snap.topics = [TopicEndpoint("publishes", "/lifer/transition_event", "lifecycle_msgs/msg/TransitionEvent",
                                  DEFAULT)]
@@ -164,9 +164,9 @@ def test_without_ros_the_commands_say_so_in_one_line_and_exit_2(argv: list[str])
 
 def test_the_system_file_names_every_imported_node_and_verify_reads_its_instances(tmp_path: Path) -> None:
     from iface.commands.live import system_text
-    from iface.runtime.live.verify import declared_all
+    from iface.live.verify import declared_all
 
-    lifer = NodeSnapshot("/lifer", lifecycle=True)
+    lifer = NodeReading("/lifer", lifecycle=True)
     for snap in (talker(), lifer):
         out = node_iface(snap)
         (tmp_path / out.path).write_text(out.text, encoding="utf-8")
@@ -200,7 +200,7 @@ def test_a_describe_answer_gives_the_whole_interface_exactly(tmp_path: Path) -> 
 
 
 def test_declared_parameter_types_map_to_the_ros_2_types_nodes_hold(tmp_path: Path) -> None:
-    from iface.runtime.live.verify import param_kind
+    from iface.live.verify import param_kind
 
     text = """component p
 enum Mode { A = 0 }
@@ -219,7 +219,7 @@ configuration c {
 
 def test_a_component_file_given_beside_the_system_that_runs_it_is_verified_once(tmp_path: Path) -> None:
     from iface.commands.live import system_text
-    from iface.runtime.live.verify import declared_all
+    from iface.live.verify import declared_all
 
     out = node_iface(talker())
     (tmp_path / out.path).write_text(out.text, encoding="utf-8")
@@ -232,7 +232,7 @@ def test_a_component_file_given_beside_the_system_that_runs_it_is_verified_once(
 def test_findings_render_as_text_json_and_sarif(tmp_path: Path) -> None:
     import json
 
-    from iface.runtime.live.report import render_json, render_sarif, render_text
+    from iface.live.report import render_json, render_sarif, render_text
 
     d = declared_talker(tmp_path, "0..10")
     found = verify([d], LiveGraph(["/live/talker"], {"/live/talker": talker()}))
@@ -277,7 +277,7 @@ class _ArrivingGraph:
 
 
 def _graph_over(fake: _ArrivingGraph, timeout: float) -> Any:
-    from iface.runtime.live.graph import Graph
+    from iface.live.graph import Graph
 
     graph = object.__new__(Graph)  # the reading logic alone, over a stand-in for rclpy's node
     graph.timeout = timeout

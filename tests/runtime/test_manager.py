@@ -4,7 +4,7 @@ The system (a room sensor, a thermostat after it, a spare sensor) is generated f
 the tests' user modules (tests/runtime/data/*_node.py: each dies on activate when a flag file
 names its node), built in the session's one workspace (conftest.py), and run on loopback.
 NEW for the replacements is a signed copy of the thermostat's install folder (an equivalent
-interface: a fix of its code), an unsigned copy, and an incompatible interface. manager_drive.py
+interface: a fix of its code), an unsigned copy, and an incompatible interface. drive_manager.py
 runs the scenario in order (every wait bounded, every process stopped by its own handle).
 Skipped, saying why, without the runtime.
 """
@@ -21,11 +21,11 @@ from typing import Any
 
 import pytest
 
-from iface.runtime.trust import keygen, sign
+from iface.operate.trust import keygen, sign
 
-from .ros import ROOT, environment, run_bounded
+from ..ros_harness.ros import HARNESS, ROOT, environment, run_bounded
 
-DRIVER = Path(__file__).parent / "manager_drive.py"
+DRIVER = HARNESS / "drive_manager.py"
 STEPS = [
     "up: every instance active in order, status with its hash (json, html)",
     "snapshot: on request, and per the instance's period",

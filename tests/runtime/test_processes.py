@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from iface.runtime.processes import Records, StartError, find_executable, running, start
+from iface.operate.processes import Records, StartError, find_executable, running, start
 
 
 def test_a_started_process_is_recorded_and_recognised_and_a_changed_record_is_not(tmp_path: Path) -> None:

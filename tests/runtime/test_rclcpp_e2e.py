@@ -8,8 +8,8 @@ iface_msgs and counter_msgs (built once per process: tests/runtime/ros.py) (exam
 tests/runtime/data/counter_v2_node.cpp); the Python counter 1.0 for the hand-overs across
 languages; on top of ws_cpp, each package alone: every_member's C++ package with the user file
 iface writes (every kind of member: its templates compile; every_member_msgs comes from the
-session's workspace) and the C++ counter 1.0. rclcpp_drive.py runs the scenario of one C++ node,
-container_drive.py that of a component container; each test below is one of their steps. Every
+session's workspace) and the C++ counter 1.0. drive_rclcpp.py runs the scenario of one C++ node,
+drive_container.py that of a component container; each test below is one of their steps. Every
 wait is bounded, every process is stopped by its own handle, traffic stays on loopback in a random
 ROS_DOMAIN_ID.
 """
@@ -29,9 +29,10 @@ from typing import Any
 
 import pytest
 
-from .ros import DATA, ROOT, build, environment, generate, own_packages, reused_underlays, run_bounded, sourced
+from ..ros_harness.ros import (DATA, HARNESS, ROOT, build, environment, generate, own_packages, reused_underlays,
+                           run_bounded, sourced)
 
-DRIVER = Path(__file__).parent / "rclcpp_drive.py"
+DRIVER = HARNESS / "drive_rclcpp.py"
 COUNTER_V2 = ROOT / "examples" / "counter_v2.iface"
 STEPS = [
     "start: the executable with the installed parameter file",
@@ -236,7 +237,7 @@ def counter_v1_cpp(workspaces: dict[str, Any]) -> tuple[Path, dict[str, str]]:
     return ws, overlay(environment(venv, workspaces["ws_cpp"], root / "ros-log"), ws)
 
 
-CONTAINER_DRIVER = Path(__file__).parent / "container_drive.py"
+CONTAINER_DRIVER = HARNESS / "drive_container.py"
 CONTAINER_STEPS = [
     "container: component_container_mt starts",
     "container: counter 1.0 and 2.0 and every_member load side by side",
@@ -285,8 +286,7 @@ def test_every_member_builds_and_checks_its_parameters(workspaces: dict[str, Any
     script = r"""
 import json, subprocess, sys, time
 sys.path.insert(0, sys.argv[2])
-from rosdrive import Probe
-from rosdrive import Protocol
+from tests.ros_harness.probe import Probe, Protocol
 procs = [subprocess.Popen(argv + ["--ros-args", "-r", f"__node:={name}"], stdout=subprocess.DEVNULL,
                           stderr=subprocess.STDOUT)
          for argv, name in (([sys.argv[1]], "em_cpp"), ([sys.executable, "-m", "every_member"], "em_py"))]
@@ -323,7 +323,7 @@ finally:
     probe.close()
 print(json.dumps(out))
 """
-    done = subprocess.run([str(venv / "bin" / "python"), "-c", script, str(exe), str(Path(__file__).parent)],
+    done = subprocess.run([str(venv / "bin" / "python"), "-c", script, str(exe), str(ROOT)],
                           env=env, capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 0, done.stderr[-2000:]
     got = json.loads(done.stdout.strip().splitlines()[-1])

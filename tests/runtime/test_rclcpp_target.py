@@ -16,7 +16,7 @@ from iface.semantics.compile import Workspace
 from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml
 
-from .ros import DATA, ROOT
+from ..ros_harness.ros import DATA, ROOT
 
 CASES = {
     "robot_arm": ROOT / "examples" / "robot_arm.iface",

@@ -1,6 +1,6 @@
 """End to end: generated rclpy components built with the ROS 2 runtime and run on loopback.
 
-One scenario per component (tests/runtime/rosdrive.py) starts the nodes from their entry point and
+One scenario per component (tests/ros_harness/drive_nodes.py) starts the nodes from their entry point and
 checks each point of the issue as a step; each test below is one step. Every wait is bounded, every
 process is stopped by its own handle, traffic stays on loopback in a random ROS_DOMAIN_ID.
 """
@@ -14,9 +14,9 @@ from typing import Any
 import pytest
 
 from .conftest import Workspace
-from .ros import environment, run_bounded
+from ..ros_harness.ros import HARNESS, environment, run_bounded
 
-DRIVER = Path(__file__).parent / "rosdrive.py"
+DRIVER = HARNESS / "drive_nodes.py"
 COMMON = [
     "start: entry point with the generated parameter file",
     "parameters: descriptors with description, unit and range",

@@ -19,9 +19,9 @@ from typing import Any
 
 import pytest
 
-from .ros import DATA, build, environment, generate, run_bounded
+from ..ros_harness.ros import DATA, HARNESS, build, environment, generate, run_bounded
 
-DRIVER = Path(__file__).parent / "qosdrive.py"
+DRIVER = HARNESS / "drive_qos.py"
 S = 1_000_000_000
 INFINITE = 9223372036854775807  # the largest rmw duration: what an unset deadline, lifespan or lease reads as
 

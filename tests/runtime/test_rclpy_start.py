@@ -18,7 +18,7 @@ import textwrap
 from pathlib import Path
 
 from .conftest import Workspace
-from .ros import DEFAULT_VENV, ROOT, environment, run_bounded
+from ..ros_harness.ros import DEFAULT_VENV, ROOT, environment, run_bounded
 
 SECTION = "## From the interface to a running node"
 DEFAULT_ENV = "~/.cache/ros2-runtime/ros2-env.sh"

@@ -13,12 +13,12 @@ import pytest
 
 from iface.emit import generate, get_target
 from iface.emit.base import GeneratedFile
-from iface.runtime import protocol
+from iface.nodes import protocol
 from iface.semantics.compile import Workspace
 from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml, rosbags_parse, rosidl_parse
 
-from .ros import DATA, ROOT
+from ..ros_harness.ros import DATA, ROOT
 
 CASES = {
     "robot_arm": ROOT / "examples" / "robot_arm.iface",
@@ -332,7 +332,7 @@ def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wire
     assert f"{component}/config/{consts['PARAMS_FILE']}" in files
     comp = Workspace().compile_path(str(CASES[case]))
     from iface.emit.ros2.lower import lower_run
-    from iface.runtime.component import describe
+    from iface.nodes.component import describe
 
     pkg, _, run = lower_run(comp)
     assert pkg is not None

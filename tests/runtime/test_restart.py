@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from iface.runtime.restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD, Intensity, should_restart
+from iface.operate.restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD, Intensity, should_restart
 
 
 @pytest.mark.parametrize(("policy", "failed", "expected"), [
@@ -23,7 +23,7 @@ def test_intensity_stops_at_r_within_t_and_forgets_older_restarts() -> None:
 
 
 def test_defaults_are_documented() -> None:
-    from .ros import ROOT
+    from ..ros_harness.ros import ROOT
 
     text = (ROOT / "docs" / "system.md").read_text(encoding="utf-8")
     assert f"{DEFAULT_MAX_RESTARTS} restarts within {DEFAULT_PERIOD:g} s" in text

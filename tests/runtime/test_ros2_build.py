@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from .conftest import COMPONENTS
-from .ros import generate, shared_dir
+from ..ros_harness.ros import generate, shared_dir
 
 
 def test_interface_packages_build_in_c_and_cpp(tmp_path: Path) -> None:

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-TAKE = ("import sys; sys.path.insert(0, sys.argv[1]); from tests.runtime.ros import free_domain; "
+TAKE = ("import sys; sys.path.insert(0, sys.argv[1]); from tests.ros_harness.ros import free_domain; "
         "print(' '.join(str(free_domain()) for _ in range(50)), flush=True); sys.stdin.read()")
 
 

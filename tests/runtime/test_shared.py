@@ -8,10 +8,10 @@ import sys
 from pathlib import Path
 
 from iface.emit.write import stamp, unstamp
-from iface.runtime import protocol, shared
+from iface.nodes import protocol, shared
 from tests.emit.oracles import rosidl_parse
 
-from .ros import ROOT
+from ..ros_harness.ros import ROOT
 
 EXAMPLES = ROOT / "examples"
 _VERSION = re.compile(r"<version>([^<]+)</version>")

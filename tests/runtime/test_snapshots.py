@@ -12,14 +12,14 @@ from pathlib import Path
 
 import pytest
 
-from iface.runtime.snapshots import SnapshotStore, iso_time
+from iface.operate.snapshots import SnapshotStore, iso_time
 
-from .ros import ROOT
+from ..ros_harness.ros import ROOT
 
 WRITER = """
 import sys
 from pathlib import Path
-from iface.runtime.snapshots import SnapshotStore
+from iface.operate.snapshots import SnapshotStore
 store = SnapshotStore(Path(sys.argv[1]), keep=3)
 big = '{"values": {"blob": "' + 'x' * 40_000_000 + '"}}'
 while True:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from iface.runtime.trust import SIGNATURE_FILE, TrustError, keygen, sign, verify
+from iface.operate.trust import SIGNATURE_FILE, TrustError, keygen, sign, verify
 
 
 @pytest.fixture

@@ -18,7 +18,7 @@ from ..emit.base import GeneratedFile, GenerationError, Target
 from ..emit.registry import guarded, targets
 from ..emit.write import WriteReport, write_files
 from ..model.diagnostics import Diagnostic, Severity
-from ..runtime.launch import TARGET as LAUNCH
+from ..nodes.launch import TARGET as LAUNCH
 from .common import (
     UsageError,
     check_suffix,

@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
     except UsageError as e:
         print(f"iface-lsp handover: {e}", file=sys.stderr)
         return 2
-    from ..runtime.handover import HandOver, decide
+    from ..operate.handover import HandOver, decide
 
     report = decide(old, new, system)
     h = HandOver(args.old_node, args.new_node, report.new_hash, args.timeout, args.trust_store, args.new_package)

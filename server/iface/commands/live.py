@@ -14,7 +14,7 @@ from .common import print_link_notes
 
 def ros_missing_line(command: str) -> str | None:
     """The one line a command prints when ROS 2 is not sourced, or None when it is."""
-    from ..runtime.live.graph import ros_missing
+    from ..live.graph import ros_missing
 
     why = ros_missing()
     return f"iface-lsp {command}: {why}" if why else None
@@ -61,8 +61,8 @@ def import_nodes(args: argparse.Namespace) -> int:
     if args.timeout <= 0:
         print("iface-lsp import: --timeout must be more than 0 seconds", file=sys.stderr)
         return 2
-    from ..runtime.live.graph import open_graph
-    from ..runtime.live.to_iface import component_name, node_iface
+    from ..live.graph import open_graph
+    from ..live.to_iface import component_name, node_iface
 
     names = [n if n.startswith("/") else "/" + n for n in args.inputs]
     out = args.out or "."
@@ -74,7 +74,7 @@ def import_nodes(args: argparse.Namespace) -> int:
         absent = graph.wait_for(names)
         for name in absent:
             print(f"iface-lsp import: {name}: no such node on the graph (waited {args.timeout:g} s)", file=sys.stderr)
-        snaps = graph.snapshots([n for n in names if n not in absent], describe=not args.no_describe)
+        snaps = graph.read_nodes([n for n in names if n not in absent], describe=not args.no_describe)
         for name, snap in snaps.items():
             if snap.describe_json:
                 try:

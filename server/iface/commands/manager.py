@@ -7,8 +7,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..runtime.restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD
-from ..runtime.snapshots import DEFAULT_KEEP
+from ..operate.restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD
+from ..operate.snapshots import DEFAULT_KEEP
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -33,7 +33,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 after a clean shutdown (SIGINT/SIGTERM), 2 on a usage error or without ROS 2."""
-    from ..runtime.system import SystemFileError, system_spec
+    from ..nodes.system import SystemFileError, system_spec
 
     for name, value in (("--max-restarts", args.max_restarts), ("--keep", args.keep)):
         if value < 1:
@@ -56,8 +56,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"iface-lsp manager: ROS 2 or iface_msgs cannot be imported ({e}); source your ROS 2 setup and the "
               "workspace with the system's packages first", file=sys.stderr)
         return 2
-    from ..runtime.manager import Options
-    from ..runtime.manager import run as run_manager
+    from ..operate.manager import Options
+    from ..operate.manager import run as run_manager
 
     state_dir = args.state_dir or spec.file.parent / ".iface-state" / spec.name
     try:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..runtime.trust import SIGNATURE_FILE, TrustError, keygen, sign, verify
+from ..operate.trust import SIGNATURE_FILE, TrustError, keygen, sign, verify
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

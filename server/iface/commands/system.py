@@ -50,7 +50,7 @@ def _fail(message: str) -> int:
 
 def run(args: argparse.Namespace) -> int:
     """See the module's docstring for the exit codes."""
-    from ..runtime.system import SystemFileError, system_spec
+    from ..nodes.system import SystemFileError, system_spec
 
     if args.action == "replace":
         if args.timeout <= 0:
@@ -70,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
         import rclpy  # noqa: F401
     except ImportError as e:
         return _fail(f"ROS 2 or iface_msgs cannot be imported ({e}): source your ROS 2 setup first")
-    from ..runtime.manager_client import ManagerClient, NoManager, status_data
+    from ..operate.manager_client import ManagerClient, NoManager, status_data
 
     client = ManagerClient(args.manager_timeout)
     try:
@@ -102,7 +102,7 @@ def _status(spec: Any, data: dict[str, Any], fmt: str) -> int:
     if fmt == "json":
         print(json.dumps(data, indent=1))
     elif fmt == "html":
-        from ..runtime.status_html import render
+        from ..operate.status_html import render
 
         sys.stdout.write(render(spec, data))
     else:

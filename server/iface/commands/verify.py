@@ -37,9 +37,9 @@ def run(args: argparse.Namespace) -> int:
     if missing_ros:
         print(missing_ros, file=sys.stderr)
         return 2
-    from ..runtime.live.graph import open_graph
-    from ..runtime.live.report import render_json, render_sarif, render_text
-    from ..runtime.live.verify import declared_all, read_live, verify
+    from ..live.graph import open_graph
+    from ..live.report import render_json, render_sarif, render_text
+    from ..live.verify import declared_all, read_live, verify
 
     decls = declared_all(comps)
     if not decls:

@@ -2,7 +2,7 @@
 
 - ``server``: the pygls server and its lifecycle; ``features/``: one module per LSP feature;
 - ``project``: open documents, the model thread, the compile scheduler and diagnostics publishing;
-- ``documents``: buffers, versions, edits and offset mapping; ``snapshots``: compiled versions and views;
+- ``documents``: buffers, versions, edits and offset mapping; ``versions``: compiled versions and views;
 - ``index``: the workspace index (symbols across files); ``convert``: the only place that builds
   lsprotocol types; ``describe``, ``context``: hover text and completion context; ``settings``.
 

@@ -2,7 +2,7 @@
 
 The event loop owns every ``Document``; a change replaces its ``DocState`` as a
 whole, so a reader on another thread always sees one consistent version.
-``EditLog`` keeps the edits since the last compiled snapshot, so a request that
+``EditLog`` keeps the edits since the last compiled version, so a request that
 arrives before the newest text is compiled maps its offsets through them.
 """
 
@@ -112,7 +112,7 @@ class EditLog:
         return (head, tail) if head or tail else None
 
     def forget_before(self, seq: int) -> None:
-        """Drop edits older than ``seq`` (no snapshot needs them any more)."""
+        """Drop edits older than ``seq`` (no compiled version needs them any more)."""
         with self._lock:
             k = seq - self._base
             if k > 0:

@@ -2,7 +2,7 @@
 
 Files are compiled one by one on the model thread (a request waits behind at
 most one of them) when the server starts, and again when they are saved or
-change on disk. Open documents answer from their own snapshots instead.
+change on disk. Open documents answer from their own compiled versions instead.
 The facts kept (definitions, wirings) are immutable tuples, safe to read from
 the event loop (completion reads topics from there).
 """
@@ -151,20 +151,20 @@ class WorkspaceIndex:
 
     # ---- questions (model thread, where interfaces are read) ---------------------------
     def all_facts(self) -> list[FileFacts]:
-        """Facts of every file, open documents from their snapshots."""
+        """Facts of every file, open documents from their compiled versions."""
         out = dict(self.facts)
-        for snap in list(self.project.snapshots.values()):
-            if snap.iface is not None:
-                out[snap.path] = facts_of(snap.iface)
+        for ver in list(self.project.compiled.values()):
+            if ver.iface is not None:
+                out[ver.path] = facts_of(ver.iface)
         return [out[k] for k in sorted(out)]
 
     def all_compilations(self) -> list[Compilation]:
-        """Compilations of every file, open documents (and what they include) from their snapshots."""
+        """Compilations of every file, open documents (and what they include) from their compiled versions."""
         out = dict(self.compilations)
-        for snap in list(self.project.snapshots.values()):
-            if snap.comp is not None:
-                for c in snap.comp.closure():
-                    if c.path == snap.path or c.path not in out:
+        for ver in list(self.project.compiled.values()):
+            if ver.comp is not None:
+                for c in ver.comp.closure():
+                    if c.path == ver.path or c.path not in out:
                         out[c.path] = c
         return [out[k] for k in sorted(out)]
 

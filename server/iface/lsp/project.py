@@ -2,11 +2,11 @@
 
 Threads: the asyncio loop owns the documents (text, version, edit log); the
 model thread (a one-worker executor) owns the core ``Workspace`` and every
-``Snapshot``. A compilation shares model nodes with the next one of its
-document (unchanged chunks are reused and shifted in place), so a snapshot is
+``CompiledVersion``. A compilation shares model nodes with the next one of its
+document (unchanged chunks are reused and shifted in place), so a compiled version is
 read only on the model thread, and only until the next compile replaces it.
 Requests that arrive before the newest version is compiled use the latest
-snapshot and map offsets through the edits made since (``EditLog``).
+compiled version and map offsets through the edits made since (``EditLog``).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from .convert import UTF16, LineIndex, LineIndexes
 from .documents import DocState, Document, path_to_uri, uri_to_path
 from .findings import Findings, capped
 from .settings import Settings
-from .snapshots import DocumentView, Snapshot, names_of
+from .versions import DocumentView, CompiledVersion, names_of
 
 if TYPE_CHECKING:
     from ..model.nodes import Interface
@@ -44,7 +44,7 @@ class Project:
     def __init__(self, publish: Callable[[str, int | None, list[Any]], None]) -> None:
         self.publish = publish
         self.docs: dict[str, Document] = {}
-        self.snapshots: dict[str, Snapshot] = {}
+        self.compiled: dict[str, CompiledVersion] = {}
         self.settings = Settings()
         self.encoding = UTF16
         self.roots: list[str] = []
@@ -55,7 +55,7 @@ class Project:
         self._edited: set[str] = set()  # the dirty documents that are not only dependents of another
         self._task: asyncio.Task[None] | None = None
         self._kick: asyncio.Event | None = None
-        self._waiters: dict[str, list[tuple[int, asyncio.Future[Snapshot | None]]]] = {}
+        self._waiters: dict[str, list[tuple[int, asyncio.Future[CompiledVersion | None]]]] = {}
         self._external: dict[str, set[str]] = {}
         self.line_indexes = LineIndexes()
         self.findings = Findings()
@@ -99,29 +99,29 @@ class Project:
         from . import convert
         return convert.location(path_to_uri(source.path), self.index_of(source), span)
 
-    def compile(self, doc: Document) -> tuple[Snapshot, list[tuple[str, int | None, list[Any]]]]:
+    def compile(self, doc: Document) -> tuple[CompiledVersion, list[tuple[str, int | None, list[Any]]]]:
         """Compile the newest version of an open document (model thread).
 
-        Returns the snapshot (installed only while the document is still open)
+        Returns the compiled version (installed only while the document is still open)
         and the diagnostics to publish.
         """
         from . import convert
         uri, path, state = doc.uri, doc.path, doc.state
         ws = self.workspace()
         index = state.index
-        last = self.snapshots.get(uri)
+        last = self.compiled.get(uri)
         kept = doc.log.kept(last.seq, state.seq, len(last.text)) if last is not None else None
         try:
             comp = ws.compile_text(path, state.text, (last.text, *kept) if last is not None and kept else None)
         except Exception as e:  # the model must never take the server down
             log.exception("compiling %s failed", uri)
-            snap = Snapshot(uri, path, state.version, state.seq, state.text, index, None)
-            self._install(doc, snap)
-            return snap, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
-        names, topics = names_of(comp, self.snapshots.get(uri))
+            ver = CompiledVersion(uri, path, state.version, state.seq, state.text, index, None)
+            self._install(doc, ver)
+            return ver, [(uri, state.version, [convert.internal_error(f"iface failed on this file: {e!r}")])]
+        names, topics = names_of(comp, self.compiled.get(uri))
         deps = frozenset(c.path for c in comp.closure()[1:])
-        snap = Snapshot(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
-        self._install(doc, snap)
+        ver = CompiledVersion(uri, path, state.version, state.seq, state.text, index, comp, names, topics, deps)
+        self._install(doc, ver)
         uri_of = path_to_uri
         found = self.findings.of(path, comp, self.settings, self._include_paths())
         pubs: list[tuple[str, int | None, list[Any]]] = [
@@ -134,26 +134,26 @@ class Project:
             inc_index = self.index_of(inc.source)
             pubs.append((inc_uri, None, [convert.diagnostic(d, inc_index, uri_of, self.index_of)
                                          for d in capped(inc.diagnostics)]))
-        return snap, pubs
+        return ver, pubs
 
-    def _install(self, doc: Document, snap: Snapshot) -> None:
+    def _install(self, doc: Document, ver: CompiledVersion) -> None:
         if self.docs.get(doc.uri) is doc:
-            self.snapshots[doc.uri] = snap
+            self.compiled[doc.uri] = ver
 
-    def compile_disk(self, uri: str) -> Snapshot | None:
-        """A snapshot of a file that is not open, read from the disk (model thread)."""
+    def compile_disk(self, uri: str) -> CompiledVersion | None:
+        """A compiled version of a file that is not open, read from the disk (model thread)."""
         path = uri_to_path(uri)
         if not os.path.isfile(path):
             return None
         comp = self.workspace().compile_path(path)
         text = comp.source.text
-        return Snapshot(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp, *names_of(comp))
+        return CompiledVersion(uri, path, -1, 0, text, LineIndex(text, self.encoding), comp, *names_of(comp))
 
     # ---- documents (event loop) ----------------------------------------------------
     def open(self, uri: str, text: str, version: int) -> None:
         """A document was opened."""
         self.docs[uri] = Document(uri, text, version, self.encoding)
-        self.snapshots.pop(uri, None)  # a snapshot of an earlier opening counts edits of another log
+        self.compiled.pop(uri, None)  # a compiled version of an earlier opening counts edits of another log
         self.changed(uri)
 
     def change(self, uri: str, changes: list[Any], version: int) -> None:
@@ -169,17 +169,17 @@ class Project:
         doc = self.docs.pop(uri, None)
         if doc is None:
             return
-        self.snapshots.pop(uri, None)
+        self.compiled.pop(uri, None)
         for _, fut in self._waiters.pop(uri, []):
             if not fut.done():
                 fut.set_result(None)
         keep = {d.path for d in self.docs.values()}
-        for snap in self.snapshots.values():
-            keep |= snap.deps
+        for ver in self.compiled.values():
+            keep |= ver.deps
         self.submit(self._release, doc.path, keep)
         self.publish(uri, None, [])
-        for other, snap in list(self.snapshots.items()):
-            if doc.path in snap.deps:
+        for other, ver in list(self.compiled.items()):
+            if doc.path in ver.deps:
                 self.changed(other)
 
     def _release(self, path: str, keep: set[str]) -> None:
@@ -196,8 +196,8 @@ class Project:
 
     def file_changed_on_disk(self, path: str) -> None:
         """A file that is not open changed: recheck the open documents that include it."""
-        for uri, snap in list(self.snapshots.items()):
-            if path in snap.deps:
+        for uri, ver in list(self.compiled.items()):
+            if path in ver.deps:
                 self.changed(uri)
 
     def set_live(self, found: dict[str, list[Any]]) -> None:
@@ -232,11 +232,11 @@ class Project:
 
     def _changed_deps(self, uri: str) -> list[str]:
         """The open documents that ``uri``'s last check included and that changed since (their check pending)."""
-        snap = self.snapshots.get(uri)
-        if snap is None or not snap.deps:
+        ver = self.compiled.get(uri)
+        if ver is None or not ver.deps:
             return []
         pending = self._dirty | ({self._compiling} if self._compiling else set())
-        return sorted(u for u in pending if u != uri and u in self.docs and self.docs[u].path in snap.deps)
+        return sorted(u for u in pending if u != uri and u in self.docs and self.docs[u].path in ver.deps)
 
     def _behind(self, uri: str) -> bool:
         """Whether ``uri``'s last check read a file that changed since: its re-check is due, or the changed
@@ -287,14 +287,14 @@ class Project:
         doc = self.docs.get(uri)
         if doc is None:
             return
-        snap, pubs = await self.run(self.compile, doc)
+        ver, pubs = await self.run(self.compile, doc)
         if self.docs.get(uri) is not doc:
             return  # closed or opened again meanwhile
         self._publish_all(uri, pubs)
-        doc.log.forget_before(snap.seq)
-        self._wake_waiters(uri, snap)
-        for other, osnap in list(self.snapshots.items()):
-            if other != uri and doc.path in osnap.deps and other in self.docs:
+        doc.log.forget_before(ver.seq)
+        self._wake_waiters(uri, ver)
+        for other, over in list(self.compiled.items()):
+            if other != uri and doc.path in over.deps and other in self.docs:
                 self._schedule(other)
 
     def _publish_all(self, owner: str, pubs: list[tuple[str, int | None, list[Any]]]) -> None:
@@ -311,7 +311,7 @@ class Project:
                     if uri not in self.docs:
                         self.publish(uri, None, [])
 
-    def _wake_waiters(self, uri: str, snap: Snapshot) -> None:
+    def _wake_waiters(self, uri: str, ver: CompiledVersion) -> None:
         waiters = self._waiters.get(uri)
         if not waiters:
             return
@@ -319,8 +319,8 @@ class Project:
         for version, fut in waiters:
             if fut.done():
                 continue
-            if snap.version >= version or uri not in self.docs:
-                fut.set_result(snap)
+            if ver.version >= version or uri not in self.docs:
+                fut.set_result(ver)
             else:
                 keep.append((version, fut))
         if keep:
@@ -330,52 +330,52 @@ class Project:
         else:
             self._waiters.pop(uri, None)
 
-    async def snapshot(self, uri: str, fresh: bool = False) -> Snapshot | None:
-        """The latest snapshot of ``uri``; with ``fresh``, one of its current version.
+    async def latest(self, uri: str, fresh: bool = False) -> CompiledVersion | None:
+        """The latest compiled version of ``uri``; with ``fresh``, one of its current version.
 
         Without ``fresh`` a document that has never been compiled is compiled now.
         """
         doc = self.docs.get(uri)
         if doc is None:
-            snap = self.snapshots.get(uri)
-            return snap if snap is not None else await self.run(self.compile_disk, uri)
-        snap = self.snapshots.get(uri)
-        if snap is not None and (not fresh or snap.version == doc.state.version) and not self._behind(uri):
-            return snap
-        fut: asyncio.Future[Snapshot | None] = asyncio.get_running_loop().create_future()
+            ver = self.compiled.get(uri)
+            return ver if ver is not None else await self.run(self.compile_disk, uri)
+        ver = self.compiled.get(uri)
+        if ver is not None and (not fresh or ver.version == doc.state.version) and not self._behind(uri):
+            return ver
+        fut: asyncio.Future[CompiledVersion | None] = asyncio.get_running_loop().create_future()
         self._waiters.setdefault(uri, []).append((doc.state.version, fut))
         self.changed(uri)
         self._flush()
         return await fut
 
     async def view(self, uri: str, fn: Callable[[DocumentView], T], fresh: bool = False) -> T | None:
-        """Run ``fn`` on the model thread over the latest snapshot of ``uri`` seen from its current text."""
-        snap = await self.snapshot(uri, fresh)
-        if snap is None:
+        """Run ``fn`` on the model thread over the latest compiled version of ``uri`` seen from its current text."""
+        ver = await self.latest(uri, fresh)
+        if ver is None:
             return None
         return await self.run(self._in_view, uri, fn)
 
     def _in_view(self, uri: str, fn: Callable[[DocumentView], T]) -> T | None:
         doc = self.docs.get(uri)
-        snap = self.snapshots.get(uri)
+        ver = self.compiled.get(uri)
         if doc is None:
-            snap = snap or self.compile_disk(uri)
-            if snap is None:
+            ver = ver or self.compile_disk(uri)
+            if ver is None:
                 return None
-            state = DocState(snap.text, snap.version, snap.seq, self.encoding)
-            return fn(DocumentView(self, snap, state, []))
-        if snap is None:
+            state = DocState(ver.text, ver.version, ver.seq, self.encoding)
+            return fn(DocumentView(self, ver, state, []))
+        if ver is None:
             return None
         state = doc.state
-        edits = doc.log.between(snap.seq, state.seq) if state.seq > snap.seq else []
-        return fn(DocumentView(self, snap, state, edits))
+        edits = doc.log.between(ver.seq, state.seq) if state.seq > ver.seq else []
+        return fn(DocumentView(self, ver, state, edits))
 
     def open_interfaces(self) -> list[Interface]:
         """Interfaces of every open document and everything they include (model thread)."""
         out: dict[str, Interface] = {}
-        for snap in list(self.snapshots.values()):
-            if snap.comp is None:
+        for ver in list(self.compiled.values()):
+            if ver.comp is None:
                 continue
-            for c in snap.comp.closure():
+            for c in ver.comp.closure():
                 out.setdefault(c.path, c.interface)
         return list(out.values())

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 from lsprotocol import types as lsp
 
 from .. import convert
-from ..snapshots import DocumentView
+from ..versions import DocumentView
 from . import package_metadata, ros_habits
 
 if TYPE_CHECKING:
@@ -43,7 +43,7 @@ class Fixes:
 
     # ---- edits -------------------------------------------------------------------
     def edit(self, start: int, end: int, new_text: str) -> lsp.WorkspaceEdit | None:
-        """One edit of the snapshot text, placed in the current text."""
+        """One edit of the compiled version text, placed in the current text."""
         placed = self.view.place(start, end)
         if placed is None:
             return None
@@ -108,11 +108,11 @@ class Fixes:
 
         iface = self.view.iface
         item = item_at(iface, offset) if iface is not None else None
-        at = item.span.end if item is not None else len(self.view.snap.text)
+        at = item.span.end if item is not None else len(self.view.ver.text)
         stub = f"\n\n{kind} {name} {{\n}}"
-        if item is None or at >= len(self.view.snap.text.rstrip()):
-            stub = stub + "\n" if not self.view.snap.text.endswith("\n") else stub.lstrip("\n") + "\n"
-            at = len(self.view.snap.text)
+        if item is None or at >= len(self.view.ver.text.rstrip()):
+            stub = stub + "\n" if not self.view.ver.text.endswith("\n") else stub.lstrip("\n") + "\n"
+            at = len(self.view.ver.text)
         return self.edit(at, at, stub)
 
     def _rename_to(self, diag: lsp.Diagnostic, offset: int, new: str) -> None:
@@ -143,7 +143,7 @@ class Fixes:
         if iface is None:
             return
         topic = "/" + (ros_field_name(name) or name.lower())
-        text = self.view.snap.text
+        text = self.view.ver.text
         if iface.wirings:
             at = iface.wirings[-1].span.end
             prefix, suffix = "\n", ""
@@ -156,7 +156,7 @@ class Fixes:
 
     def _body(self, d: m.Definition) -> tuple[int, int] | None:
         """Offsets of the braces of a definition's body."""
-        text = self.view.snap.text
+        text = self.view.ver.text
         open_ = text.find("{", d.name_span.end, d.span.end)
         close = text.rfind("}", d.name_span.end, d.span.end)
         return (open_, close) if 0 <= open_ < close else None
@@ -171,7 +171,7 @@ class Fixes:
         body = self._body(d)
         if body is None:
             return
-        explicit = explicit_text(d, self.view.snap.text)
+        explicit = explicit_text(d, self.view.ver.text)
         self.add(f"Write {d.kind} '{d.name}' with explicit parts", QUICKFIX,
                  self.edit(body[0], body[1] + 1, "{\n" + explicit + "\n}"), diag, preferred=True)
 
@@ -180,7 +180,7 @@ class Fixes:
         body = self._body(d) if d is not None else None
         if d is None or body is None:
             return
-        text = self.view.snap.text
+        text = self.view.ver.text
         close = body[1]
         line_start = text.rfind("\n", 0, close) + 1
         before = text[line_start:close]
@@ -214,7 +214,7 @@ class Fixes:
         body = self._body(d)
         if body is None:
             return
-        text = self.view.snap.text
+        text = self.view.ver.text
         at = text.find("\n", body[0]) + 1 if "\n" in text[body[0]:body[1]] else body[0] + 1
         insert = "    uint64 timestamp  # time since system start (microseconds)\n" if at > body[0] + 1 \
             else " uint64 timestamp "

@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 WORDS = {"publishes": "published by", "subscribes": "subscribed by", "provides": "provided by",
          "calls": "called by"}
@@ -33,7 +33,7 @@ def register(server: IfaceServer) -> None:
             users: dict[str, dict[str, list[str]]] = {}
             for f in facts:
                 for w in f.wirings:
-                    if w.target is not None and w.target[0] == view.snap.path:
+                    if w.target is not None and w.target[0] == view.ver.path:
                         users.setdefault(w.target[1], {}).setdefault(w.direction, []).append(w.component)
             out: list[lsp.CodeLens] = []
             for d in iface.definitions:

@@ -24,7 +24,7 @@ from ..server import IfaceServer  # noqa: E402  (resolved at run time: pygls rea
 from .. import convert
 from ..documents import path_to_uri
 from ..settings import DEFAULT_OUTPUT
-from ..snapshots import Snapshot
+from ..versions import CompiledVersion
 
 if TYPE_CHECKING:
     from ...semantics.compile import Compilation
@@ -66,12 +66,12 @@ class Runner:
     def __init__(self, project: Project) -> None:
         self.project = project
 
-    async def compilation(self, uri: str) -> Snapshot:
-        """A current snapshot of ``uri`` (compiled now if needed)."""
-        snap = await self.project.snapshot(uri, fresh=True)
-        if snap is None or snap.comp is None:
+    async def compilation(self, uri: str) -> CompiledVersion:
+        """A current compiled version of ``uri`` (compiled now if needed)."""
+        ver = await self.project.latest(uri, fresh=True)
+        if ver is None or ver.comp is None:
             raise CommandError(f"cannot read {uri}")
-        return snap
+        return ver
 
     def target(self, name: str | None) -> str:
         """The target asked for, or the first default one."""
@@ -108,12 +108,12 @@ class Runner:
     async def preview(self, arguments: Any) -> dict[str, Any]:
         """``iface.preview [uri, target]``: the generated files, not written."""
         a = _args(arguments, ("uri", "target"))
-        snap = await self.compilation(_text(a["uri"], "uri") or "")
+        ver = await self.compilation(_text(a["uri"], "uri") or "")
         target = self.target(_text(a["target"], "target", required=False))
 
         def run() -> dict[str, Any]:
-            assert snap.comp is not None
-            files, errors = self._generate(snap.comp, target, strict=False)
+            assert ver.comp is not None
+            files, errors = self._generate(ver.comp, target, strict=False)
             return {"target": target, "files": [{"path": f.path, "text": f.text} for f in files], "errors": errors}
 
         return await self.project.run(run)
@@ -121,15 +121,15 @@ class Runner:
     async def generate(self, arguments: Any) -> dict[str, Any]:
         """``iface.generate [uri, target, folder]``: write the generated files."""
         a = _args(arguments, ("uri", "target", "folder"))
-        snap = await self.compilation(_text(a["uri"], "uri") or "")
+        ver = await self.compilation(_text(a["uri"], "uri") or "")
         target = self.target(_text(a["target"], "target", required=False))
-        out = self.out_dir(snap.path, _text(a["folder"], "folder", required=False), target)
+        out = self.out_dir(ver.path, _text(a["folder"], "folder", required=False), target)
 
         def run() -> dict[str, Any]:
             from ...emit.write import write_files
 
-            assert snap.comp is not None
-            files, errors = self._generate(snap.comp, target)
+            assert ver.comp is not None
+            files, errors = self._generate(ver.comp, target)
             if errors:
                 return {"target": target, "folder": out, "written": [], "unchanged": [], "kept": [], "refused": [],
                         "errors": errors, "files": []}
@@ -143,14 +143,14 @@ class Runner:
     async def export_json(self, arguments: Any) -> dict[str, Any]:
         """``iface.exportJson [uri, folder]``: the interface as JSON, written to the output folder."""
         a = _args(arguments, ("uri", "folder"))
-        snap = await self.compilation(_text(a["uri"], "uri") or "")
-        out = self.out_dir(snap.path, _text(a["folder"], "folder", required=False), "json")
+        ver = await self.compilation(_text(a["uri"], "uri") or "")
+        out = self.out_dir(ver.path, _text(a["folder"], "folder", required=False), "json")
 
         def run() -> dict[str, Any]:
             from ...emit.write import write_files
 
-            assert snap.comp is not None
-            files, errors = self._generate(snap.comp, "json")
+            assert ver.comp is not None
+            files, errors = self._generate(ver.comp, "json")
             if errors:
                 return {"written": [], "unchanged": [], "refused": [], "files": [], "folder": out, "errors": errors}
             report = write_files(files, out)
@@ -163,7 +163,7 @@ class Runner:
     async def compat(self, arguments: Any) -> dict[str, Any]:
         """``iface.compat [uri, baseline]``: can this file replace its baseline (a file or ``git:REV``)?"""
         a = _args(arguments, ("uri", "baseline"))
-        snap = await self.compilation(_text(a["uri"], "uri") or "")
+        ver = await self.compilation(_text(a["uri"], "uri") or "")
         spec = _text(a["baseline"], "baseline", required=False) or self.project.settings.compat_baseline
         if not spec:
             raise CommandError("no baseline: pass one or set compat.baseline")
@@ -174,11 +174,11 @@ class Runner:
                 from ...compat.report import render_text
             except ImportError as e:
                 raise JsonRpcInternalError(message="compatibility checks are not installed (iface.compat)") from e
-            assert snap.comp is not None
-            old = load_baseline(snap.path, spec, list(self.project.workspace().include_paths))
+            assert ver.comp is not None
+            old = load_baseline(ver.path, spec, list(self.project.workspace().include_paths))
             if old is None:
                 raise CommandError(f"cannot read the baseline '{spec}'")
-            report = compare(old, snap.comp)
+            report = compare(old, ver.comp)
             return {"text": render_text(report, _display(self.project)), "verdict": str(report.verdict)}
 
         return await self.project.run(run)
@@ -231,25 +231,25 @@ class Runner:
         timeout = a["timeout"] if a["timeout"] is not None else 5.0
         if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or timeout <= 0:
             raise CommandError("timeout must be a number of seconds above 0")
-        from ...runtime.live.graph import ros_missing
+        from ...live.graph import ros_missing
         why = ros_missing()
         if why:
             raise CommandError(why)
         comps: list[Compilation] = []
         if uris:
             for uri in uris:
-                snap = await self.compilation(uri)
-                assert snap.comp is not None
-                comps.append(snap.comp)
+                ver = await self.compilation(uri)
+                assert ver.comp is not None
+                comps.append(ver.comp)
         else:
             if self.project.workspace_index is not None:
                 await self.project.workspace_index.ready.wait()
             index = self.project.workspace_index
             comps = index.all_compilations() if index is not None else []
         comps = [c for c in comps if c.path.endswith(".iface") and not c.has_errors]
-        from ...runtime.live.graph import open_graph
-        from ...runtime.live.report import render_text
-        from ...runtime.live.verify import declared_all, read_live, verify
+        from ...live.graph import open_graph
+        from ...live.report import render_text
+        from ...live.verify import declared_all, read_live, verify
 
         decls = declared_all(comps)
         if not decls:

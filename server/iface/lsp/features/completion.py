@@ -1,7 +1,7 @@
 """Completion from the text around the cursor and the names of the last compile.
 
 Runs on the event loop without waiting for a compile: the context comes from
-``context.context_at`` and the names from the latest snapshot (immutable).
+``context.context_at`` and the names from the latest compiled version (immutable).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from ..context import Context, context_at
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import Name, Snapshot
+    from ..versions import Name, CompiledVersion
 
 MAX_ITEMS = 100
 
@@ -82,9 +82,9 @@ def register(server: IfaceServer) -> None:
         state = doc.state
         offset = state.index.offset(params.position.line, params.position.character)
         ctx = context_at(state.text, offset)
-        snap = project.snapshots.get(doc.uri)
-        names = snap.names if snap is not None else ()
-        topics = _topics(project, snap) if ctx.where == "topic" else []  # every wiring: only where wanted
+        ver = project.compiled.get(doc.uri)
+        names = ver.names if ver is not None else ()
+        topics = _topics(project, ver) if ctx.where == "topic" else []  # every wiring: only where wanted
         caps = ls.client_capabilities.text_document
         item_caps = caps.completion.completion_item if caps and caps.completion else None
         snippets = bool(item_caps and item_caps.snippet_support)
@@ -92,20 +92,20 @@ def register(server: IfaceServer) -> None:
                         and lsp.MarkupKind.Markdown in item_caps.documentation_format)
         items = Items(ctx, state.index, offset, snippets, markdown)
         if ctx.where.startswith("instance-"):
-            offer_system(ctx, snap.system_names if snap is not None else (), items)
+            offer_system(ctx, ver.system_names if ver is not None else (), items)
         else:
-            offer(ctx, names, topics, items, sorted_types(snap) if snap is not None else None)
+            offer(ctx, names, topics, items, sorted_types(ver) if ver is not None else None)
         built, incomplete = items.build(MAX_ITEMS)
         return convert.completion_list(built, incomplete=incomplete)
 
 
-def _topics(project: object, snap: object) -> list[tuple[str, str, str]]:
+def _topics(project: object, ver: object) -> list[tuple[str, str, str]]:
     found: dict[tuple[str, str, str], None] = {}
     index = getattr(project, "workspace_index", None)
     if index is not None:
         for t in index.topics():
             found.setdefault(t)
-    for topic, type_name in getattr(snap, "topics", ()):
+    for topic, type_name in getattr(ver, "topics", ()):
         found.setdefault((topic, type_name, ""))
     return list(found)
 
@@ -149,12 +149,12 @@ class Items:
         return items, len(self.candidates) > limit
 
 
-def sorted_types(snap: Snapshot) -> tuple[tuple[Name, ...], tuple[Name, ...]]:
-    """The type names of a snapshot sorted by name: local ones, then included ones (built once per snapshot)."""
-    if snap.sorted_types is None:
-        types = sorted((n for n in snap.names if n.kind in TYPE_KINDS), key=lambda n: n.name)
-        snap.sorted_types = (tuple(n for n in types if "." not in n.name), tuple(n for n in types if "." in n.name))
-    return snap.sorted_types
+def sorted_types(ver: CompiledVersion) -> tuple[tuple[Name, ...], tuple[Name, ...]]:
+    """The type names of a compiled version sorted by name: local ones, then included ones (built once per compiled version)."""
+    if ver.sorted_types is None:
+        types = sorted((n for n in ver.names if n.kind in TYPE_KINDS), key=lambda n: n.name)
+        ver.sorted_types = (tuple(n for n in types if "." not in n.name), tuple(n for n in types if "." in n.name))
+    return ver.sorted_types
 
 
 def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, str]], items: Items,

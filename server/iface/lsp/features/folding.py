@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 
 def register(server: IfaceServer) -> None:
@@ -23,10 +23,10 @@ def register(server: IfaceServer) -> None:
             from ...semantics.compile import too_large
             from ...semantics.query import folding_spans
 
-            if view.iface is None or too_large(view.snap.text):
+            if view.iface is None or too_large(view.ver.text):
                 return None
-            out = [convert.folding_range(view.snap.index, span, kind)
-                   for span, kind in folding_spans(view.iface, view.snap.text)]
+            out = [convert.folding_range(view.ver.index, span, kind)
+                   for span, kind in folding_spans(view.iface, view.ver.text)]
             return [r for r in out if r is not None]
 
         return await project.view(params.text_document.uri, answer, fresh=True)

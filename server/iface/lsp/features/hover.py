@@ -12,7 +12,7 @@ if TYPE_CHECKING:
     from ...model import nodes as m
     from ...semantics.compile import Compilation
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 
 def register(server: IfaceServer) -> None:
@@ -34,7 +34,7 @@ def register(server: IfaceServer) -> None:
             hit = locate(iface, offset)
             if hit is None:
                 return None
-            text = describe(hit, iface, view.snap.text, [])
+            text = describe(hit, iface, view.ver.text, [])
             rng = view.range(hit.span)
             if text is None or rng is None:
                 return None
@@ -47,7 +47,7 @@ def register(server: IfaceServer) -> None:
 
 def _node_part(comp: Compilation, wiring: m.Wiring) -> str:
     """What the generated component node (the rclpy target) makes of a wiring, as a hover section."""
-    from ...runtime.component import handler_lines, node_spec
+    from ...nodes.component import handler_lines, node_spec
 
     spec = node_spec(comp)
     if spec is None:

@@ -10,7 +10,7 @@ if TYPE_CHECKING:
     from ...model.nodes import Interface
     from ...model.source import Span
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 
 def locate(view: DocumentView, line: int, character: int) -> Any:

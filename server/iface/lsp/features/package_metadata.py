@@ -29,14 +29,14 @@ def add_metadata(fixes: Fixes, diag: lsp.Diagnostic, missing: list[str]) -> None
         return
     comp = iface.component
     have = {a.key for a in comp.annotations} if comp is not None else set()
-    name, email = git_identity(os.path.dirname(view.snap.path))
+    name, email = git_identity(os.path.dirname(view.ver.path))
     values = {"license": LICENSE, "maintainer": name, "maintainer_email": email}
     wanted = set(missing) | ({"maintainer_email"} if "maintainer" in missing else set())
     keys = [k for k in KEYS if k in wanted and k not in have]
     if not keys:
         return
     pairs = [f'{k} = "{values[k]}"' for k in keys]
-    text = view.snap.text
+    text = view.ver.text
     if comp is None:
         at, insert = 0, f"component {iface.name} ({', '.join(pairs)})\n"
     elif comp.annotations:

@@ -15,7 +15,7 @@ from .navigation import home_of, locate, referring_interfaces
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 
 class RenameRefused(JsonRpcInvalidRequest):

@@ -58,5 +58,5 @@ def _header_end(fixes: Fixes) -> tuple[int, str]:
 def _find_include(fixes: Fixes, name: str) -> bool:
     """True when an included file ``name`` would be found (beside the file or on the include paths)."""
     view = fixes.view
-    folders = [os.path.dirname(view.snap.path), *view.project.workspace().include_paths]
+    folders = [os.path.dirname(view.ver.path), *view.project.workspace().include_paths]
     return any(os.path.isfile(os.path.join(f, name)) for f in folders)

@@ -10,7 +10,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 
 def register(server: IfaceServer) -> None:
@@ -26,9 +26,9 @@ def register(server: IfaceServer) -> None:
                 return None
             out = []
             for pos in params.positions:
-                offset = view.snap.index.offset(pos.line, pos.character)
-                out.append(convert.selection_range(view.snap.index,
-                                                   selection_chain(view.iface, offset, len(view.snap.text))))
+                offset = view.ver.index.offset(pos.line, pos.character)
+                out.append(convert.selection_range(view.ver.index,
+                                                   selection_chain(view.iface, offset, len(view.ver.text))))
             return out
 
         return await project.view(params.text_document.uri, answer, fresh=True)

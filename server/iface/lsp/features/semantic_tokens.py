@@ -17,7 +17,7 @@ from .. import convert
 if TYPE_CHECKING:
     from ...model.nodes import Interface
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 TOKEN_TYPES = ["namespace", "type", "struct", "enum", "interface", "enumMember", "property", "variable",
                "keyword", "comment", "string", "number", "decorator", "function"]
@@ -159,9 +159,9 @@ def register(server: IfaceServer) -> None:
         def answer(view: DocumentView) -> lsp.SemanticTokens | None:
             from ...semantics.compile import too_large
 
-            if view.iface is None or too_large(view.snap.text):
+            if view.iface is None or too_large(view.ver.text):
                 return None
-            return convert.semantic_tokens(encode(tokens(view.iface, view.snap.text), view.snap.index, view.snap.text))
+            return convert.semantic_tokens(encode(tokens(view.iface, view.ver.text), view.ver.index, view.ver.text))
 
         return await project.view(params.text_document.uri, answer, fresh=True)
 
@@ -170,11 +170,11 @@ def register(server: IfaceServer) -> None:
         def answer(view: DocumentView) -> lsp.SemanticTokens | None:
             from ...semantics.compile import too_large
 
-            if view.iface is None or too_large(view.snap.text):
+            if view.iface is None or too_large(view.ver.text):
                 return None
-            index = view.snap.index
+            index = view.ver.index
             a = convert.offset(index, params.range.start)
             b = convert.offset(index, params.range.end)
-            return convert.semantic_tokens(encode(tokens(view.iface, view.snap.text), index, view.snap.text, a, b))
+            return convert.semantic_tokens(encode(tokens(view.iface, view.ver.text), index, view.ver.text, a, b))
 
         return await project.view(params.text_document.uri, answer, fresh=True)

@@ -12,7 +12,7 @@ from .. import convert
 
 if TYPE_CHECKING:
     from ..server import IfaceServer
-    from ..snapshots import DocumentView
+    from ..versions import DocumentView
 
 MAX_WORKSPACE_SYMBOLS = 500
 
@@ -34,8 +34,8 @@ def register(server: IfaceServer) -> None:
                 return None
             groups = outline(view.iface)
             if hierarchical:
-                return [convert.document_symbol(view.snap.index, g) for g in groups]
-            return convert.flat_symbols(view.uri, view.snap.index, groups)
+                return [convert.document_symbol(view.ver.index, g) for g in groups]
+            return convert.flat_symbols(view.uri, view.ver.index, groups)
 
         return await project.view(params.text_document.uri, answer, fresh=True)
 

@@ -1,6 +1,6 @@
 """Drive a hand-over between two running counter components and report each step (run in a ROS 2 environment).
 
-    python handover_drive.py CONFIG.json --out RESULT.json --logs DIR
+    python drive_handover.py CONFIG.json --out RESULT.json --logs DIR
 
 Started by tests/runtime/test_handover.py with the ROS runtime's Python. OLD (examples/counter.iface)
 and NEW (examples/counter_v2.iface) run from their entry points, each from its own workspace, each
@@ -16,11 +16,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
-sys.path.insert(0, str(Path(__file__).parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 import itertools
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rosdrive import Component, Probe, Report, check  # noqa: E402
+from tests.ros_harness.probe import Component, Probe, Report, check  # noqa: E402
 
 OLD, NEW = "counter", "counter_new"
 

@@ -1,7 +1,7 @@
 """Compiled versions of a document and how a request sees them from the current text.
 
-A ``Snapshot`` is one compiled version (read on the model thread only, but for
-``names``); a ``DocumentView`` is a snapshot seen from its document's current text,
+A ``CompiledVersion`` is one compiled version (read on the model thread only, but for
+``names``); a ``DocumentView`` is a compiled version seen from its document's current text,
 mapping positions through the edits made since.
 """
 
@@ -32,7 +32,7 @@ class Name:
 
 
 @dataclass(eq=False)
-class Snapshot:
+class CompiledVersion:
     """One compiled version of a document (read on the model thread only, except ``names``)."""
 
     uri: str
@@ -69,24 +69,24 @@ class Snapshot:
 
 @dataclass(eq=False)
 class DocumentView:
-    """A snapshot seen from the current text of its document."""
+    """A compiled version seen from the current text of its document."""
 
     project: Project
-    snap: Snapshot
+    ver: CompiledVersion
     state: DocState
     edits: list[Edit]
 
     @property
     def uri(self) -> str:
-        return self.snap.uri
+        return self.ver.uri
 
     @property
     def comp(self) -> Compilation | None:
-        return self.snap.comp
+        return self.ver.comp
 
     @property
     def iface(self) -> Interface | None:
-        return self.snap.iface
+        return self.ver.iface
 
     @property
     def text(self) -> str:
@@ -100,16 +100,16 @@ class DocumentView:
 
     @property
     def current(self) -> bool:
-        """True when the snapshot is of the current text."""
+        """True when the compiled version is of the current text."""
         return not self.edits
 
     def offset(self, line: int, character: int) -> int | None:
-        """A current LSP position → an offset in the snapshot (None inside newly typed text)."""
+        """A current LSP position → an offset in the compiled version (None inside newly typed text)."""
         off = self.state.index.offset(line, character)
         return map_back(self.edits, off) if self.edits else off
 
     def place(self, start: int, end: int) -> tuple[int, int] | None:
-        """A snapshot range → the current offsets (None if that text was replaced)."""
+        """A compiled version range → the current offsets (None if that text was replaced)."""
         if not self.edits:
             return start, end
         a = map_forward(self.edits, start)
@@ -119,7 +119,7 @@ class DocumentView:
         return a, b
 
     def range(self, span: Span) -> Any:
-        """The current LSP range of a snapshot span, or None."""
+        """The current LSP range of a compiled version span, or None."""
         from . import convert
         placed = self.place(span.start, span.end)
         return convert.range_(self.index, *placed) if placed is not None else None
@@ -127,20 +127,20 @@ class DocumentView:
     def location(self, source: Source, span: Span) -> Any:
         """An LSP location of a span in this document or in another file."""
         from . import convert
-        if source.path == self.snap.path:
+        if source.path == self.ver.path:
             rng = self.range(span)
             return convert.lsp.Location(uri=self.uri, range=rng) if rng is not None else None
         return self.project.location(source, span)
 
 
-def names_of(comp: Compilation, last: Snapshot | None = None
+def names_of(comp: Compilation, last: CompiledVersion | None = None
              ) -> tuple[tuple[Name, ...], tuple[tuple[str, str], ...]]:
     """Names of a compilation for completion (local definitions, then included ones with their prefix)
-    and its topics (``Snapshot.topics``).
+    and its topics (``CompiledVersion.topics``).
 
-    Chunks that did not change keep their definition objects, so the names of the ``last`` snapshot's
+    Chunks that did not change keep their definition objects, so the names of the ``last`` compiled version's
     definitions are kept and an edit rebuilds only its own. When the compilation's lists were spliced
-    from those of the ``last`` snapshot's, so are its names and topics, in time that follows the edit
+    from those of the ``last`` compiled version's, so are its names and topics, in time that follows the edit
     (a list the edit did not change is the last one).
     """
     from ..model import nodes as m

@@ -1,7 +1,7 @@
 """The protocol every generated component speaks, whatever its language (docs/runtime.md).
 
 The protocol's types live in one ROS 2 interface package, ``iface_msgs`` (``PACKAGE``), written
-from ``MESSAGES`` and ``SERVICES`` below by ``iface.runtime.shared`` beside the components, so
+from ``MESSAGES`` and ``SERVICES`` below by ``iface.nodes.shared`` beside the components, so
 every component speaks it through the same types (``iface_msgs/srv/SaveState``…) and a tool that
 talks to many components needs one type per service. Add a message or a service by adding it to
 ``MESSAGES`` or ``SERVICES`` and raising ``PACKAGE_VERSION``'s minor number; a change that old

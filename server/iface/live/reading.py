@@ -68,7 +68,7 @@ class Param:
 
 
 @dataclass(slots=True)
-class NodeSnapshot:
+class NodeReading:
     """One running node: its full name and what the graph tells of it."""
 
     name: str

@@ -2,7 +2,7 @@
 
 An ament_python package (``iface_runtime_py.runtime``: the lifecycle node; ``iface_runtime_py.contract``:
 its rules without ROS) that ``generate --target rclpy`` writes once beside the components
-(``iface.runtime.shared``). Raise ``VERSION`` whenever a template of it changes, so an older copy in
+(``iface.nodes.shared``). Raise ``VERSION`` whenever a template of it changes, so an older copy in
 an output folder is updated and a newer one kept.
 """
 

@@ -11,16 +11,16 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from ...compat import qos as qosrules
-from ...compat.canon import interface_hash
-from ...compat.side import Side
-from ...compat.parts import endpoint_type
-from ...model import nodes as m
-from ...model.source import Source, Span
-from ...semantics.compile import Compilation
-from ...text.printer import type_text
+from ..compat import qos as qosrules
+from ..compat.canon import interface_hash
+from ..compat.side import Side
+from ..compat.parts import endpoint_type
+from ..model import nodes as m
+from ..model.source import Source, Span
+from ..semantics.compile import Compilation
+from ..text.printer import type_text
 from .filters import own_endpoints, own_params, own_topics
-from .snapshot import NodeSnapshot, Qos
+from .reading import NodeReading, Qos
 from .to_iface import duration_text
 
 if TYPE_CHECKING:  # reading the graph needs rclpy; comparing does not
@@ -72,10 +72,10 @@ class Peer:
 
 @dataclass(slots=True)
 class LiveGraph:
-    """What the graph told: the running node names, snapshots of the declared ones, every endpoint of their topics."""
+    """What the graph told: the running node names, readings of the declared ones, every endpoint of their topics."""
 
     names: list[str] = field(default_factory=list)
-    nodes: dict[str, NodeSnapshot] = field(default_factory=dict)
+    nodes: dict[str, NodeReading] = field(default_factory=dict)
     peers: dict[str, list[Peer]] = field(default_factory=dict)
 
 
@@ -110,7 +110,7 @@ def declared_all(comps: list[Compilation]) -> list[Declared]:
     An instance runs as ``/<node>`` (its ``node`` annotation), else as its component file's
     ``ros2.node``, else as ``/<instance name>``.
     """
-    from ...compat.systemfile import instance_compilations
+    from ..compat.systemfile import instance_compilations
 
     out: list[Declared] = []
     for comp in comps:
@@ -186,7 +186,7 @@ def param_kind(f: m.Field) -> str | None:
 
 
 class _Checker:
-    def __init__(self, d: Declared, snap: NodeSnapshot) -> None:
+    def __init__(self, d: Declared, snap: NodeReading) -> None:
         self.d = d
         self.snap = snap
         self.source: Source = d.comp.source
@@ -291,7 +291,7 @@ def _qos_pairs(decls: list[Declared], live: LiveGraph) -> list[Finding]:
                 if not why:
                     continue
                 where = by_node.get(sub.node) or by_node[pub.node]
-                checker = _Checker(where, live.nodes.get(where.node) or NodeSnapshot(where.node))
+                checker = _Checker(where, live.nodes.get(where.node) or NodeReading(where.node))
                 role = "subscribes" if where.node == sub.node else "publishes"
                 span = next((ep.wiring.span for ep in [*where.comp.interface.subscribed,
                                                         *where.comp.interface.published]
@@ -310,7 +310,7 @@ def verify(decls: list[Declared], live: LiveGraph) -> list[Finding]:
     for d in decls:
         snap = live.nodes.get(d.node)
         if snap is None:
-            c = _Checker(d, NodeSnapshot(d.node))
+            c = _Checker(d, NodeReading(d.node))
             if d.instance is not None:
                 c.source = d.instance[0]
             c.at("live-node-missing", f"{d.node} is not running (declared by component {d.comp.interface.name})",
@@ -346,7 +346,7 @@ def read_live(graph: Graph, decls: list[Declared]) -> LiveGraph:
         expect.setdefault(d.node, set()).update(expected_names(d))
     graph.wait_for(nodes, expect=expect)
     live.names = graph.node_names()
-    live.nodes = graph.snapshots([n for n in nodes if n in live.names])
+    live.nodes = graph.read_nodes([n for n in nodes if n in live.names])
     topics = sorted({t.topic for s in live.nodes.values() for t in own_topics(s)})
     for topic in topics:
         live.peers[topic] = [Peer(n, r, t, q) for n, r, t, q in graph.peers(topic)]

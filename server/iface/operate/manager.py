@@ -26,7 +26,8 @@ from pathlib import Path
 from typing import Any
 
 from ..semantics.compile import Compilation, Workspace
-from . import processes, protocol
+from ..nodes import protocol
+from . import processes
 from .handover import ACTIVE, INACTIVE, UNCONFIGURED, HandOver, Refused, decide
 from .link import Link, LinkError
 from .processes import InstanceProcess, Records, StartError

@@ -1,9 +1,9 @@
 """Finding the ROS 2 runtime, building generated packages with it, and its environment for processes.
 
 The runtime is the venv that ``../shared/ros2-runtime/setup.sh VENV`` makes: ``IFACE_ROS2_VENV``,
-else ``/root/.cache/ros2-runtime`` when it exists. Without it the ROS tests skip, saying why.
+else ``~/.cache/ros2-runtime`` when it exists. Without it the ROS tests skip, saying why.
 Builds use ``ros2-runtime/build.sh`` (``IFACE_ROS2_SHARED``, else ``../shared`` beside the
-clone, else ``/work/shared``) and fall back to the venv's colcon with the same arguments.
+clone) and fall back to the venv's colcon with the same arguments.
 
 The packages every component shares (``iface_msgs``, ``iface_runtime_py``: ``SHARED_PACKAGES``) and
 every interface package are built once per test process and content, each in a workspace of its own
@@ -27,8 +27,11 @@ from pathlib import Path
 from typing import IO
 
 ROOT = Path(__file__).resolve().parents[2]
-DATA = Path(__file__).parent / "data"
-DEFAULT_VENV = Path("/root/.cache/ros2-runtime")
+#: The test data of the runtime tests: interfaces and the user code put into generated packages.
+DATA = ROOT / "tests" / "runtime" / "data"
+#: This folder: the drivers (``drive_*.py``) run with the ROS runtime's Python.
+HARNESS = Path(__file__).parent
+DEFAULT_VENV = Path.home() / ".cache" / "ros2-runtime"
 LOOPBACK = {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_LOCALHOST_ONLY": "1"}
 NOT_LOOPBACK = ("ROS_STATIC_PEERS", "ROS_DISCOVERY_SERVER", "FASTRTPS_DEFAULT_PROFILES_FILE",
                 "FASTDDS_DEFAULT_PROFILES_FILE", "ROS2_EASY_MODE")
@@ -47,7 +50,7 @@ def runtime_venv() -> tuple[Path | None, str]:
 
 def shared_dir() -> Path | None:
     """The folder that holds ros2-runtime/ and ros2-build/, if any."""
-    for candidate in (os.environ.get("IFACE_ROS2_SHARED"), ROOT.parent / "shared", "/work/shared"):
+    for candidate in (os.environ.get("IFACE_ROS2_SHARED"), ROOT.parent / "shared"):
         if candidate and (Path(candidate) / "ros2-runtime" / "build.sh").is_file():
             return Path(candidate)
     return None

@@ -1,6 +1,6 @@
 """Read running nodes off the ROS 2 graph through rclpy (imported here only, when a command needs it).
 
-``open_graph(timeout)`` starts a probe node in a context of its own; ``Graph.snapshot(name)`` reads
+``open_graph(timeout)`` starts a probe node in a context of its own; ``Graph.read_node(name)`` reads
 one node: its publishers and subscriptions with their QoS (``get_*_info_by_topic``), services,
 clients, action servers and clients, parameters with their descriptors (the node's parameter
 services), whether it is a lifecycle node, and its Describe answer when it serves one. Every wait
@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from .snapshot import (DESCRIBE_SERVICE, DESCRIBE_TYPE, LIFECYCLE_SERVICES, NamedEndpoint, NodeSnapshot, Param, Qos,
+from .reading import (DESCRIBE_SERVICE, DESCRIBE_TYPE, LIFECYCLE_SERVICES, NamedEndpoint, NodeReading, Param, Qos,
                        TopicEndpoint)
 
 QOS_OVERRIDES = "qos_overrides."
@@ -172,12 +172,12 @@ class Graph:
         return last
 
     # ---- reading nodes -----------------------------------------------------------------------
-    def snapshot(self, full: str) -> NodeSnapshot:
+    def read_node(self, full: str) -> NodeReading:
         """Everything the graph tells of the node ``full`` (``/ns/name``)."""
-        return self.snapshots([full])[full]
+        return self.read_nodes([full])[full]
 
-    def snapshots(self, names: list[str], describe: bool = True) -> dict[str, NodeSnapshot]:
-        """Snapshots of several nodes; their parameter and Describe services (unless not ``describe``) are
+    def read_nodes(self, names: list[str], describe: bool = True) -> dict[str, NodeReading]:
+        """Readings of several nodes; their parameter and Describe services (unless not ``describe``) are
         asked all at once."""
         snaps = {full: self._graph_part(full) for full in names}
         with_params = [s for s in snaps.values() if "list_parameters" in s.own_services]
@@ -190,13 +190,13 @@ class Graph:
             snap.endpoints.sort(key=lambda e: (e.kind, e.name, e.role))
         return snaps
 
-    def _graph_part(self, full: str) -> NodeSnapshot:
+    def _graph_part(self, full: str) -> NodeReading:
         from rclpy.action import graph as action_graph
 
         ns, _, name = full.rpartition("/")
         ns = ns or "/"
         n = self.node
-        snap = NodeSnapshot(full)
+        snap = NodeReading(full)
         services = {s: tuple(t) for s, t in n.get_service_names_and_types_by_node(name, ns)}
         for s, t in services.items():
             rel = snap.relative(s)
@@ -267,11 +267,11 @@ class Graph:
             for client in clients:
                 self.node.destroy_client(client)
 
-    def _parameters(self, snaps: list[NodeSnapshot]) -> None:
+    def _parameters(self, snaps: list[NodeReading]) -> None:
         from rcl_interfaces.srv import DescribeParameters, GetParameters, ListParameters
 
         lists = self._calls([(ListParameters, f"{s.name}/list_parameters", ListParameters.Request()) for s in snaps])
-        asked: list[tuple[NodeSnapshot, list[str]]] = []
+        asked: list[tuple[NodeReading, list[str]]] = []
         for snap, listed in zip(snaps, lists, strict=True):
             if listed is None:
                 snap.notes.append("its parameter services did not answer: parameters not read")
@@ -289,7 +289,7 @@ class Graph:
                 continue
             _read_parameters(snap, described.descriptors, got.values)
 
-    def _describe(self, snaps: list[NodeSnapshot]) -> None:
+    def _describe(self, snaps: list[NodeReading]) -> None:
         if not snaps:
             return
         try:
@@ -307,7 +307,7 @@ class Graph:
             snap.describe_hash = str(answer.interface_hash)
 
 
-def _read_parameters(snap: NodeSnapshot, descriptors: Any, values: Any) -> None:
+def _read_parameters(snap: NodeReading, descriptors: Any, values: Any) -> None:
     """Parameters from the answers of describe_parameters and get_parameters; ``qos_overrides.*`` give QoS."""
     overrides: dict[tuple[str, str], dict[str, Any]] = {}
     for d, v in zip(descriptors, values, strict=True):

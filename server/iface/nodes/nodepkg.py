@@ -1,7 +1,7 @@
 """What every node target shares: the interface package with the protocol services, and the description.
 
 The rclpy and rclcpp targets both write the ``ros2`` target's interface package plus the
-protocol services (``iface.runtime.protocol``), and a component package read from one
+protocol services (``iface.nodes.protocol``), and a component package read from one
 ``ComponentSpec``; this module does the first step for both.
 """
 
@@ -58,7 +58,7 @@ def prepare(comp: Compilation, language: str,
 
     ``language`` (``python`` or ``c++``) is the node's: it decides which keywords are refused.
     ``shared_protocol``: the node speaks the protocol through ``iface_msgs`` (written beside it by
-    ``iface.runtime.shared``); otherwise its own interface package gets the protocol services.
+    ``iface.nodes.shared``); otherwise its own interface package gets the protocol services.
     """
     pkg, diagnostics, run = lower_run(comp, check_msg_values, node_keywords(language), check_rosidl_names)
     result = Result(diagnostics=diagnostics)

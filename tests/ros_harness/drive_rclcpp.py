@@ -1,12 +1,12 @@
 """Drive the generated C++ (rclcpp) counter through the Python node's checks and a hand-over with a Python counter.
 
-    python rclcpp_drive.py CONFIG.json --out RESULT.json --logs DIR
+    python drive_rclcpp.py CONFIG.json --out RESULT.json --logs DIR
 
 Started by tests/runtime/test_rclcpp_e2e.py with the ROS runtime's Python. The C++ counter 2.0
 (examples/counter_v2.iface, tests/runtime/data/counter_v2_node.cpp) runs from its executable, the
 Python counter 1.0 (examples/counter.iface, tests/runtime/data/counter_node.py) from its entry
 point, each from its own workspace, each process stopped by its own handle. The checks are
-rosdrive.py's (lifecycle, parameters, QoS, /diagnostics while a callback blocks, control, Σ), then
+drive_nodes.py's (lifecycle, parameters, QoS, /diagnostics while a callback blocks, control, Σ), then
 `iface-lsp handover` from the Python node to a C++ one, and a state saved in C++ restored in Python.
 Every wait is bounded; each step is written to RESULT.json as it ends.
 """
@@ -22,10 +22,10 @@ import time
 from pathlib import Path
 from typing import Any
 
-sys.path.insert(0, str(Path(__file__).parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
-from rosdrive import Component, Probe, Protocol, Report, check, incompatible  # noqa: E402
+from tests.ros_harness.probe import Component, Probe, Protocol, Report, check, incompatible  # noqa: E402
 
 
 def main() -> int:

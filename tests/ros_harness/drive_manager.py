@@ -1,6 +1,6 @@
 """Drive the component manager through the acceptance scenario and report each step (run in a ROS 2 environment).
 
-    python manager_drive.py CONFIG.json --out RESULT.json --logs DIR
+    python drive_manager.py CONFIG.json --out RESULT.json --logs DIR
 
 Started by tests/runtime/test_manager.py with the ROS runtime's Python. The managers run as a user
 runs them (``iface-lsp manager``, each in a session of its own, stopped by its own handle); the
@@ -20,8 +20,8 @@ import time
 from pathlib import Path
 from typing import Any
 
-sys.path.insert(0, str(Path(__file__).parent))
-from rosdrive import Probe, Report, check, import_interface  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
+from tests.ros_harness.probe import Probe, Report, check, import_interface  # noqa: E402
 
 SYSTEM_KEYS = {"instances", "findings"}
 INSTANCE_KEYS = {"name", "node", "state", "pid", "restarts", "interface_hash", "last_snapshot"}

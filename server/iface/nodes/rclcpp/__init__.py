@@ -3,8 +3,8 @@
 ``iface-lsp generate robot_arm.iface --target rclcpp --out src`` writes
 
 - ``src/<interface package>/``: the ``ros2`` target's package, as the ``rclpy`` target does
-  (``iface.runtime.nodepkg``);
-- ``src/iface_msgs/`` and ``src/iface_runtime_cpp/``, the shared packages (``iface.runtime.shared``;
+  (``iface.nodes.nodepkg``);
+- ``src/iface_msgs/`` and ``src/iface_runtime_cpp/``, the shared packages (``iface.nodes.shared``;
   the library from ``library``), once per output folder;
 - ``src/<component>/``: ``package.xml``, ``CMakeLists.txt`` (a component library registered with
   ``rclcpp_components_register_node``, and the executable), ``config/<node>.params.yaml``,
@@ -12,7 +12,7 @@
   class), ``src/base.cpp``, ``src/main.cpp``, and ``src/node.cpp``, the user's class, written once and
   never overwritten.
 
-The node is the rclpy target's node in C++: the same description (``iface.runtime.component``),
+The node is the rclpy target's node in C++: the same description (``iface.nodes.component``),
 node and service names, command line, parameter checks and state document (docs/runtime.md).
 
 May import: what ``runtime`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit``,

@@ -1,6 +1,6 @@
 """Generated C++ components in one component container, and hand-overs from C++ to C++ and to Python.
 
-    python container_drive.py CONFIG.json --out RESULT.json --logs DIR
+    python drive_container.py CONFIG.json --out RESULT.json --logs DIR
 
 Started by tests/runtime/test_rclcpp_e2e.py with the ROS runtime's Python, in the environment of every
 workspace it built: iface_msgs and iface_runtime_cpp with the C++ counter 2.0, the C++ counter 1.0 on
@@ -25,10 +25,10 @@ import time
 from pathlib import Path
 from typing import Any
 
-sys.path.insert(0, str(Path(__file__).parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
-from rosdrive import Component, Probe, Protocol, Report, check  # noqa: E402
+from tests.ros_harness.probe import Component, Probe, Protocol, Report, check  # noqa: E402
 
 CONTAINER = "iface_container"
 

@@ -7,10 +7,10 @@
   ``config/<node>.params.yaml``, ``launch/<node>.launch.py`` and the Python package:
   ``base.py`` (the generated lifecycle-node base class), ``__main__.py`` (``python -m``), and
   ``node.py``, the user's module, written once and never overwritten;
-- once for every component in the folder (``iface.runtime.shared``): ``src/iface_msgs/`` (the
+- once for every component in the folder (``iface.nodes.shared``): ``src/iface_msgs/`` (the
   protocol's services) and ``src/iface_runtime_py/`` (the node machinery every component imports).
 
-How the interface becomes a node: ``iface.runtime.component`` and docs/runtime.md.
+How the interface becomes a node: ``iface.nodes.component`` and docs/runtime.md.
 
 May import: what ``runtime`` may (``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``emit``,
 ``compat``) and the other modules of ``runtime``.

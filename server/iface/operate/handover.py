@@ -3,12 +3,12 @@
 "Stop a component, save its state, load another component in its place and switch them"
 (docs/runtime.md has the sequence as a diagram). ``decide`` is the offline half: ``compat`` must
 find that NEW may replace OLD, and its verdict fixes the interface hash that NEW must have.
-``HandOver.run`` is the live half, over the component protocol (``iface.runtime.protocol``) and
+``HandOver.run`` is the live half, over the component protocol (``iface.nodes.protocol``) and
 the standard lifecycle services, with rclpy:
 
 1. both nodes answer ``~/control`` STATUS within the timeout; OLD is active, NEW is not;
 2. NEW reports the approved interface hash; where a trust store is given, NEW's package carries a
-   valid signature (``iface.runtime.trust``);
+   valid signature (``iface.operate.trust``);
 3. NEW is configured if it is not yet; every service the switch needs is found, its client made and
    answered once (OLD's current state is restored into NEW as a rehearsal: a state NEW refuses is
    found before OLD pauses); NEW's publishers are matched by the subscriptions OLD's have (a NEW
@@ -34,7 +34,7 @@ from typing import Any
 
 from ..compat import Report, compare
 from ..semantics.compile import Compilation
-from . import protocol
+from ..nodes import protocol
 from .trust import TrustError, verify
 
 #: Verdicts under which a hand-over may go on.

@@ -1,6 +1,6 @@
 """The packages every generated component shares, written once into the output folder beside them.
 
-``iface_msgs`` (the protocol's interface package, from ``iface.runtime.protocol``) and the
+``iface_msgs`` (the protocol's interface package, from ``iface.nodes.protocol``) and the
 runtime packages (``iface_runtime_py``…) are the same for every component. ``generate`` writes
 the ones its target needs into the output folder, so ``colcon build`` of that folder builds
 everything; a second component generated into the same folder finds them there. What is found
@@ -34,7 +34,7 @@ from . import protocol
 MAINTAINER = ("iface", "iface@example.invalid")
 LICENSE = "Apache-2.0"
 #: The name generated headers give as the source of the shared packages.
-SOURCE_NAME = "iface.runtime.protocol"
+SOURCE_NAME = "iface.nodes.protocol"
 _VERSION = re.compile(r"<version>\s*([^<\s]+)\s*</version>")
 
 
@@ -123,7 +123,7 @@ def runtime_py_package() -> SharedPackage:
 
 
 def runtime_cpp_package() -> SharedPackage:
-    """``iface_runtime_cpp``: the C++ node machinery (``iface.runtime.rclcpp.library``)."""
+    """``iface_runtime_cpp``: the C++ node machinery (``iface.nodes.rclcpp.library``)."""
     from .rclcpp.library import package
 
     return package()

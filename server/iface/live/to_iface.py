@@ -1,4 +1,4 @@
-"""A node snapshot as an ``.iface`` file: what the graph tells, the types' packages as ``external``.
+"""A node reading as an ``.iface`` file: what the graph tells, the types' packages as ``external``.
 
 The text is laid out as ``iface-lsp fmt`` lays it out and passes ``check``. QoS policies are written
 where they differ from ROS 2's defaults (reliable, volatile, automatic, infinite durations, keep_last
@@ -13,10 +13,10 @@ import math
 import re
 from dataclasses import dataclass
 
-from ...text.formatter import format_text
-from ...text.printer import quote
+from ..text.formatter import format_text
+from ..text.printer import quote
 from .filters import own_endpoints, own_params, own_topics, serves_protocol
-from .snapshot import NodeSnapshot, Param, Qos
+from .reading import NodeReading, Param, Qos
 
 _PARAM_TYPES = {"bool": "bool", "integer": "i64", "double": "float64", "string": "string", "byte_array": "octet[]",
                 "bool_array": "bool[]", "integer_array": "i64[]", "double_array": "float64[]",
@@ -50,7 +50,7 @@ def iface_type(ros_type: str) -> tuple[str, str]:
     return f"{parts[0]}.{parts[-1]}", parts[0]
 
 
-def shown_name(snap: NodeSnapshot, name: str) -> str:
+def shown_name(snap: NodeReading, name: str) -> str:
     """A graph name as the file writes it: ``~/x`` inside the node."""
     rel = snap.relative(name)
     return "~/" + rel if rel else name
@@ -144,7 +144,7 @@ def param_lines(p: Param) -> list[str]:
     return out
 
 
-def node_iface(snap: NodeSnapshot, everything: bool = False) -> Imported:
+def node_iface(snap: NodeReading, everything: bool = False) -> Imported:
     """The ``.iface`` file of one node."""
     name = component_name(snap.name)
     annotations = [f"ros2.node = {quote(snap.name)}"]

@@ -1,0 +1,8 @@
+"""Live truth: read a running ROS 2 graph, write it as ``.iface``, and check it against declared interfaces.
+
+``reading`` holds what the graph tells of a node (a ``NodeReading``) as plain data (no ROS import); ``graph`` reads it
+through rclpy (imported only when a command needs it); ``to_iface`` writes a reading as an
+``.iface`` file; ``verify`` compares readings with compiled interfaces and yields findings.
+
+May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``compat``, ``nodes`` (the protocol's names).
+"""

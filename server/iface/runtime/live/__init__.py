@@ -1,8 +1,0 @@
-"""Live truth: read a running ROS 2 graph, write it as ``.iface``, and check it against declared interfaces.
-
-``snapshot`` holds what the graph tells of a node as plain data (no ROS import); ``graph`` reads it
-through rclpy (imported only when a command needs it); ``to_iface`` writes a snapshot as an
-``.iface`` file; ``verify`` compares snapshots with compiled interfaces and yields findings.
-
-May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``compat`` (as ``runtime`` does).
-"""
