@@ -6,7 +6,20 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Generic, Protocol, TypeVar
 
-from .component import ComponentSpec, Member, RosRef
+from ..emit.text import one_line
+from .component import ComponentSpec, Member, ParamSpec, RosRef
+
+
+@dataclass
+class MemberView:
+    """A member as a node target's templates write it: its type's local name, its QoS and doc lines as the
+    language writes them, and what it is (``subscribes M on /x``), made safe for the language's comments."""
+
+    m: Member
+    type: str
+    qos: str
+    doc: list[str]
+    what: str
 
 
 class _MemberView(Protocol):
@@ -93,5 +106,18 @@ class NodeView(Generic[V]):
         """(name, launch argument) for each wired name that can be remapped."""
         return remappings(self.spec)
 
+    def comment(self, text: str) -> str:
+        """``text`` on one line, safe inside the language's comments and docstrings (the language's view says how)."""
+        return one_line(text)
 
-__all__ = ["NodeView", "remappings", "type_aliases"]
+    def param_doc(self, p: ParamSpec) -> str:
+        """A parameter's description, its constraints and whether it is read-only, for its accessor's doc."""
+        parts = [p.description]
+        if p.constraints:
+            parts.append(f"({p.constraints})")
+        if p.read_only:
+            parts.append("Read-only.")
+        return self.comment(" ".join(parts))
+
+
+__all__ = ["MemberView", "NodeView", "remappings", "type_aliases"]

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from ...emit.text import comment_lines, one_line
-from ..component import ComponentSpec, Member, ParamSpec, RosRef
+from ..component import ComponentSpec, ParamSpec, RosRef
 from ..qosmap import node_qos
-from ..template_data import NodeView, type_aliases
+from ..template_data import MemberView, NodeView, type_aliases
 
 #: Names the generated modules define, import or use themselves (the builtins their code raises or imports).
 _TAKEN = frozenset({"Any", "ComponentNode", "HandlerSpec", "ParamSpec", "DEFAULT_TIMEOUT_SEC", "annotations",
@@ -61,24 +61,14 @@ def qos_literal(qos: dict[str, str]) -> str:
 
 
 @dataclass
-class MemberView:
-    """A member as the templates write it."""
-
-    m: Member
-    type: str
-    qos: str
-    doc: list[str]
-
-    @property
-    def what(self) -> str:
-        return doc_text(one_line(self.m.what))
-
-
-@dataclass
 class PyPackage(NodeView[MemberView]):
     """Everything the templates of the component package need."""
 
     client_library = "rclpy"
+
+    def comment(self, text: str) -> str:
+        """One line, safe inside a docstring."""
+        return doc_text(one_line(text))
 
     def imports(self, refs: list[RosRef]) -> list[str]:
         """``from pkg.kind import A, B as C`` lines for ``refs``, sorted."""
@@ -93,9 +83,6 @@ class PyPackage(NodeView[MemberView]):
                 line = f"from {module} import (\n" + "".join(f"    {n},\n" for n in sorted(names)) + ")"
             out.append(line)
         return out
-
-    def of_kind(self, *kinds: str) -> list[MemberView]:
-        return [v for v in self.members if v.m.kind in kinds]
 
     def user_refs(self) -> list[RosRef]:
         """The types the user module's handler signatures name."""
@@ -124,14 +111,6 @@ class PyPackage(NodeView[MemberView]):
         shown = ", ".join(f"{k}={py(v)}" for k, v in args if given(v) or k == "kind")
         return f"ParamSpec({py(p.name)}, {shown})"
 
-    def param_doc(self, p: ParamSpec) -> str:
-        parts = [p.description]
-        if p.constraints:
-            parts.append(f"({p.constraints})")
-        if p.read_only:
-            parts.append("Read-only.")
-        return doc_text(one_line(" ".join(parts)))
-
     def param_cast(self, p: ParamSpec) -> str:
         """The expression of a typed accessor."""
         value = f"self._node._parameter({py(p.name)})"
@@ -145,6 +124,6 @@ class PyPackage(NodeView[MemberView]):
 def build(spec: ComponentSpec) -> PyPackage:
     """The view of ``spec`` the templates render."""
     view = PyPackage(spec, spec.source_name, type_aliases(spec, _TAKEN, keyword.iskeyword))
-    view.members = [MemberView(x, view.aliases[x.type], qos_literal(x.qos), doc("\n".join(x.doc)))
+    view.members = [MemberView(x, view.aliases[x.type], qos_literal(x.qos), doc("\n".join(x.doc)), view.comment(x.what))
                     for x in spec.all_members()]
     return view
