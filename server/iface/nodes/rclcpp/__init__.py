@@ -30,13 +30,14 @@ from ...emit.ros2.render import xml
 from ...model.diagnostics import Diagnostic
 from ...semantics.compile import Compilation
 from ..codes import diag
+from ..layout import comment, fit
 from ..pipeline import NodeLanguage, PackageFile
 from ..template_data import NodeView
 from .render import CppPackage, build, cpp_comment, cpp_double, cpp_str
 from .usercode import check_user_source
 
 FILTERS: dict[str, Callable[..., Any]] = {"cpp": cpp_str, "cstr": lambda s: cpp_str(s)[1:-1], "comment": cpp_comment,
-                                          "cppdouble": cpp_double, "xml": xml}
+                                          "cppdouble": cpp_double, "xml": xml, "fit": fit, "wrapped": comment}
 #: The component package (``{pkg}``: its name): ``src/node.cpp`` is the user's.
 FILES = (PackageFile("package.xml", "package.xml.j2", "<!--"), PackageFile("CMakeLists.txt", "CMakeLists.txt.j2", "#"),
          PackageFile("include/{pkg}/base.hpp", "base.hpp.j2", "//"), PackageFile("src/base.cpp", "base.cpp.j2", "//"),

@@ -24,11 +24,13 @@ from collections.abc import Callable
 from typing import Any
 
 from ...emit.ros2.render import xml
+from ..layout import comment, fit
 from ..pipeline import NodeLanguage, PackageFile
 from ..usercode import check_user_module
 from .render import PyPackage, build, doc_text, docstring, py
 
-FILTERS: dict[str, Callable[..., Any]] = {"py": py, "doctext": doc_text, "docstring": docstring, "xml": xml}
+FILTERS: dict[str, Callable[..., Any]] = {"py": py, "doctext": doc_text, "docstring": docstring, "xml": xml,
+                                          "fit": fit, "wrapped": comment}
 #: The component package (``{pkg}``: its name): ``node.py`` is the user's.
 FILES = (PackageFile("package.xml", "package.xml.j2", "<!--"), PackageFile("setup.py", "setup.py.j2", "#"),
          PackageFile("setup.cfg", "setup.cfg.j2", "#"), PackageFile("resource/{pkg}", "resource.j2", "#"),

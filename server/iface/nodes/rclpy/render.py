@@ -9,6 +9,7 @@ from typing import Any
 
 from ...emit.text import comment_lines, one_line
 from ..component import ComponentSpec, ParamSpec, RosRef
+from ..layout import WIDTH, wrap
 from ..qosmap import node_qos
 from ..template_data import MemberView, NodeView, type_aliases
 
@@ -45,14 +46,23 @@ def doc(text: str | None) -> list[str]:
     return [doc_text(line) for line in comment_lines(text)]
 
 
-def docstring(lines: list[str], indent: int = 8) -> str:
-    """A docstring from escaped lines: the first on the opening line, the others as paragraphs below it."""
-    lines = [line for line in lines]
-    if len(lines) <= 1:
-        return f'"""{lines[0] if lines else ""}"""'
+def docstring(lines: list[str] | str, indent: int = 8, width: int = WIDTH) -> str:
+    """A docstring from escaped lines: the first on the opening line, the others as paragraphs below it; a line
+    longer than ``width`` allows wrapped."""
+    lines = [lines] if isinstance(lines, str) else list(lines)
     pad = " " * indent
-    body = "\n".join(f"{pad}{line}" if line else "" for line in lines[1:])
-    return f'"""{lines[0]}\n\n{body}\n{pad}"""'
+    head = wrap(lines[0] if lines else "", indent + 6, width=width)  # the quotes that open and close it
+    if len(lines) <= 1 and len(head) == 1:
+        return f'"""{head[0]}"""'
+    out = [head[0], *(pad + line for line in head[1:])]
+    if len(lines) > 1:
+        out.append("")
+        for line in lines[1:]:
+            if line:
+                out.extend(pad + part for part in wrap(line, indent, width=width))
+            else:
+                out.append("")
+    return '"""' + "\n".join(out) + f'\n{pad}"""'
 
 
 def qos_literal(qos: dict[str, str]) -> str:
