@@ -54,7 +54,7 @@ def _parser(available: dict[str, tuple[str, str]]) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module, help_text) in available.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
-        cmd.set_defaults(_module=module)
+        cmd.set_defaults(_module=module, prog=f"iface-lsp {name}")
         importlib.import_module(module).add_arguments(cmd)
     return parser
 
@@ -102,8 +102,14 @@ def _run(args_list: list[str], debug: bool) -> int:
     if not args.command:
         parser.print_help(sys.stderr)
         return 2
+    return run_command(args._module, args, debug)
+
+
+def run_command(module_name: str, args: argparse.Namespace, debug: bool) -> int:
+    """Run the command module's ``run(args)`` and give its exit code: 130 on Ctrl-C, 143 on SIGTERM, and 3 with one
+    line (``args.prog: internal error: …``; the traceback too with ``debug``) on any other exception, a bug."""
     try:
-        module = importlib.import_module(args._module)
+        module = importlib.import_module(module_name)
         with terminal.interruptible():
             return int(module.run(args))
     except KeyboardInterrupt:
@@ -113,7 +119,7 @@ def _run(args_list: list[str], debug: bool) -> int:
     except Exception as e:  # noqa: BLE001 - every other exception is a bug: one line, exit 3
         if debug:
             traceback.print_exc()
-        print(f"iface-lsp {args.command}: internal error: {terminal.one_line(f'{type(e).__name__}: {e}')}"
+        print(f"{args.prog}: internal error: {terminal.one_line(f'{type(e).__name__}: {e}')}"
               + ("" if debug else " (a bug in iface: please report it with the input; --debug shows the "
                  "traceback)"), file=sys.stderr)
         return 3

@@ -278,7 +278,7 @@ def test_a_node_not_declared_with_another_type_on_declared_names_is_found(live: 
              "'/arm/move_to_pose': declared robot_arm_msgs/MoveToPose, /intruder serves diagnostic_msgs/SelfTest"),
             (lines.index('provides robot_arm_msgs.FollowTrajectory on "/follow" (action)') + 1,
              "'/follow': declared robot_arm_msgs/FollowTrajectory, /intruder calls live_probe_msgs/Seek"),
-        ]), json.dumps(report, indent=1)
+        ]), json.dumps(report, indent=1) + (live["root"] / "intruder.log").read_text(errors="replace")[-2000:]
         assert all(f["code"] == "live-type-mismatch" and f["path"].endswith("talker.iface")
                    for f in report["findings"] if f["node"] == "/intruder")
         text = iface(live, "verify", str(talker), "--timeout", "60")

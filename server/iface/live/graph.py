@@ -134,8 +134,9 @@ class Graph:
         names, per node, the topics and services it should have: while one of those is not seen, what
         the nodes have must stay the same for ``grace`` (not ``settle``) before it counts as absent,
         since endpoints of a node are discovered one by one, with pauses under load. With ``whole``, the
-        whole graph's nodes, topics and services (and their types) must also have stopped changing: the
-        other nodes on the names a file declares are discovered after the declared ones.
+        whole graph's nodes, topics and services (and their types) must also have stopped changing, for as
+        long as the named nodes took to come (at least ``settle``, at most ``grace``): the other nodes on the
+        names a file declares are discovered on the same schedule, and a loaded machine delays them all.
         """
         start = time.monotonic()
         deadline = start + self.timeout
@@ -154,6 +155,7 @@ class Graph:
             time.sleep(0.05)
         if len(missing) == len(names):
             return missing
+        quiet = max(settle, min(time.monotonic() - start, grace)) if whole else settle
         names = [n for n in names if n not in missing]
         wanted = {n: (expect or {}).get(n, set()) for n in names}
 
@@ -170,7 +172,7 @@ class Graph:
         shape = read()
         stable_since = time.monotonic()
         while time.monotonic() < deadline and \
-                time.monotonic() - stable_since < (settle if complete(shape) else max(settle, grace)):
+                time.monotonic() - stable_since < (quiet if complete(shape) else max(quiet, grace)):
             time.sleep(0.05)
             now = read()
             if now != shape:
