@@ -332,6 +332,18 @@ def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wire
     # what `ros2 launch` makes of it: tests/runtime/test_launch.py runs it
 
 
+def test_an_action_is_remapped_by_its_name_and_its_five_parts() -> None:
+    assert remap.rules("/a/t", "/b/t") == [("/a/t", "/b/t")]
+    assert remap.arguments("/station/travel", "/peer/travel", action=True) == [
+        "-r", "/station/travel:=/peer/travel",
+        "-r", "/station/travel/_action/send_goal:=/peer/travel/_action/send_goal",
+        "-r", "/station/travel/_action/cancel_goal:=/peer/travel/_action/cancel_goal",
+        "-r", "/station/travel/_action/get_result:=/peer/travel/_action/get_result",
+        "-r", "/station/travel/_action/feedback:=/peer/travel/_action/feedback",
+        "-r", "/station/travel/_action/status:=/peer/travel/_action/status",
+    ]
+
+
 # ---- the contract module, without ROS -------------------------------------------------------------------
 
 
