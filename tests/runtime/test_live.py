@@ -25,6 +25,9 @@ import pytest
 from .conftest import Workspace
 from ..ros_harness.ros import DATA, environment
 
+#: Run once per ROS 2 release (tests/runtime/conftest.py).
+PER_RELEASE = True
+
 LIVE = DATA / "live"
 NODES = ["/live/talker", "/live/listener", "/live/lifer", "/live_probe"]
 STEP = 180  # seconds a CLI step may take on a loaded machine (a bound, not a measure)
