@@ -73,10 +73,11 @@ def _round_trip(comp: Compilation, tmp: Path) -> Compilation:
 
 
 def _files(comp: Compilation) -> dict[str, dict[str, str]]:
-    """Every target's files (targets that refuse the input are left out)."""
+    """Every target's files (targets that refuse the input are left out), each written beside its source: a
+    system's launch file names its system file and parameter files relative to where it is written."""
     out = {}
     for name, target in TARGETS:
-        result = target.generate(comp, {})
+        result = target.generate(comp, {"out": str(Path(comp.path).parent)})
         if not result.has_errors:
             out[name] = {f.path: f.text for f in result.files}
     return out
