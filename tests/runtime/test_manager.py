@@ -29,6 +29,9 @@ from iface.operate.trust import keygen, sign
 from ..ros_harness.ros import HARNESS, ROOT, build, environment, run_bounded
 from ..ros_harness.systems import generate_pro
 
+#: Run once per ROS 2 release (tests/runtime/conftest.py).
+PER_RELEASE = True
+
 DRIVER = HARNESS / "drive_manager.py"
 STEPS = [
     "up: every instance active in order, status with its hash (json, html)",
