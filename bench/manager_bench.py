@@ -19,6 +19,8 @@ and the machine's load average before and after.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import itertools
 import json
 import os
 import re
@@ -38,8 +40,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def prepare(args: argparse.Namespace) -> int:
     sys.path.insert(0, str(ROOT))
     sys.path.insert(0, str(ROOT / "server"))
-    from tests.ros_harness.systems import generate_system
     from tests.ros_harness.ros import build, environment, runtime_venv
+    from tests.ros_harness.systems import generate_system
 
     venv, why = runtime_venv()
     if venv is None:
@@ -99,7 +101,7 @@ PHASES = (
 
 def log_times(path: Path, since: float) -> list[tuple[float, str]]:
     """(wall-clock time, message) of each line of a ROS log written at or after ``since``."""
-    out = []
+    out: list[tuple[float, str]] = []
     try:
         text = path.read_text(errors="replace")
     except OSError:
@@ -139,13 +141,13 @@ def stop_manager(proc: subprocess.Popen[bytes]) -> None:
             proc.wait(timeout=30)
 
 
-def inner(config: Path) -> int:  # noqa: PLR0915 - three measurements in a row
+def inner(config: Path) -> int:
     sys.path.insert(0, str(ROOT))
     from iface_msgs.srv import Replace, SystemStatus
-
-    from tests.ros_harness.probe import Probe, import_interface
     from thermostat_msgs.msg import Heater
     from thermostat_msgs.srv import SetPoint
+
+    from tests.ros_harness.probe import Probe, import_interface
 
     cfg = json.loads(config.read_text())
     root = Path(cfg["root"])
@@ -159,12 +161,10 @@ def inner(config: Path) -> int:  # noqa: PLR0915 - three measurements in a row
     def until(predicate: Any, timeout: float) -> dict[str, Any]:
         end = time.monotonic() + timeout
         while time.monotonic() < end:
-            try:
+            with contextlib.suppress(Exception):  # not answering yet
                 s = status()
                 if predicate(s):
                     return s
-            except Exception:  # noqa: BLE001 - not answering yet
-                pass
             time.sleep(0.02)
         raise TimeoutError("manager status not reached")
 
@@ -225,12 +225,12 @@ def inner(config: Path) -> int:  # noqa: PLR0915 - three measurements in a row
             if not answer.success:
                 print(f"manager_bench: replace {run} {answer.result}: {answer.record[-400:]}", file=sys.stderr)
                 return 1
-            seen = list(stamps)
-            gap, at = max((b - a, a) for a, b in zip(seen, seen[1:], strict=False))
+            heard = list(stamps)
+            gap, gap_at = max((b - a, a) for a, b in itertools.pairwise(heard))
             gaps.append(gap)
             record = json.loads(answer.record)
             detail = {st["step"]: st["detail"] for st in record.get("steps", [])}
-            print(f"  replace {run}: longest gap {gap * 1000:.0f} ms, from {(at - asked) * 1000:.0f} ms after the request"
+            print(f"  replace {run}: longest gap {gap * 1000:.0f} ms, from {(gap_at - asked) * 1000:.0f} ms after the request"
                   f" ({(answered - asked) * 1000:.0f} ms to the answer); critical section "
                   f"{record.get('critical_section_ms')} ms, pause {record.get('pause_ms')} ms; "
                   f"{detail.get('start NEW', '')}; {detail.get('match', '')}", flush=True)

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
-from tests.ros_harness.probe import Probe, Report, check, import_interface  # noqa: E402
+from tests.ros_harness.probe import Probe, Report, check, import_interface
 
 SYSTEM_KEYS = {"instances", "findings"}
 INSTANCE_KEYS = {"name", "node", "component", "state", "pid", "restarts", "interface_hash", "last_snapshot"}
@@ -96,7 +96,7 @@ def command_line(pid: int) -> str:
         return ""
 
 
-def main() -> int:  # noqa: PLR0915 - one scenario, step by step
+def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("config", type=Path)
     ap.add_argument("--out", type=Path, required=True)
@@ -226,8 +226,8 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
             managers.append(Manager(cfg, a.logs, "manager2"))
             s = settle(all_active, 120, "managed again")
             check({n: i.pid for n, i in s.items()} == before, f"pids {before} -> {({n: i.pid for n, i in s.items()})}")
-            for name in before:
-                check(node_processes(name) == [before[name]], f"{name}: processes {node_processes(name)}")
+            for name, pid in before.items():
+                check(node_processes(name) == [pid], f"{name}: processes {node_processes(name)}")
             log = managers[1].log()
             check(log.count("adopted pid") == 3, f"manager2 adopted {log.count('adopted pid')} instances")
             return f"all 3 adopted, none started twice: {before}"
