@@ -35,7 +35,7 @@ def generate_pro(folder: Path, gen: Path, component: str = "thermostat_pro",
                  interface_package: str = "thermostat_msgs") -> Path:
     """thermostat_pro as ``component`` with the interface package ``interface_package``: its file written into
     ``folder`` (beside room_sensor.iface, which it includes), its packages generated into ``gen`` with the tests'
-    user module; the file."""
+    user module, and the interface package it depends on (room_sensor_msgs) beside them; the file."""
     iface, user = PRO
     names = {"thermostat_pro": component, "ThermostatPro": "".join(p.title() for p in component.split("_")),
              "thermostat_msgs": interface_package}
@@ -47,5 +47,9 @@ def generate_pro(folder: Path, gen: Path, component: str = "thermostat_pro",
     file.write_text(text, encoding="utf-8")
     done = generate(file, gen)
     assert done.returncode == 0, done.stderr
+    # its workspace holds the interface package it depends on (room_sensor_msgs), as another team's would
+    included = generate(folder / "room_sensor.iface", gen)
+    assert included.returncode == 0, included.stderr
+    shutil.rmtree(gen / "room_sensor")
     (gen / component / component / "node.py").write_text(code, encoding="utf-8")
     return file
