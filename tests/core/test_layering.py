@@ -161,9 +161,7 @@ def _unresolved(path: Path, root: Path = PACKAGE) -> list[str]:
         parts = mod.split(".")
         if parts[0] != "iface" or len(parts) < 2:
             continue
-        if importlib.util.find_spec(mod.rsplit(".", 1)[0]) is None:
-            out.append(f"{path.relative_to(root)}: {mod}")
-        elif importlib.util.find_spec(mod) is None and not hasattr(importlib.import_module(mod.rsplit(".", 1)[0]),
+        if importlib.util.find_spec(mod.rsplit(".", 1)[0]) is None or importlib.util.find_spec(mod) is None and not hasattr(importlib.import_module(mod.rsplit(".", 1)[0]),
                                                                     parts[-1]):
             out.append(f"{path.relative_to(root)}: {mod}")
     return out
@@ -180,3 +178,67 @@ def test_unresolved_imports_are_found(tmp_path: Path) -> None:
     probe.write_text("from ..grammar import x\nfrom ..model.nosuch import x\nfrom ..model import nodes\n"
                      "from ..semantics.compile import Compilation\n", encoding="utf-8")
     assert _unresolved(probe, tmp_path) == ["lsp/probe.py: iface.grammar", "lsp/probe.py: iface.model.nosuch"]
+
+
+#: The one protocol client (issue 35): the only module of the tool that makes ROS service clients.
+PROTOCOL_CLIENT = Path("live") / "link.py"
+#: The generated nodes' runtimes call services of their own (a node's ``call``): they are not the tool's client.
+RUNTIMES = Path("nodes") / "runtimes"
+
+
+def _client_makers(root: Path = PACKAGE) -> list[str]:
+    """Modules other than the protocol client that make a ROS service client or send a request themselves."""
+    out = []
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root)
+        if rel == PROTOCOL_CLIENT or rel.is_relative_to(RUNTIMES):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Attribute) and node.attr in ("create_client", "call_async", "wait_for_service"):
+                out.append(f"{rel}:{node.lineno}: {node.attr}")
+    return out
+
+
+def _private_uses_of(cls: str, owner: Path, root: Path = PACKAGE) -> list[str]:
+    """``x._name`` uses outside ``owner`` where ``x`` was made by ``cls(...)`` in the same function."""
+    out = []
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root)
+        if rel == owner:
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for func in ast.walk(tree):
+            if not isinstance(func, ast.FunctionDef | ast.AsyncFunctionDef):
+                continue
+            made = {t.id for n in ast.walk(func) if isinstance(n, ast.Assign) and isinstance(n.value, ast.Call)
+                    and isinstance(n.value.func, ast.Name) and n.value.func.id == cls
+                    for t in n.targets if isinstance(t, ast.Name)}
+            made |= {a.arg for a in func.args.args if isinstance(a.annotation, ast.Name) and a.annotation.id == cls}
+            for n in ast.walk(func):
+                if (isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id in made
+                        and n.attr.startswith("_")):
+                    out.append(f"{rel}:{n.lineno}: {n.value.id}.{n.attr}")
+                if (isinstance(n, ast.Assign) and any(isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name)
+                                                      and t.value.id in made for t in n.targets)):
+                    out.append(f"{rel}:{n.lineno}: sets an attribute of a {cls}")
+    return out
+
+
+def test_one_protocol_client_calls_the_running_nodes() -> None:
+    """Service lookup, the client cache, resends and transition checks live once, in ``live.link``."""
+    assert _client_makers() == []
+
+
+def test_the_hand_over_is_driven_through_its_public_steps() -> None:
+    assert _private_uses_of("HandOver", Path("operate") / "handover.py") == []
+
+
+def test_the_client_and_step_rules_catch_offenders(tmp_path: Path) -> None:
+    (tmp_path / "operate").mkdir()
+    (tmp_path / "operate" / "m.py").write_text(
+        "def f(node, x):\n    c = node.create_client(T, 's')\n    c.call_async(r)\n"
+        "def g(p: HandOver):\n    h = HandOver(1)\n    h._note('x')\n    h.trust_store = None\n    p._check_trust()\n",
+        encoding="utf-8")
+    assert _client_makers(tmp_path) == ["operate/m.py:2: create_client", "operate/m.py:3: call_async"]
+    assert sorted(_private_uses_of("HandOver", Path("operate") / "handover.py", tmp_path)) == [
+        "operate/m.py:6: h._note", "operate/m.py:7: sets an attribute of a HandOver", "operate/m.py:8: p._check_trust"]

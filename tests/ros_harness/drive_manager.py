@@ -21,16 +21,17 @@ from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
-from tests.ros_harness.probe import Probe, Report, check, import_interface  # noqa: E402
+from tests.ros_harness.probe import Probe, Report, check, import_interface
 
 SYSTEM_KEYS = {"instances", "findings"}
-INSTANCE_KEYS = {"name", "node", "state", "pid", "restarts", "interface_hash", "last_snapshot"}
+INSTANCE_KEYS = {"name", "node", "component", "state", "pid", "restarts", "interface_hash", "last_snapshot"}
 
 
 class Manager:
     """``iface-lsp manager`` started in a session of its own, output to a log."""
 
     def __init__(self, cfg: dict[str, Any], logs: Path, label: str) -> None:
+        self.label = label
         self.log_path = logs / f"{label}.log"
         self._log = open(self.log_path, "w")  # noqa: SIM115 - closed in stop()
         argv = [cfg["python"], "-m", "iface", "manager", cfg["system"], "--state-dir", cfg["state"],
@@ -87,7 +88,15 @@ def node_processes(node: str) -> list[int]:
     return found
 
 
-def main() -> int:  # noqa: PLR0915 - one scenario, step by step
+def command_line(pid: int) -> str:
+    """The command line of ``pid``, its parts joined by spaces ("" when it is gone)."""
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+    except OSError:
+        return ""
+
+
+def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("config", type=Path)
     ap.add_argument("--out", type=Path, required=True)
@@ -217,8 +226,8 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
             managers.append(Manager(cfg, a.logs, "manager2"))
             s = settle(all_active, 120, "managed again")
             check({n: i.pid for n, i in s.items()} == before, f"pids {before} -> {({n: i.pid for n, i in s.items()})}")
-            for name in before:
-                check(node_processes(name) == [before[name]], f"{name}: processes {node_processes(name)}")
+            for name, pid in before.items():
+                check(node_processes(name) == [pid], f"{name}: processes {node_processes(name)}")
             log = managers[1].log()
             check(log.count("adopted pid") == 3, f"manager2 adopted {log.count('adopted pid')} instances")
             return f"all 3 adopted, none started twice: {before}"
@@ -268,7 +277,8 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
             check(record["state_after"]["set_point"] == 23.5, f"state after {record['state_after']}")
             s = status()["thermostat"]
             check(s.node == "/thermostat_2" and s.state == "active" and s.pid != before["thermostat"], f"{s}")
-            check(s.interface_hash == cfg["hashes"]["thermostat"], s.interface_hash)
+            check(s.interface_hash == cfg["hashes"]["thermostat"] and s.component == "thermostat",
+                  f"{s.component} {s.interface_hash}")
             check(saved("/thermostat_2")["set_point"] == 23.5, "state not carried")
             probe.wait_until(lambda: not node_processes("thermostat"), 30, "OLD's process gone")
             others = status()
@@ -279,6 +289,64 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
 
         report.step("replace accepted: NEW active with OLD's state", replaced)
 
+        def runs(other: dict[str, str], node: str, pid: int) -> None:
+            """The instance is ``other`` as ``node``, in process ``pid``: status, command line, state."""
+            s = status()["thermostat"]
+            check(s.node == f"/{node}" and s.state == "active" and s.pid == pid, f"{s}")
+            check(s.component == other["component"] and s.interface_hash == other["hash"],
+                  f"status says {s.component} {s.interface_hash}, not {other['component']} {other['hash']}")
+            check(other["exe"] in command_line(pid), f"pid {pid} runs {command_line(pid)!r}, not {other['exe']}")
+            check(saved(f"/{node}")["set_point"] == 23.5, "state not carried")
+            code, out, err = cli("status", cfg["system"], "--format", "json")
+            mine = next(i for i in json.loads(out)["instances"] if i["name"] == "thermostat")
+            check(code == 0 and mine["component"] == other["component"] and mine["interface_hash"] == other["hash"],
+                  f"system status: exit {code} {mine} {err}")
+
+        def replaced_by(key: str, node: str) -> str:
+            other = cfg[key]
+            code, record = replace(other["iface"], other["package"])
+            check(code == 0 and record["result"] == "replaced", f"exit {code} {record}")
+            check(record["state_after"]["set_point"] == 23.5, f"state after {record['state_after']}")
+            s = status()["thermostat"]
+            runs(other, node, s.pid)
+            previous = f"thermostat_{int(node.rsplit('_', 1)[1]) - 1}"
+            probe.wait_until(lambda: not node_processes(previous), 30, "OLD's process gone")
+            before["thermostat"] = s.pid
+            start = next((st["detail"] for st in record["steps"] if st["step"] == "start NEW"), "")
+            return f"/{node} pid {s.pid} runs {other['component']} ({command_line(s.pid)}), set_point 23.5; {start}"
+
+        report.step("replace by another implementation: NEW's package and executable run, with OLD's state",
+                    lambda: replaced_by("pro", "thermostat_3"))
+
+        def crash_new() -> str:
+            old = status()["thermostat"]
+            os.kill(old.pid, signal.SIGKILL)
+            s = settle(lambda s: s["thermostat"].state == "active" and s["thermostat"].pid not in (0, old.pid)
+                       and s["thermostat"].restarts == old.restarts + 1, 90, "thermostat_3 restarted")
+            runs(cfg["pro"], "thermostat_3", s["thermostat"].pid)
+            check(node_processes("thermostat_3") == [s["thermostat"].pid], f"{node_processes('thermostat_3')}")
+            for gone in ("thermostat", "thermostat_2"):
+                check(not node_processes(gone), f"{gone} runs again: {node_processes(gone)}")
+            before["thermostat"] = s["thermostat"].pid
+            return f"thermostat_pro restarted as pid {s['thermostat'].pid} with set_point 23.5"
+
+        report.step("kill -9 of NEW: the manager restarts NEW (not OLD) with its state", crash_new)
+
+        def adopt_new() -> str:
+            pids = {n: i.pid for n, i in status().items()}
+            managers[-1].kill()
+            managers.append(Manager(cfg, a.logs, "manager3"))
+            s = settle(all_active, 120, "managed again")
+            check({n: i.pid for n, i in s.items()} == pids, f"pids {pids} -> {({n: i.pid for n, i in s.items()})}")
+            runs(cfg["pro"], "thermostat_3", pids["thermostat"])
+            log = managers[-1].log()
+            check(log.count("adopted pid") == 3 and "thermostat_pro, active" in log, f"manager3: {log[-2000:]}")
+            return f"thermostat_pro (pid {pids['thermostat']}) adopted as NEW, none started twice"
+
+        report.step("kill -9 of the manager: a new one adopts NEW", adopt_new)
+        report.step("replace by another implementation with an interface package of another name",
+                    lambda: replaced_by("eco", "thermostat_4"))
+
         def crash_loop() -> str:
             (flags / "spare.crash").touch()
             pid = status()["spare"].pid
@@ -287,6 +355,7 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
             check(s["spare"].restarts == 2, f"restarts {s['spare'].restarts}")
             check(any("stays down" in f for f in s["spare"].findings), f"{list(s['spare'].findings)}")
             code, out, _ = cli("status", cfg["system"])
+            (flags / "spare.crash").unlink()
             check(code == 1 and "stays down" in out, f"status exit {code}: {out}")
             return f"failed after {s['spare'].restarts} restarts; {list(s['spare'].findings)[-1]}"
 
@@ -305,10 +374,20 @@ def main() -> int:  # noqa: PLR0915 - one scenario, step by step
             return f"down in reverse order, exit 0 ({pids})"
 
         report.step("SIGTERM: down in reverse order, exit 0", down)
+
+        def again() -> str:
+            managers.append(Manager(cfg, a.logs, "manager4"))
+            s = settle(all_active, 180, "every instance active again")
+            runs(cfg["eco"], "thermostat_4", s["thermostat"].pid)
+            code = managers[-1].terminate(90)
+            check(code == 0, f"manager exit {code}")
+            return f"thermostat_eco started as /thermostat_4 (pid {s['thermostat'].pid}) with set_point 23.5"
+
+        report.step("a manager started again runs NEW, with its state", again)
     finally:
         for m in managers:
             m.stop()
-        for name in ("sensor", "thermostat", "thermostat_2", "spare"):
+        for name in ("sensor", "thermostat", "thermostat_2", "thermostat_3", "thermostat_4", "spare"):
             for pid in node_processes(name):
                 try:
                     os.killpg(pid, signal.SIGKILL)

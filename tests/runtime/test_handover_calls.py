@@ -1,8 +1,10 @@
 """The hand-over's service calls survive a lost reply (no ROS needed: a fake client drops replies).
 
 A server just seen in the graph may not yet have matched the caller's reply reader, and DDS then
-drops the reply. Idempotent requests are sent again; a lifecycle transition is sent once and,
-without an answer, the node's state tells whether it happened.
+drops the reply. Idempotent requests are sent again; a lifecycle transition is judged by the node's
+state: done when ``get_state`` shows its goal, waited for while it runs, sent again only while the
+node is where the transition starts (the request was lost). The calls are the one client's
+(``iface.live.link``), which the hand-over, the manager and the ``system`` commands share.
 """
 
 from __future__ import annotations
@@ -12,8 +14,11 @@ from typing import Any
 
 import pytest
 
-from iface.operate import handover
+from iface.live import link as link_module
+from iface.live.link import Link, LinkError
 from iface.operate.handover import ACTIVATE, ACTIVE, INACTIVE, HandOver, Refused
+
+ACTIVATING = 13  # lifecycle_msgs/State TRANSITION_STATE_ACTIVATING
 
 
 class Future:
@@ -26,58 +31,86 @@ class Future:
     def result(self) -> Any:
         return self.answer
 
+    def add_done_callback(self, fn: Any) -> None:
+        if self.answer is not None:
+            fn(self)
+
 
 class Client:
-    """Drops the replies to the first ``lose`` requests, answers the others at once."""
+    """Drops the replies to the first ``lose`` requests, answers the others at once (``answers`` in turn)."""
 
-    def __init__(self, answer: Any, lose: int) -> None:
-        self.answer, self.lose, self.sent = answer, lose, 0
+    def __init__(self, answer: Any, lose: int, answers: list[Any] | None = None) -> None:
+        self.answers = answers or [answer]
+        self.lose, self.sent = lose, 0
 
-    def wait_for_service(self, timeout_sec: float) -> bool:
+    def service_is_ready(self) -> bool:
         return True
 
     def call_async(self, request: Any) -> Future:
         self.sent += 1
-        return Future(None if self.sent <= self.lose else self.answer)
+        if self.sent <= self.lose:
+            return Future(None)
+        return Future(self.answers[min(self.sent - self.lose, len(self.answers)) - 1])
+
+    def remove_pending_request(self, future: Future) -> None:
+        pass
 
 
-def make(monkeypatch: pytest.MonkeyPatch, clients: dict[str, Client]) -> HandOver:
-    monkeypatch.setattr(handover, "RESEND", 0.05)
-    h = HandOver("old", "new", "hash", timeout=1.0)
-    h._rclpy = SimpleNamespace(spin_once=lambda node, timeout_sec: None)
-    h._node = SimpleNamespace(create_client=lambda srv, name: clients[name])
-    h._clients = {}
-    monkeypatch.setattr(h, "_service_type", lambda service: SimpleNamespace(Request=SimpleNamespace))
-    monkeypatch.setattr(handover, "_transition_msg", lambda transition: transition)
-    return h
+def make(monkeypatch: pytest.MonkeyPatch, clients: dict[str, Client], timeout: float = 1.0) -> HandOver:
+    monkeypatch.setattr(link_module, "RESEND", 0.05)
+    monkeypatch.setattr(link_module, "TRANSITION_WAIT", 0.05)
+    monkeypatch.setattr(link_module, "_transition_msg", lambda transition: transition)
+    node = SimpleNamespace(create_client=lambda srv, name, callback_group=None: clients[name])
+    link = Link(node)
+    for name in clients:
+        link.know(name, SimpleNamespace(Request=SimpleNamespace))
+    return HandOver("old", "new", "hash", timeout=timeout, link=link)
+
+
+def status(state: int) -> Any:
+    return SimpleNamespace(lifecycle_state=state, interface_hash="hash", component="c", version="1")
 
 
 def test_an_idempotent_request_is_sent_again_after_a_lost_reply(monkeypatch: pytest.MonkeyPatch) -> None:
-    client = Client(SimpleNamespace(success=True, state="{}"), lose=2)
-    h = make(monkeypatch, {"/old/save_state": client})
-    assert h._call("/old/save_state", {"timeout_sec": 1.0}).success
-    assert client.sent == 3
+    old = Client(status(ACTIVE), lose=2)
+    h = make(monkeypatch, {"/old/control": old, "/new/control": Client(status(1), lose=0)})
+    h.check_nodes()
+    assert old.sent == 3
+    assert [s.step for s in h.steps] == ["status OLD", "status NEW", "hash"]
 
 
 def test_no_answer_at_all_is_refused_within_the_timeout(monkeypatch: pytest.MonkeyPatch) -> None:
     client = Client(None, lose=10**6)
     h = make(monkeypatch, {"/old/control": client})
-    with pytest.raises(Refused, match="does not answer within 0.3 s"):
-        h._call("/old/control", {}, timeout=0.3)
+    with pytest.raises(LinkError, match="does not answer within 0.3 s"):
+        h.calls.call("/old/control", {}, 0.3)
     assert client.sent > 1
 
 
-@pytest.mark.parametrize(("state", "taken"), [(ACTIVE, True), (INACTIVE, False)])
-def test_a_transition_is_sent_once_and_judged_by_the_state(monkeypatch: pytest.MonkeyPatch, state: int,
-                                                            taken: bool) -> None:
+@pytest.mark.parametrize(("states", "taken", "sent"), [
+    ([ACTIVE], True, 1),                 # the reply was lost, the node is active: done, not sent again
+    ([ACTIVATING, ACTIVE], True, 1),     # still activating: waited for, not sent again
+    ([INACTIVE], False, 2),              # still where it starts: the request was lost, sent again
+])
+def test_a_transition_is_judged_by_the_state(monkeypatch: pytest.MonkeyPatch, states: list[int], taken: bool,
+                                             sent: int) -> None:
     change = Client(SimpleNamespace(success=True), lose=10**6)
-    get_state = Client(SimpleNamespace(current_state=SimpleNamespace(id=state)), lose=1)
-    h = make(monkeypatch, {"/new/change_state": change, "/new/get_state": get_state})
-    h.timeout = 0.3
+    get_state = Client(None, lose=1, answers=[SimpleNamespace(current_state=SimpleNamespace(id=s)) for s in states])
+    h = make(monkeypatch, {"/new/change_state": change, "/new/get_state": get_state}, timeout=2.0)
     if taken:
         h._transition("/new", ACTIVATE, "activate")
+        assert change.sent == sent
     else:
         with pytest.raises(Refused, match="change_state does not answer"):
             h._transition("/new", ACTIVATE, "activate")
+        assert change.sent >= sent
+    assert get_state.sent >= 2, "the lost get_state reply was not asked again"
+
+
+def test_a_refused_transition_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    change = Client(SimpleNamespace(success=False), lose=0)
+    get_state = Client(SimpleNamespace(current_state=SimpleNamespace(id=INACTIVE)), lose=0)
+    h = make(monkeypatch, {"/new/change_state": change, "/new/get_state": get_state})
+    with pytest.raises(Refused, match="refused to activate"):
+        h._transition("/new", ACTIVATE, "activate")
     assert change.sent == 1
-    assert get_state.sent == 2

@@ -4,9 +4,12 @@ The system (a room sensor, a thermostat after it, a spare sensor) is generated f
 the tests' user modules (tests/runtime/data/*_node.py: each dies on activate when a flag file
 names its node), built in the session's one workspace (conftest.py), and run on loopback.
 NEW for the replacements is a signed copy of the thermostat's install folder (an equivalent
-interface: a fix of its code), an unsigned copy, and an incompatible interface. drive_manager.py
-runs the scenario in order (every wait bounded, every process stopped by its own handle).
-Skipped, saying why, without the runtime.
+interface: a fix of its code), an unsigned copy, an incompatible interface, and two other
+implementations built each in a workspace of its own and signed: thermostat_pro (another
+component, package and executable; the interface package thermostat_msgs, as the thermostat's)
+and thermostat_eco (with its own interface package, thermostat_eco_msgs). drive_manager.py runs
+the scenario in order (every wait bounded, every process stopped by its own handle). Skipped,
+saying why, without the runtime.
 """
 
 from __future__ import annotations
@@ -23,7 +26,8 @@ import pytest
 
 from iface.operate.trust import keygen, sign
 
-from ..ros_harness.ros import HARNESS, ROOT, environment, run_bounded
+from ..ros_harness.ros import HARNESS, ROOT, build, environment, run_bounded
+from ..ros_harness.systems import generate_pro
 
 #: Run once per ROS 2 release (tests/runtime/conftest.py).
 PER_RELEASE = True
@@ -38,8 +42,13 @@ STEPS = [
     "replace refused by trust: nothing changes",
     "replace rolled back when NEW crashes on activate: OLD active with its state",
     "replace accepted: NEW active with OLD's state",
+    "replace by another implementation: NEW's package and executable run, with OLD's state",
+    "kill -9 of NEW: the manager restarts NEW (not OLD) with its state",
+    "kill -9 of the manager: a new one adopts NEW",
+    "replace by another implementation with an interface package of another name",
     "a crash loop stops at the intensity limit and is reported",
     "SIGTERM: down in reverse order, exit 0",
+    "a manager started again runs NEW, with its state",
 ]
 SYSTEM = """/** The manager tests' system. */
 system test_room version "1.0.0"
@@ -50,6 +59,20 @@ instance sensor : room_sensor
 instance thermostat : thermostat (restart = "on-failure", snapshot = "1s", after = "sensor")
 instance spare : room_sensor
 """
+
+
+def _other(ros_venv: Path, sysdir: Path, root: Path, key: Path, component: str, interface_package: str
+           ) -> dict[str, str]:
+    """Another implementation of the thermostat, built in a workspace of its own and signed: what the driver needs."""
+    gen, ws = root / f"gen_{component}", root / f"ws_{component}"
+    iface = generate_pro(sysdir, gen, component, interface_package)
+    ws.mkdir()
+    ok, tail, _ = build(ros_venv, gen, ws)
+    assert ok, f"{component} did not build:\n{tail}"
+    package = ws / "install" / component
+    sign(package, key)
+    return {"iface": str(iface), "package": str(package), "component": component, "hash": _hash(iface),
+            "exe": str(package / "lib" / component / component)}
 
 
 def _hash(path: Path) -> str:
@@ -81,6 +104,8 @@ def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[st
     pub, _ = keygen(root / "trusted.key")
     shutil.copy(pub, store / "trusted.pub")
     sign(root / "signed" / "install" / "thermostat", root / "trusted.key")
+    pro = _other(ros_venv, sysdir, root, root / "trusted.key", "thermostat_pro", "thermostat_msgs")
+    eco = _other(ros_venv, sysdir, root, root / "trusted.key", "thermostat_eco", "thermostat_eco_msgs")
     flags = root / "flags"
     flags.mkdir()
     env = environment(ros_venv, ws, root / "ros-log")
@@ -91,11 +116,11 @@ def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[st
               "new_iface": str(sysdir / "thermostat_new.iface"), "bad_iface": str(sysdir / "thermostat_bad.iface"),
               "hashes": {"sensor": _hash(sysdir / "room_sensor.iface"), "spare": _hash(sysdir / "room_sensor.iface"),
                          "thermostat": _hash(sysdir / "thermostat.iface")},
-              "own": str(root), "env": env}
+              "pro": pro, "eco": eco, "own": str(root), "env": env}
     (root / "config.json").write_text(json.dumps(config))
     out, log = root / "result.json", root / "driver.log"
     code = run_bounded([str(ros_venv / "bin" / "python"), str(DRIVER), str(root / "config.json"), "--out", str(out),
-                        "--logs", str(root / "logs")], env, 900, log)
+                        "--logs", str(root / "logs")], env, 1200, log)
     steps = json.loads(out.read_text()) if out.is_file() else {}
     steps["_run"] = {"code": code, "log": str(log), "logs": str(root / "logs")}
     return steps

@@ -51,13 +51,10 @@ def run(args: argparse.Namespace) -> int:
 
     report = decide(old, new, system)
     h = HandOver(args.old_node, args.new_node, report.new_hash, args.timeout, args.trust_store, args.new_package)
-    if report.exit_code != 0:
+    if not h.check_compat(report, display_path(args.new), display_path(args.old)):
         sys.stderr.write(render_text(report, display_path))
-        h._note("compat", f"{report.verdict}: {display_path(args.new)} may not replace {display_path(args.old)}",
-                ok=False)
         print(json.dumps(h.record(report), indent=1))
         return 1
-    h._note("compat", f"{report.verdict}: {display_path(args.new)} may replace {display_path(args.old)}")
     done = h.run()
     print(json.dumps(h.record(report), indent=1))
     if not done:

@@ -1,7 +1,7 @@
 """``iface-lsp system status|replace|snapshot SYSTEM …``: clients of a running component manager (docs/system.md).
 
-- ``system status SYSTEM [--format text|json|html]``: each instance's node, state, pid, restarts,
-  interface hash and last snapshot, and the findings; exit 0 when every instance is active, else 1.
+- ``system status SYSTEM [--format text|json|html]``: each instance's node, component, state, pid,
+  restarts, interface hash and last snapshot, and the findings; exit 0 when every instance is active, else 1.
 - ``system replace SYSTEM INSTANCE --new NEW.iface --package DIR [--timeout S]``: one JSON record as
   ``handover`` prints; exit 0 replaced, 1 refused or rolled back.
 - ``system snapshot SYSTEM [INSTANCE]``: save now; exit 0 when every chosen instance was saved, else 1.
@@ -132,7 +132,7 @@ def _status(spec: Any, data: dict[str, Any], fmt: str) -> int:
               f"{len(data['instances'])} instances active")
         for i in data["instances"]:
             print(f"  {i['name']:<16} {i['state']:<9} {i['node']:<24} pid {i['pid']:<7} restarts {i['restarts']}  "
-                  f"{i['interface_hash'][:19]}  last snapshot {i['last_snapshot'] or '-'}")
+                  f"{i['component']} {i['interface_hash'][:19]}  last snapshot {i['last_snapshot'] or '-'}")
         for f in data["findings"]:
             print(f"{f['instance']}: {f['message']}")
     return code

@@ -3,8 +3,8 @@
 ``open_graph(timeout)`` starts a probe node in a context of its own; ``Graph.read_node(name)`` reads
 one node: its publishers and subscriptions with their QoS (``get_*_info_by_topic``), services,
 clients, action servers and clients, parameters with their descriptors (the node's parameter
-services), whether it is a lifecycle node, and its Describe answer when it serves one. Every wait
-is bounded by the timeout.
+services), whether it is a lifecycle node, and its Describe answer when it serves one. The calls
+go through the one client (``link``); every wait is bounded by the timeout.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
+from .link import Link
 from .reading import (
     DESCRIBE_SERVICE,
     DESCRIBE_TYPE,
@@ -78,24 +79,13 @@ class Graph:
     """A probe node on the graph and the calls that read other nodes."""
 
     def __init__(self, timeout: float) -> None:
-        import rclpy
-        from rclpy.executors import SingleThreadedExecutor
-
         self.timeout = timeout
-        self.context = rclpy.Context()
-        rclpy.init(context=self.context)
-        self.node = rclpy.create_node(f"_iface_probe_{os.getpid()}", context=self.context,
-                                      start_parameter_services=False, enable_rosout=False)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        self.executor.add_node(self.node)
+        self.link = Link.own(f"_iface_probe_{os.getpid()}", separate=True)
+        self.node = self.link.node
 
     def close(self) -> None:
         """Stop the probe node and its context."""
-        import rclpy
-
-        self.executor.shutdown(timeout_sec=1.0)
-        self.node.destroy_node()
-        rclpy.shutdown(context=self.context)
+        self.link.close()
 
     # ---- discovery ---------------------------------------------------------------------------
     def node_names(self) -> list[str]:
@@ -312,20 +302,9 @@ class Graph:
         return out
 
     def _calls(self, calls: list[tuple[Any, str, Any]]) -> list[Any]:
-        """Call several services at once: each answer, or None when it did not come within the timeout."""
-        deadline = time.monotonic() + self.timeout
-        clients = [self.node.create_client(t, name) for t, name, _ in calls]
-        try:
-            futures: list[Any] = []
-            for client, (_, _, request) in zip(clients, calls, strict=True):
-                ready = client.wait_for_service(timeout_sec=max(0.0, deadline - time.monotonic()))
-                futures.append(client.call_async(request) if ready else None)
-            while time.monotonic() < deadline and not all(f is None or f.done() for f in futures):
-                self.executor.spin_once(timeout_sec=0.05)
-            return [f.result() if f is not None and f.done() else None for f in futures]
-        finally:
-            for client in clients:
-                self.node.destroy_client(client)
+        """Call several services at once (``(type, service, request)``): each answer, or None when it did not come
+        within the timeout."""
+        return self.link.calls([(name, kind, request) for kind, name, request in calls], self.timeout, keep=False)
 
     def _parameters(self, snaps: list[NodeReading]) -> None:
         from rcl_interfaces.srv import DescribeParameters, GetParameters, ListParameters

@@ -47,7 +47,7 @@ PROTOCOL_VERSION = "1"
 #: The interface package of the protocol, and its version (major: PROTOCOL_VERSION; minor: raised when a
 #: message or service is added).
 PACKAGE = "iface_msgs"
-PACKAGE_VERSION = f"{PROTOCOL_VERSION}.1.0"
+PACKAGE_VERSION = f"{PROTOCOL_VERSION}.2.0"
 #: The version tag of the state document.
 STATE_FORMAT = "iface-state/1"
 #: The runtimes a component may run on (``Describe.runtime``).
@@ -124,6 +124,7 @@ MESSAGES: tuple[ProtocolMessage, ...] = (
         "InstanceStatus", ("One instance of a managed system, as the component manager sees it.",),
         (SrvField("string", "name", "the instance name in the system file"),
          SrvField("string", "node", "its node's fully qualified name"),
+         SrvField("string", "component", "the component it runs (after a replacement: NEW's)"),
          SrvField("string", "state", "down, starting, inactive, active, stopped (not restarted by its policy) "
                   "or failed (past the restart limit)"),
          SrvField("int32", "pid", "its process id (0 while down)"),

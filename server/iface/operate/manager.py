@@ -3,10 +3,13 @@
 ``iface-lsp manager SYSTEM`` runs the node ``/iface_manager``. It starts each instance's process
 (``processes``), brings the instances up in order (configure, restore the last snapshot of an
 instance it started, activate) and, when told to stop, down in reverse order. It watches each
-one: its process, and a heartbeat (``~/control`` STATUS) answered within a timeout. A failed
-instance is restarted per its policy and the intensity limit (``restart``), its last snapshot
-restored before it is activated. Snapshots (``snapshots``) are taken per the instance's period,
-at every deactivate and on request. A new manager adopts the instances still running.
+one: its process, whose end it is told of at once (``processes.ExitWatcher``), and a heartbeat
+(``~/control`` STATUS) answered within a timeout. A failed instance is restarted per its policy
+and the intensity limit (``restart``), its last snapshot restored before it is activated.
+Snapshots (``snapshots``) are taken per the instance's period, at every deactivate and on
+request. A replacement (``replace``) runs the hand-over's steps (``handover``) with a NEW the
+manager starts; from then on the instance runs NEW's implementation (``implementation``). A new
+manager adopts the instances still running.
 
 It serves ``/iface_manager/status``, ``/iface_manager/snapshot`` and ``/iface_manager/replace``
 (types ``iface_msgs/srv/SystemStatus``, ``Snapshot``, ``Replace``). One lock orders the watch
@@ -15,6 +18,7 @@ loop, snapshots and replacements; status answers read without it.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import os
@@ -25,12 +29,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..semantics.compile import Compilation, Workspace
+from ..live.link import Link, LinkError
 from ..nodes import protocol
+from ..semantics.compile import Workspace
 from . import processes
 from .handover import ACTIVE, INACTIVE, UNCONFIGURED, HandOver, Refused, decide
-from .link import Link, LinkError
-from .processes import InstanceProcess, Records, StartError
+from .implementation import Implementation, NotStartable, Replacement, Replacements, of_instance, replacing
+from .processes import ExitWatcher, InstanceProcess, Records, StartError
 from .restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD, Intensity, should_restart
 from .snapshots import DEFAULT_KEEP, SnapshotStore, iso_time
 
@@ -43,6 +48,12 @@ CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
 SHUTDOWN_FROM = {UNCONFIGURED: 5, INACTIVE: 6, ACTIVE: 7}
 #: Findings kept per instance.
 FINDINGS_KEPT = 20
+#: Seconds between two requests for a just started instance's first answer: its services are found this soon.
+FIRST_ANSWER_RESEND = 0.05
+#: Seconds before a bring-up's restore is sent again (a reply the just discovered node dropped).
+BRING_UP_RESEND = 0.25
+#: The longest the watch loop sleeps (heartbeats and snapshots are due at this grain; a process's end wakes it).
+TICK = 0.1
 
 
 @dataclass
@@ -63,13 +74,11 @@ class Options:
 
 @dataclass
 class Managed:
-    """One instance as the manager sees it."""
+    """One instance as the manager sees it: what it runs (``impl``) and its process."""
 
     spec: Any
     node: str
-    iface_file: str
-    interface_hash: str
-    package_dir: str
+    impl: Implementation
     store: SnapshotStore
     intensity: Intensity
     generation: int = 1
@@ -108,17 +117,44 @@ class Manager:
         self.options = options
         self.env = env
         self.records = Records(options.state_dir)
+        self.replacements = Replacements(options.state_dir)
         self.lock = threading.RLock()
         self.stop = threading.Event()
+        #: Set when the watch loop should look now (a process ended, or the manager is told to stop).
+        self.wake = threading.Event()
+        self.watcher = ExitWatcher()
         self.log_dir = options.state_dir / "logs"
-        self.instances = [
-            Managed(spec, spec.node, str(spec.iface_file), spec.interface_hash, "",
-                    SnapshotStore(options.state_dir / "snapshots" / spec.name, options.keep),
-                    Intensity(options.max_restarts, options.restart_period))
-            for spec in system.instances]
-        for m in self.instances:
-            latest = m.store.latest()
-            m.last_snapshot = latest.written if latest is not None else None
+        self._envs: dict[str, dict[str, str]] = {}
+        self.instances = [self._managed(spec) for spec in system.instances]
+
+    def _managed(self, spec: Any) -> Managed:
+        """An instance as its replacement record (if one holds) or else the system file says."""
+        m = Managed(spec, spec.node, of_instance(spec),
+                    SnapshotStore(self.options.state_dir / "snapshots" / spec.name, self.options.keep),
+                    Intensity(self.options.max_restarts, self.options.restart_period))
+        replaced = self.replacements.load(spec.name)
+        if replaced is not None and replaced.holds_for(spec):
+            m.node, m.generation, m.impl = replaced.node, replaced.generation, replaced.implementation
+        elif replaced is not None:
+            m.note(f"the system file names {spec.component} ({spec.interface_hash[:19]}) for {spec.name}, not what "
+                   f"{replaced.implementation.component} replaced: {replaced.implementation.component} no longer runs "
+                   "for it")
+            self.replacements.remove(spec.name)
+        latest = m.store.latest()
+        m.last_snapshot = latest.written if latest is not None else None
+        return m
+
+    #: Set by a signal handler (an attribute, no lock: the handler may interrupt the thread that holds one).
+    stop_requested = False
+
+    def stopping(self) -> bool:
+        """Whether the manager is told to stop (``request_stop``, or a signal)."""
+        return self.stop_requested or self.stop.is_set()
+
+    def request_stop(self) -> None:
+        """Stop serving now (from a thread; a signal handler sets ``stop_requested``, seen within ``TICK``)."""
+        self.stop.set()
+        self.wake.set()
 
     # ---- ROS --------------------------------------------------------------------------------------
     def open(self) -> None:
@@ -141,20 +177,19 @@ class Manager:
         self._spinner.start()
 
     def _spin(self) -> None:
-        try:
+        with contextlib.suppress(Exception):  # the context was shut down under the executor
             while self._rclpy.ok() and not self._closing:
                 self.executor.spin_once(timeout_sec=0.1)
-        except Exception:  # noqa: BLE001 - the context was shut down under the executor
-            pass
 
     _closing = False
 
     def close(self) -> None:
-        """Stop spinning and destroy the node."""
+        """Stop spinning and destroy the node; stop watching the processes."""
         self._closing = True
         self._spinner.join(timeout=5)
         self.executor.shutdown(timeout_sec=2.0)
         self.node.destroy_node()
+        self.watcher.close()
 
     def log(self, message: str) -> None:
         """One line on the manager's log."""
@@ -164,19 +199,22 @@ class Manager:
     def up(self) -> None:
         """Adopt or start each instance, in order, and bring it to active."""
         for m in self.instances:
-            if self.stop.is_set():
+            for finding in m.findings:
+                self.log(f"{m.name}: {finding}")
+            if self.stopping():
                 return
             with self.lock:
                 if not self._adopt(m):
                     self._start_or_fail(m, "start")
 
     def serve(self) -> None:
-        """Watch the instances until ``stop`` is set."""
-        while not self.stop.is_set():
+        """Watch the instances until ``stop`` is set; a process's end is looked at the moment it is told."""
+        while not self.stopping():
+            self.wake.clear()
             with self.lock:
                 for m in self.instances:
                     self._watch(m, time.monotonic())
-            self.stop.wait(0.1)
+            self.wake.wait(TICK)
 
     def down(self) -> None:
         """Deactivate (with a snapshot) and shut down each instance, in reverse order."""
@@ -206,23 +244,42 @@ class Manager:
         m.state = "down"
         self.log(f"{m.name}: down")
 
+    def _watched(self, process: InstanceProcess) -> InstanceProcess:
+        """``process``, its end told to the watch loop the moment it comes."""
+        self.watcher.watch(process, lambda _p: self.wake.set())
+        return process
+
     def _adopt(self, m: Managed) -> bool:
-        """Manage again an instance a previous manager started, if it still runs; whether it did."""
+        """Manage again an instance a previous manager started, if it still runs; whether it did.
+
+        A recorded process that runs another node than the instance's (its OLD, which a replacement
+        recorded before it was shut down) is stopped, not adopted.
+        """
         record = self.records.load(m.name)
         if record is not None and not processes.running(record):
             self.log(f"{m.name}: recorded pid {record.pid} no longer runs")
+            record = None
+        if record is not None and record.node.lstrip("/") != m.node.lstrip("/"):
+            self.log(f"{m.name}: recorded pid {record.pid} runs {record.node}, not the instance's node {m.node} "
+                     "(a replacement's OLD, or one the system file no longer names): stopping it")
+            InstanceProcess(record).stop(5.0)
             record = None
         if record is None:
             # not recorded (a manager killed right after a start): the graph and /proc still know it
             found = processes.find_by_node(m.node)
             if len(found) != 1:
                 return False
-            record = dataclasses.replace(found[0], instance=m.name, iface_file=m.iface_file,
-                                         interface_hash=m.interface_hash)
+            i = m.impl
+            record = dataclasses.replace(found[0], instance=m.name, package_dir=i.package_dir,
+                                         iface_file=i.iface_file, interface_hash=i.interface_hash,
+                                         generation=m.generation, component=i.component, package=i.package,
+                                         executable=i.executable)
             self.records.save(record)
-        m.process = InstanceProcess(record)
-        m.node, m.iface_file, m.interface_hash = record.node, record.iface_file, record.interface_hash
-        m.package_dir, m.generation = record.package_dir, record.generation
+        m.process = self._watched(InstanceProcess(record))
+        m.impl = record.implementation() or dataclasses.replace(
+            m.impl, iface_file=record.iface_file or m.impl.iface_file,
+            interface_hash=record.interface_hash or m.impl.interface_hash, package_dir=record.package_dir)
+        m.node, m.generation = record.node, record.generation
         t = self.options.call_timeout
         try:
             state = int(self.link.control(m.path, protocol.STATUS, t).lifecycle_state)
@@ -239,34 +296,54 @@ class Manager:
         m.state = "active"
         m.heartbeat_ok = time.monotonic()
         m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
-        self.log(f"{m.name}: adopted pid {record.pid} ({m.path}, active)")
+        self.log(f"{m.name}: adopted pid {record.pid} ({m.path}, {m.impl.component}, active)")
         return True
+
+    # ---- starting an instance ------------------------------------------------------------------------
+    def _environment(self, package_dir: str) -> dict[str, str]:
+        """The environment an implementation starts in: the manager's, with its install folder's workspace on top
+        (made once per folder)."""
+        if not package_dir:
+            return self.env
+        made = self._envs.get(package_dir)
+        if made is None:
+            made = self._envs[package_dir] = processes.package_environment(Path(package_dir), self.env)
+        return made
+
+    def _launch(self, m: Managed, impl: Implementation, node: str, generation: int, log: str) -> InstanceProcess:
+        """Start a process of ``impl`` as ``node`` for ``m`` (with the instance's parameters), watched."""
+        env = self._environment(impl.package_dir)
+        exe = processes.find_executable(impl.package, impl.executable, env, impl.package_dir)
+        argv = [exe, "--ros-args", "-r", f"__node:={node}"]
+        if m.spec.parameters:
+            argv += ["--params-file", str(m.spec.parameters)]
+        proc = processes.start(m.name, node, argv, env, self.log_dir / log, implementation=impl,
+                               generation=generation)
+        self.log(f"{m.name}: started pid {proc.pid} ({impl.component}, {exe})")
+        return self._watched(proc)
 
     def _start(self, m: Managed) -> None:
         """Start a process for ``m``, configure it, restore its last snapshot, activate it."""
-        env = self.env
-        if m.package_dir:
-            env = processes.package_environment(Path(m.package_dir), self.env)
-        exe = processes.find_executable(m.spec.package, m.spec.executable, env)
-        argv = [exe, "--ros-args", "-r", f"__node:={m.node}"]
-        if m.spec.parameters:
-            argv += ["--params-file", str(m.spec.parameters)]
         m.state = "starting"
-        m.process = processes.start(m.name, m.node, argv, env, self.log_dir / f"{m.name}.log",
-                                    package_dir=m.package_dir, iface_file=m.iface_file,
-                                    interface_hash=m.interface_hash, generation=m.generation)
+        m.process = self._launch(m, m.impl, m.node, m.generation, f"{m.name}.log")
         self.records.save(m.process.record)
-        self._bring_up(m, m.process, restore=True)
+        self._bring_up(m, m.process)
 
-    def _bring_up(self, m: Managed, proc: InstanceProcess, restore: bool) -> None:
+    def _bring_up(self, m: Managed, proc: InstanceProcess) -> None:
+        """Configure, restore the last snapshot, activate; each step logged as it ends."""
         t = self.options.call_timeout
         self._until_answers(m.path, proc)
+        self.log(f"{m.name}: answers (pid {proc.pid})")
         self.link.transition(m.path, CONFIGURE, t, alive=proc.alive)
         m.state = "inactive"
-        latest = m.store.latest() if restore else None
+        self.log(f"{m.name}: configured")
+        latest = m.store.latest()
         if latest is not None:
-            done = self.link.restore(m.path, latest.document, t, alive=proc.alive)
-            self.log(f"{m.name}: restored snapshot {latest.sequence} ({done})")
+            done = self.link.call(f"{m.path}/restore_state", {"state": latest.document, "timeout_sec": t}, t + 2,
+                                  alive=proc.alive, resend=BRING_UP_RESEND)
+            if not done.success:
+                raise LinkError(f"{m.path} refused the state: {done.message}")
+            self.log(f"{m.name}: restored snapshot {latest.sequence} ({done.message})")
         self.link.transition(m.path, ACTIVATE, t, alive=proc.alive)
         if not proc.alive():
             raise LinkError(f"{m.path} ended while it was activated")
@@ -276,17 +353,15 @@ class Manager:
         self.log(f"{m.name}: active (pid {proc.pid})")
 
     def _until_answers(self, node: str, proc: InstanceProcess) -> None:
-        deadline = time.monotonic() + self.options.start_timeout
-        while True:
+        """Wait until ``node`` answers ``~/control``: asked every ``FIRST_ANSWER_RESEND`` s, so the first answer
+        comes as soon as its services are discovered both ways."""
+        try:
+            self.link.call(f"{node}/control", {"command": protocol.STATUS, "timeout_sec": 1.0},
+                           self.options.start_timeout, alive=proc.alive, resend=FIRST_ANSWER_RESEND)
+        except LinkError:
             if not proc.alive():
-                raise LinkError(f"{node}: its process ended (exit {proc.exit_code()}) before it answered")
-            try:
-                self.link.call(f"{node}/control", {"command": protocol.STATUS, "timeout_sec": 1.0},
-                               min(2.0, max(0.1, deadline - time.monotonic())), alive=proc.alive, resend=0.25)
-                return
-            except LinkError:
-                if time.monotonic() >= deadline:
-                    raise LinkError(f"{node} did not answer within {self.options.start_timeout:g} s") from None
+                raise LinkError(f"{node}: its process ended (exit {proc.exit_code()}) before it answered") from None
+            raise LinkError(f"{node} did not answer within {self.options.start_timeout:g} s") from None
 
     def _start_or_fail(self, m: Managed, why: str) -> None:
         """Start ``m``; on failure restart it per policy and intensity until it is up or stays down."""
@@ -356,8 +431,9 @@ class Manager:
     # ---- snapshots ---------------------------------------------------------------------------------
     def _snapshot(self, m: Managed, why: str) -> str | None:
         """Save ``m``'s state to disk; the file, or None (the reason kept as a finding)."""
+        alive = m.process.alive if m.process is not None else None
         try:
-            document = self.link.save(m.path, self.options.call_timeout)
+            document = str(self.link.save(m.path, self.options.call_timeout, alive=alive).state)
             snap = m.store.write(document)
         except (LinkError, OSError) as e:
             m.note(f"snapshot ({why}) failed: {e}")
@@ -388,9 +464,9 @@ class Manager:
         findings: list[dict[str, str]] = []
         for m in self.instances:
             instances.append({
-                "name": m.name, "node": m.path, "state": m.state,
+                "name": m.name, "node": m.path, "component": m.impl.component, "state": m.state,
                 "pid": m.process.pid if m.process is not None and m.process.alive() else 0,
-                "restarts": m.restarts, "interface_hash": m.interface_hash,
+                "restarts": m.restarts, "interface_hash": m.impl.interface_hash,
                 "last_snapshot": iso_time(m.last_snapshot) if m.last_snapshot is not None else None})
             findings.extend({"instance": m.name, "message": f} for f in m.findings)
         return {"system": self.system.name, "instances": instances, "findings": findings}
@@ -401,8 +477,9 @@ class Manager:
         data = self.status()
         response.system = self.system.name
         response.instances = [
-            InstanceStatus(name=i["name"], node=i["node"], state=i["state"], pid=i["pid"], restarts=i["restarts"],
-                           interface_hash=i["interface_hash"], last_snapshot=i["last_snapshot"] or "",
+            InstanceStatus(name=i["name"], node=i["node"], component=i["component"], state=i["state"], pid=i["pid"],
+                           restarts=i["restarts"], interface_hash=i["interface_hash"],
+                           last_snapshot=i["last_snapshot"] or "",
                            findings=[f["message"] for f in data["findings"] if f["instance"] == i["name"]])
             for i in data["instances"]]
         return response
@@ -431,54 +508,58 @@ class Manager:
             return self._replace(m, new_iface, Path(package), timeout)
 
     def _replace(self, m: Managed, new_iface: str, package: Path, timeout: float) -> dict[str, Any]:
-        new_node = f"{m.spec.node}_{m.generation + 1}"
+        """The hand-over's steps with a NEW this manager starts, a grace period, then commit or roll back."""
+        generation = m.generation + 1
+        new_node = f"{m.spec.node}_{generation}"
         ws = Workspace()
-        old, new = ws.compile_path(m.iface_file), ws.compile_path(new_iface)
-        others = [ws.compile_path(x.iface_file) for x in self.instances if x is not m]
+        old, new = ws.compile_path(m.impl.iface_file), ws.compile_path(new_iface)
+        others = [ws.compile_path(x.impl.iface_file) for x in self.instances if x is not m]
         report = decide(old, new, others)
-        h = HandOver(m.path, new_node, report.new_hash, timeout, None, package)
-        if _broken(new) or report.exit_code != 0:
-            h._note("compat", f"{report.verdict}: {new_iface} may not replace {m.iface_file}", ok=False)
+        h = HandOver(m.path, new_node, report.new_hash, timeout, self.options.trust_store, package, link=self.link)
+        if new.has_errors:
+            h.note("compat", f"{new_iface} has errors (`iface-lsp check {new_iface}` lists them)", ok=False)
             return _record(h, report, m, "refused")
-        h._note("compat", f"{report.verdict}: {new_iface} may replace {m.iface_file}")
-        if self.options.trust_store is not None:
-            h.trust_store = self.options.trust_store
-            try:
-                h._check_trust()
-            except Refused as e:
-                h._note("refused", str(e), ok=False)
-                return _record(h, report, m, "refused")
-            h.trust_store = None  # checked: NEW is started only when trusted
+        if not h.check_compat(report, new_iface, m.impl.iface_file):
+            return _record(h, report, m, "refused")
         try:
-            env = processes.package_environment(package, self.env)
-            exe = processes.find_executable(m.spec.package, m.spec.executable, env)
-            proc = processes.start(m.name, new_node, [exe, "--ros-args", "-r", f"__node:={new_node}"], env,
-                                   self.log_dir / f"{m.name}.{m.generation + 1}.log", package_dir=str(package),
-                                   iface_file=str(new_iface), interface_hash=report.new_hash,
-                                   generation=m.generation + 1)
-        except StartError as e:
-            h._note("start NEW", str(e), ok=False)
+            h.check_trust()  # before NEW is started: only trusted code runs
+        except Refused as e:
+            h.note("refused", str(e), ok=False)
+            return _record(h, report, m, "refused")
+        try:
+            impl = replacing(m.impl, new, report.new_hash, package)
+            proc = self._launch(m, impl, new_node, generation, f"{m.name}.{generation}.log")
+        except (NotStartable, StartError, OSError) as e:
+            h.note("start NEW", str(e), ok=False)
             return _record(h, report, m, "refused")
         try:
             self._until_answers("/" + new_node, proc)
-            h._note("start NEW", f"{new_node} started (pid {proc.pid})")
+            h.note("start NEW", f"{new_node} started (pid {proc.pid}): {impl.component} from package {impl.package}, "
+                   f"executable {impl.executable}")
         except LinkError as e:
-            h._note("start NEW", str(e), ok=False)
+            h.note("start NEW", str(e), ok=False)
             proc.stop(2.0)
+            self.link.forget("/" + new_node)
             return _record(h, report, m, "refused")
-        done = h.run()
-        if done:
+        try:
+            h.check_nodes()
+            h.prepare()
+            h.switch()
             failure = self._grace(new_node, proc)
             if failure is None:
-                return self._commit(m, h, report, proc, new_node, str(new_iface), str(package))
-            h._note("grace", failure, ok=False)
-        # OLD was paused when the hand-over saved its state or, failing after the pause, resumed it.
-        paused = h.state_before is not None or any(s.step == "resume OLD" for s in h.steps)
+                return self._commit(m, h, report, proc, impl, new_node, generation)
+            h.note("grace", failure, ok=False)
+        except Refused as e:
+            h.note("refused", str(e), ok=False)
         proc.stop(2.0)
         self.link.forget("/" + new_node)
-        if not paused:
+        if not h.touched_old:
             return _record(h, report, m, "refused")
-        self._roll_back(m, h)
+        if h.roll_back():
+            h.note("rollback", f"{m.path} active again with its state")
+        else:
+            h.note("rollback", f"{m.path} could not be made active again with its state", ok=False)
+            m.note(f"rollback failed: {[s.detail for s in h.steps if not s.ok][-1:]}")
         return _record(h, report, m, "rolled_back")
 
     def _grace(self, node: str, proc: InstanceProcess) -> str | None:
@@ -495,29 +576,19 @@ class Manager:
             if status.lifecycle_state != ACTIVE:
                 return f"/{node} is no longer active"
             answered = True
-            time.sleep(min(0.2, max(0.0, end - time.monotonic())))
+            proc.ended.wait(min(0.2, max(0.0, end - time.monotonic())))
         return None
 
-    def _roll_back(self, m: Managed, h: HandOver) -> None:
-        """OLD active again with the state it had when it was paused."""
-        t = self.options.call_timeout
-        try:
-            state = self.link.lifecycle_state(m.path, t)
-            if h.state_before is not None:
-                self.link.restore(m.path, json.dumps(h.state_before, sort_keys=True, separators=(",", ":")), t)
-            if state == INACTIVE:
-                self.link.transition(m.path, ACTIVATE, t)
-            status = self.link.control(m.path, protocol.STATUS, t)
-            if status.paused:
-                self.link.control(m.path, protocol.RESUME, t)
-            h._note("rollback", f"{m.path} active again with its state")
-        except LinkError as e:
-            h._note("rollback", f"{m.path} could not be made active again: {e}", ok=False)
-            m.note(f"rollback failed: {e}")
-
-    def _commit(self, m: Managed, h: HandOver, report: Any, proc: InstanceProcess, new_node: str, iface: str,
-                package: str) -> dict[str, Any]:
+    def _commit(self, m: Managed, h: HandOver, report: Any, proc: InstanceProcess, impl: Implementation,
+                new_node: str, generation: int) -> dict[str, Any]:
+        """NEW is the instance from now on: recorded (before OLD goes, so that a new manager never adopts OLD),
+        then OLD shut down, then NEW's state saved."""
         old_proc, old_path = m.process, m.path
+        m.process, m.node, m.impl, m.generation = proc, new_node, impl, generation
+        m.heartbeat, m.heartbeat_ok = None, time.monotonic()
+        self.replacements.save(Replacement(m.name, new_node, generation, impl, m.spec.component,
+                                           m.spec.interface_hash))
+        self.records.save(proc.record)
         try:
             self.link.transition(old_path, SHUTDOWN_FROM[INACTIVE], self.options.call_timeout)
         except LinkError:
@@ -525,17 +596,10 @@ class Manager:
         if old_proc is not None and not old_proc.wait(5.0):
             old_proc.stop(2.0)
         self.link.forget(old_path)
-        m.process, m.node, m.iface_file, m.package_dir = proc, new_node, iface, package
-        m.interface_hash, m.generation = report.new_hash, m.generation + 1
-        m.heartbeat, m.heartbeat_ok = None, time.monotonic()
-        self.records.save(proc.record)
         self._snapshot(m, "replace")
-        h._note("commit", f"{m.name} is {m.path} (pid {proc.pid}); OLD {old_path} shut down")
+        h.note("commit", f"{m.name} is {m.path} (pid {proc.pid}, {impl.component}); OLD {old_path} shut down")
+        self.log(f"{m.name}: replaced by {m.path} (pid {proc.pid}, {impl.component} from {impl.package_dir})")
         return _record(h, report, m, "replaced")
-
-
-def _broken(c: Compilation) -> bool:
-    return c.has_errors
 
 
 def _record(h: HandOver, report: Any, m: Managed, result: str) -> dict[str, Any]:
@@ -553,7 +617,8 @@ def run(system: Any, options: Options) -> int:
     env = dict(os.environ)
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     manager = Manager(system, options, env)
-    previous = {s: signal.signal(s, lambda *_: manager.stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+    previous = {s: signal.signal(s, lambda *_: setattr(manager, "stop_requested", True))
+                for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         manager.open()
         manager.log(f"managing {system.name} ({len(manager.instances)} instances), state in {options.state_dir}")

@@ -1,23 +1,36 @@
-"""The processes of a system's instances: started, found again after a manager restart, stopped.
+"""The processes of a system's instances: started, watched, found again after a manager restart, stopped.
 
 Each instance runs as a process of its own, started from the sourced workspace (its package's
-executable under ``lib/<package>/`` of a prefix on ``AMENT_PREFIX_PATH``) in a session of its own,
-so that a manager killed with ``kill -9`` takes none of them along. For each one the manager keeps
-a record in ``<state dir>/processes/<instance>.json``: pid, the process's start time (field 22 of
-``/proc/<pid>/stat``) and its command line. A new manager adopts a recorded process only when a
-process with that pid still runs, started at that time, with that command line; a recycled pid
-fails the check, so no instance is started twice and no stranger is adopted.
+executable under ``lib/<package>/`` of a prefix on ``AMENT_PREFIX_PATH``, or of its install folder
+for a replacement) in a session of its own, so that a manager killed with ``kill -9`` takes none of
+them along. For each one the manager keeps a record in ``<state dir>/processes/<instance>.json``:
+pid, the process's start time (field 22 of ``/proc/<pid>/stat``), its command line and what it runs
+(``implementation.Implementation``). A new manager adopts a recorded process only when a process
+with that pid still runs, started at that time, with that command line; a recycled pid fails the
+check, so no instance is started twice and no stranger is adopted.
+
+``ExitWatcher`` tells the manager the moment a process ends, not at its next look: one thread waits
+on a pidfd per process (Linux 5.3 and later), for a child of the manager as for an adopted process;
+without pidfds, a thread per process waits for a child (``waitpid``), or looks at ``/proc`` every
+0.1 s for an adopted one. ``InstanceProcess`` is what the manager knows of an instance's process:
+``alive``, ``ended``, ``exit_code``, ``stop`` and its record; a node loaded into a container process
+could stand behind the same few calls.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import select
 import signal
 import subprocess
+import threading
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
+
+from .implementation import Implementation, NotStartable, find_in_install, write_json
 
 
 class StartError(Exception):
@@ -37,6 +50,16 @@ class ProcessRecord:
     iface_file: str
     interface_hash: str
     generation: int
+    component: str = ""
+    package: str = ""
+    executable: str = ""
+
+    def implementation(self) -> Implementation | None:
+        """What the process runs, None in a record that does not say (one made before the record did)."""
+        if not self.package:
+            return None
+        return Implementation(self.component, self.iface_file, self.interface_hash, self.package, self.executable,
+                              self.package_dir)
 
 
 def proc_stat(pid: int) -> tuple[str, int] | None:
@@ -66,8 +89,14 @@ def running(record: ProcessRecord) -> bool:
     return proc_cmdline(record.pid) == record.cmdline
 
 
-def find_executable(package: str, executable: str, env: dict[str, str]) -> str:
-    """``<prefix>/lib/<package>/<executable>`` of the first prefix on ``AMENT_PREFIX_PATH`` that has it."""
+def find_executable(package: str, executable: str, env: dict[str, str], package_dir: str = "") -> str:
+    """``<prefix>/lib/<package>/<executable>`` of the install folder ``package_dir`` when one is given (a
+    replacement's), else of the first prefix on ``AMENT_PREFIX_PATH`` that has it."""
+    if package_dir:
+        try:
+            return str(find_in_install(Path(package_dir), package, executable))
+        except NotStartable as e:
+            raise StartError(str(e)) from e
     prefixes = [p for p in env.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
     for prefix in prefixes:
         path = Path(prefix) / "lib" / package / executable
@@ -78,29 +107,35 @@ def find_executable(package: str, executable: str, env: dict[str, str]) -> str:
 
 
 def package_environment(package_dir: Path, env: dict[str, str]) -> dict[str, str]:
-    """``env`` with the workspace of ``package_dir`` sourced on top (its ``local_setup.bash``).
+    """``env`` with the workspace of ``package_dir`` sourced on top: its ``setup.bash`` (the workspaces it was
+    built on, then itself), else its ``local_setup.bash``.
 
     ``package_dir`` is a package's install prefix (``ws/install/thermostat``) or a workspace's
-    ``install`` folder; the first of it and its parent that has ``local_setup.bash`` is sourced.
+    ``install`` folder; the first of it and its parent that has a setup script is sourced.
     """
     for folder in (package_dir, package_dir.parent):
-        setup = folder / "local_setup.bash"
-        if setup.is_file():
+        setup = next((folder / name for name in ("setup.bash", "local_setup.bash") if (folder / name).is_file()),
+                     None)
+        if setup is not None:
             done = subprocess.run(["bash", "-c", f'set +u; . "{setup}" >/dev/null && env -0'], env=env,
                                   capture_output=True, timeout=60, check=False)
             if done.returncode != 0:
                 raise StartError(f"{setup} failed: {done.stderr.decode(errors='replace').strip()[-300:]}")
             return dict(item.split("=", 1) for item in done.stdout.decode().split("\0") if "=" in item)
-    raise StartError(f"{package_dir}: no local_setup.bash here or in its parent (name a package's install "
+    raise StartError(f"{package_dir}: no setup.bash here or in its parent (name a package's install "
                      "folder, e.g. ws/install/thermostat)")
 
 
 class InstanceProcess:
     """A started or adopted process of an instance."""
 
-    def __init__(self, record: ProcessRecord, child: subprocess.Popen[bytes] | None = None) -> None:
+    def __init__(self, record: ProcessRecord, child: subprocess.Popen[bytes] | None = None,
+                 pidfd: int | None = None) -> None:
         self.record = record
         self.child = child
+        #: Set the moment the process is known to have ended (by ``ExitWatcher``, or ``alive``).
+        self.ended = threading.Event()
+        self._pidfd = pidfd
 
     @property
     def pid(self) -> int:
@@ -114,9 +149,12 @@ class InstanceProcess:
 
     def alive(self) -> bool:
         """Whether it still runs."""
-        if self.child is not None:
-            return self.child.poll() is None
-        return running(self.record)
+        if self.ended.is_set():
+            return False
+        running_now = self.child.poll() is None if self.child is not None else running(self.record)
+        if not running_now:
+            self.ended.set()
+        return running_now
 
     def exit_code(self) -> int | None:
         """Its exit status when it was this manager's child and has ended, else None."""
@@ -137,7 +175,7 @@ class InstanceProcess:
         while self.alive():
             if time.monotonic() >= deadline:
                 return False
-            time.sleep(0.05)
+            self.ended.wait(min(0.05, max(0.0, deadline - time.monotonic())))
         return True
 
     def stop(self, grace: float) -> None:
@@ -147,9 +185,112 @@ class InstanceProcess:
             self.signal_group(signal.SIGKILL)
             self.wait(10.0)
 
+    def take_pidfd(self) -> int | None:
+        """A pidfd of the process (opened at its start, or now), handed over to the caller; None without pidfds."""
+        fd, self._pidfd = self._pidfd, None
+        if fd is None:
+            fd = open_pidfd(self.pid)
+            if fd is not None and not self.alive():  # opened on a process already gone (or its pid recycled)
+                os.close(fd)
+                return None
+        return fd
 
-def start(instance: str, node: str, argv: list[str], env: dict[str, str], log: Path, *, package_dir: str,
-          iface_file: str, interface_hash: str, generation: int) -> InstanceProcess:
+
+def open_pidfd(pid: int) -> int | None:
+    """A pidfd of ``pid`` (Linux 5.3 and later); None where there are none or the process is gone."""
+    opener = getattr(os, "pidfd_open", None)
+    if opener is None:
+        return None
+    try:
+        return int(opener(pid))
+    except OSError:
+        return None
+
+
+class ExitWatcher:
+    """Calls ``then(process)`` as soon as a watched process ends (``ended`` set first), from a thread of its own.
+
+    One thread polls a pidfd per process (and a pipe that wakes it for a new one); a process without a
+    pidfd gets a thread that waits for it (a child: ``waitpid``; adopted: ``/proc`` every 0.1 s).
+    """
+
+    def __init__(self) -> None:
+        self._poll = select.poll()
+        self._watched: dict[int, tuple[InstanceProcess, Callable[[InstanceProcess], None]]] = {}
+        self._lock = threading.Lock()
+        self._wake_r, self._wake_w = os.pipe()
+        self._poll.register(self._wake_r, select.POLLIN)
+        self._closed = False
+        self._thread: threading.Thread | None = None
+
+    def watch(self, process: InstanceProcess, then: Callable[[InstanceProcess], None]) -> None:
+        """Tell ``then`` when ``process`` ends (at once when it has already)."""
+        fd = process.take_pidfd()
+        if fd is None:
+            threading.Thread(target=_wait_without_pidfd, args=(process, then), daemon=True,
+                             name=f"iface-exit-{process.pid}").start()
+            return
+        with self._lock:
+            if self._closed:
+                os.close(fd)
+                return
+            self._watched[fd] = (process, then)
+            self._poll.register(fd, select.POLLIN)
+            if self._thread is None:
+                self._thread = threading.Thread(target=self._run, name="iface-exit-watcher", daemon=True)
+                self._thread.start()
+        os.write(self._wake_w, b"x")
+
+    def close(self) -> None:
+        """Stop watching (every pidfd closed); nothing is told after."""
+        with self._lock:
+            self._closed = True
+        os.write(self._wake_w, b"x")
+        if self._thread is not None:
+            self._thread.join(timeout=5)
+        with self._lock:
+            for fd in self._watched:
+                os.close(fd)
+            self._watched.clear()
+        os.close(self._wake_r)
+        os.close(self._wake_w)
+
+    def _run(self) -> None:
+        while True:
+            events = self._poll.poll()
+            told = []
+            with self._lock:
+                if self._closed:
+                    return
+                for fd, _ in events:
+                    if fd == self._wake_r:
+                        os.read(self._wake_r, 4096)
+                    elif fd in self._watched:
+                        self._poll.unregister(fd)
+                        os.close(fd)
+                        told.append(self._watched.pop(fd))
+            for process, then in told:
+                _ended(process, then)
+
+
+def _wait_without_pidfd(process: InstanceProcess, then: Callable[[InstanceProcess], None]) -> None:
+    if process.child is not None:
+        process.child.wait()
+    else:
+        while running(process.record):
+            time.sleep(0.1)
+    _ended(process, then)
+
+
+def _ended(process: InstanceProcess, then: Callable[[InstanceProcess], None]) -> None:
+    if process.child is not None:
+        process.child.poll()  # reap it: its exit status
+    process.ended.set()
+    then(process)
+
+
+def start(instance: str, node: str, argv: list[str], env: dict[str, str], log: Path, *,
+          implementation: Implementation, generation: int) -> InstanceProcess:
     """Start ``argv`` in a session of its own, output appended to ``log``."""
     log.parent.mkdir(parents=True, exist_ok=True)
     with open(log, "ab") as out:
@@ -158,11 +299,13 @@ def start(instance: str, node: str, argv: list[str], env: dict[str, str], log: P
                                      start_new_session=True)
         except OSError as e:
             raise StartError(f"cannot start {argv[0]}: {e}") from e
+    pidfd = open_pidfd(child.pid)  # before anything may reap it: the pid cannot be another process's yet
     stat = proc_stat(child.pid)
     cmdline = _settled_cmdline(child, tuple(argv))
-    record = ProcessRecord(instance, node, child.pid, stat[1] if stat else 0, cmdline, package_dir,
-                           iface_file, interface_hash, generation)
-    return InstanceProcess(record, child)
+    i = implementation
+    record = ProcessRecord(instance, node, child.pid, stat[1] if stat else 0, cmdline, i.package_dir, i.iface_file,
+                           i.interface_hash, generation, i.component, i.package, i.executable)
+    return InstanceProcess(record, child, pidfd)
 
 
 def _settled_cmdline(child: subprocess.Popen[bytes], argv: tuple[str, ...]) -> tuple[str, ...]:
@@ -202,16 +345,9 @@ class Records:
 
     def save(self, record: ProcessRecord) -> None:
         """Write ``record`` atomically."""
-        self.folder.mkdir(parents=True, exist_ok=True)
-        final = self.folder / f"{record.instance}.json"
-        temp = final.with_name(f".tmp-{record.instance}-{os.getpid()}")
         data = asdict(record)
         data["cmdline"] = list(record.cmdline)
-        with open(temp, "w", encoding="utf-8") as f:
-            json.dump(data, f, sort_keys=True)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(temp, final)
+        write_json(self.folder / f"{record.instance}.json", data)
 
     def load(self, instance: str) -> ProcessRecord | None:
         """The record of ``instance``, None when there is none or it cannot be read."""

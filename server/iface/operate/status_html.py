@@ -33,6 +33,7 @@ def render(spec: Any, data: dict[str, Any]) -> str:
         colour = COLOURS.get(i["state"], "#757575")
         rows.append(
             f"<tr><td>{html.escape(i['name'])}</td><td>{html.escape(i['node'])}</td>"
+            f"<td>{html.escape(i['component'])}</td>"
             f"<td><span class=\"state\" style=\"background:{colour}\">{html.escape(i['state'])}</span></td>"
             f"<td>{i['pid']}</td><td>{i['restarts']}</td><td><code>{html.escape(i['interface_hash'])}</code></td>"
             f"<td>{html.escape(i['last_snapshot'] or '-')}</td></tr>")
@@ -50,7 +51,7 @@ td, th {{ border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; }}
 <body>
 <h1>{title}</h1>
 <section id="graph">{builtin_svg(graph)}</section>
-<table id="instances"><tr><th>instance</th><th>node</th><th>state</th><th>pid</th><th>restarts</th>
+<table id="instances"><tr><th>instance</th><th>node</th><th>component</th><th>state</th><th>pid</th><th>restarts</th>
 <th>interface hash</th><th>last snapshot</th></tr>
 {chr(10).join(rows)}
 </table>
