@@ -1,4 +1,8 @@
-"""Fixtures of the runtime tests: the ROS 2 runtime and one workspace built per session."""
+"""Fixtures of the runtime tests: the ROS 2 runtime and the session's workspace of the test components.
+
+Its packages come from the test cache (tests/ros_harness/workspaces.py): built once per content on this
+machine, whichever worker or run asks first; the workspace itself is a view of them.
+"""
 
 from __future__ import annotations
 
@@ -8,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
 from ..ros_harness.ros import DATA, ROOT, build, generate, runtime_venv
+from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
 
 #: The components the end-to-end tests build and run: (interface, user module of the tests).
 COMPONENTS = {
@@ -42,9 +46,10 @@ def ros_venv() -> Path:
 
 @pytest.fixture(scope="session")
 def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
-    """Generate each component (then put the tests' user module in place and generate again), build once.
+    """Generate each component (then put the tests' user module in place and generate again) and build them.
 
-    The manager's test system (SYSTEM_COMPONENTS) is built here too: one colcon build for the session.
+    The manager's test system (SYSTEM_COMPONENTS) is here too. Each package is a workspace of its own in the
+    test cache; ``path`` is the view of them all (``install/setup.bash`` sources each).
     """
     root = tmp_path_factory.mktemp("ros2")
     gen = root / "gen"
@@ -59,5 +64,6 @@ def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> W
     ws.mkdir()
     ok, tail, seconds = build(ros_venv, gen, ws)
     assert ok, f"the generated packages did not build:\n{tail}"
-    print(f"\nros2-runtime build of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: {seconds:.0f} s")
+    print(f"\nros2-runtime build (or cache) of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: "
+          f"{seconds:.0f} s")
     return Workspace(ros_venv, gen, ws, seconds)

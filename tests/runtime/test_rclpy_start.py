@@ -1,8 +1,9 @@
 """Starting a generated node as a user does: the README's commands, and user code the interface no longer matches.
 
-The README's "From the interface to a running node" block is run as written (in a temporary folder that
-holds the examples; the runtime's ros2-env.sh where the block names the default one), then the node it
-starts is looked at with rclpy's graph calls: up, active, its parameters described, its services there.
+The README's "From the interface to a running node" block is run as written (in a folder that holds the
+examples; the runtime's ros2-env.sh where the block names the default one; the folder the colcon build
+made is kept in the test cache and used again while the lines and what they build stay the same), then
+the node it starts is looked at with rclpy's graph calls: up, active, its parameters described, its services there.
 Loopback only, a random ROS_DOMAIN_ID, every wait bounded, every process stopped by its own handle.
 """
 
@@ -17,8 +18,10 @@ import sys
 import textwrap
 from pathlib import Path
 
-from .conftest import Workspace
+from ..ros_harness import cache
 from ..ros_harness.ros import DEFAULT_VENV, ROOT, environment, run_bounded
+from ..ros_harness.workspaces import toolchain
+from .conftest import Workspace
 
 SECTION = "## From the interface to a running node"
 DEFAULT_ENV = "~/.cache/ros2-runtime/ros2-env.sh"
@@ -121,6 +124,32 @@ def readme_commands() -> list[str]:
     return [line.split("  #", 1)[0].strip() for line in block.group(1).splitlines() if line.strip()]
 
 
+def _run_lines(lines: list[str], clone: Path, env: dict[str, str]) -> str | None:
+    """Run the shell ``lines`` in a new clone (the examples in it) at ``clone``: None, or what went wrong."""
+    clone.mkdir(parents=True)
+    shutil.copytree(ROOT / "examples", clone / "examples")
+    script = "set -e\n" + "\n".join(lines) + "\n"
+    done = subprocess.run(["bash", "-c", script], cwd=clone, env=env, capture_output=True, text=True, timeout=1200,
+                          check=False)
+    return None if done.returncode == 0 else f"{script}\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
+
+
+def readme_clone(venv: Path, setup: list[str], env: dict[str, str], scratch: Path) -> Path:
+    """The clone where the README's setup lines ran, built with colcon as a user does: from the test cache when
+    the same lines built the same sources with the same runtime before (what they build is what the lines
+    before ``colcon`` write: they run first in ``scratch``)."""
+    before = setup[:next(i for i, line in enumerate(setup) if line.startswith("colcon "))]
+    why = _run_lines(before, scratch, env)
+    assert why is None, why
+    key = cache.key_of("README", *setup, cache.digest_tree(scratch / "src"), toolchain(venv, False))
+    try:
+        entry = cache.entry(key, "the README's commands (From the interface to a running node)",
+                            lambda folder: _run_lines(setup, folder / "clone", env))
+    except cache.BuildFailed as failed:
+        raise AssertionError(str(failed)) from None
+    return entry.path / "clone"
+
+
 def test_the_readme_commands_give_a_node_standard_calls_can_look_at(ros_venv: Path, tmp_path: Path) -> None:
     lines = readme_commands()
     assert lines[0].startswith("source "), lines
@@ -128,9 +157,6 @@ def test_the_readme_commands_give_a_node_standard_calls_can_look_at(ros_venv: Pa
         lines = [line.replace(DEFAULT_ENV, str(ros_venv / "ros2-env.sh")) for line in lines]
     *setup, start = lines
     assert start.startswith("python3 -m robot_arm"), start
-    work = tmp_path / "clone"
-    work.mkdir()
-    shutil.copytree(ROOT / "examples", work / "examples")
     bin_dir = tmp_path / "bin"  # iface-lsp of this checkout, whatever is installed
     bin_dir.mkdir()
     wrapper = f'#!/bin/sh\nPYTHONPATH="{ROOT / "server"}" exec "{sys.executable}" -m iface "$@"\n'
@@ -138,10 +164,7 @@ def test_the_readme_commands_give_a_node_standard_calls_can_look_at(ros_venv: Pa
     (bin_dir / "iface-lsp").chmod(0o755)
     env = environment(ros_venv, log_dir=tmp_path / "ros-log")
     env["PATH"] = f"{bin_dir}{os.pathsep}{env['PATH']}"
-    script = "set -e\n" + "\n".join(setup) + "\n"
-    built = subprocess.run(["bash", "-c", script], cwd=work, env=env, capture_output=True, text=True, timeout=1200,
-                           check=False)
-    assert built.returncode == 0, f"{script}\n{built.stdout[-3000:]}\n{built.stderr[-3000:]}"
+    work = readme_clone(ros_venv, setup, env, tmp_path / "scratch")
     assert (work / "src" / "robot_arm" / "robot_arm" / "node.py").is_file()
     with open(tmp_path / "node.log", "w") as log:
         sources = [line for line in setup if line.startswith("source ")]

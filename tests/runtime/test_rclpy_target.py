@@ -15,6 +15,7 @@ from iface.emit import generate, get_target
 from iface.emit.base import GeneratedFile
 from iface.nodes import protocol
 from iface.semantics.compile import Workspace
+from tests.conftest import run_main
 from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml, rosbags_parse, rosidl_parse
 
@@ -35,8 +36,8 @@ def files_of(case: str) -> list[GeneratedFile]:
 
 
 def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True, timeout=120,
-                          cwd=cwd, check=False)
+    """``iface-lsp ARGS``, run in this process."""
+    return run_main(*args, cwd=cwd)
 
 
 def component_of(files: dict[str, str]) -> str:
