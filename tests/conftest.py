@@ -117,13 +117,17 @@ LONG = {
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under pytest-xdist (``--dist loadgroup --no-loadscope-reorder``, as scripts/test.sh runs it), each module's
-    tests run in one worker, so that its module-scoped fixtures (servers, scenarios) are made once; the modules
-    of ``LONG`` are handed out first. The ROS modules spread over the workers like the others: their workspaces
-    come from the test cache (tests/ros_harness/cache.py), where a worker waits for, or takes, what another
-    one builds, never building it twice."""
+    tests run in one worker (a module run once per ROS 2 release: once per release), so that its module-scoped
+    fixtures (servers, scenarios) are made once; the modules of ``LONG`` are handed out first. The ROS modules
+    spread over the workers like the others: their workspaces come from the test cache
+    (tests/ros_harness/cache.py), where a worker waits for, or takes, what another one builds, never building it
+    twice."""
     # in a worker xdist turns "dist" into "no" and keeps "loadgroup"; the controller collects nothing
     if not getattr(config.option, "loadgroup", False):
         return
     for item in items:
-        item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))
+        callspec = getattr(item, "callspec", None)
+        release = callspec.params.get("ros_release") if callspec is not None else None
+        module = item.nodeid.split("::", 1)[0]
+        item.add_marker(pytest.mark.xdist_group(f"{module}-{release}" if release else module))
     items.sort(key=lambda item: -LONG.get(item.nodeid.split("::", 1)[0], 0))  # stable: a module's order is kept

@@ -1,19 +1,32 @@
-"""Fixtures of the runtime tests: the ROS 2 runtime and the session's workspace of the test components.
+"""Fixtures of the runtime tests: the ROS 2 runtime of each release and the workspace of the test components per
+release.
 
-Its packages come from the test cache (tests/ros_harness/workspaces.py): built once per content on this
-machine, whichever worker or run asks first; the workspace itself is a view of them.
+Its packages come from the test cache (tests/ros_harness/workspaces.py): built once per content and release on
+this machine, whichever worker or run asks first; the workspace itself is a view of them.
+
+A module that sets ``PER_RELEASE = True`` runs once per release ``IFACE_ROS_DISTRO`` selects (default:
+every release, ``ros_harness.ros.RELEASES``), its test ids naming the release (``[jazzy-…]``); the
+other ROS modules (C++, the README's build) run on Kilted only. A release without its venv skips, saying
+why.
 """
 
 from __future__ import annotations
 
+import os
 import shutil
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 
-from ..ros_harness.ros import DATA, ROOT, build, generate, runtime_venv
+from iface.nodes.shared import RUNTIMES
+
+from ..ros_harness.ros import DATA, DISTRO_VARIABLE, RELEASES, ROOT, build, generate, runtime_venv, selected_releases
 from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
+
+#: The Python runtime is a package of its own (iface/nodes/runtimes/iface_runtime_py): its tests import it as it is.
+sys.path.insert(0, str(RUNTIMES / "iface_runtime_py"))
 
 #: The components the end-to-end tests build and run: (interface, user module of the tests).
 COMPONENTS = {
@@ -36,22 +49,39 @@ class Workspace:
     seconds: float
 
 
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """Every test that runs ROS 2 gets its release: each selected one in a PER_RELEASE module, else Kilted."""
+    if "ros_release" not in metafunc.fixturenames:
+        return
+    releases = selected_releases() if getattr(metafunc.module, "PER_RELEASE", False) else [RELEASES[0]]
+    metafunc.parametrize("ros_release", releases, indirect=True, scope="session", ids=releases)
+
+
 @pytest.fixture(scope="session")
-def ros_venv() -> Path:
-    venv, why = runtime_venv()
+def ros_release(request: pytest.FixtureRequest) -> str:
+    """The ROS 2 release of the test (``pytest_generate_tests``)."""
+    release = str(request.param)
+    if release not in selected_releases():
+        pytest.skip(f"runs on {release.capitalize()} only, and {DISTRO_VARIABLE}={os.environ.get(DISTRO_VARIABLE)}")
+    return release
+
+
+@pytest.fixture(scope="session")
+def ros_venv(ros_release: str) -> Path:
+    venv, why = runtime_venv(ros_release)
     if venv is None:
         pytest.skip(why)
     return venv
 
 
 @pytest.fixture(scope="session")
-def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
+def ros_workspace(ros_venv: Path, ros_release: str, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
     """Generate each component (then put the tests' user module in place and generate again) and build them.
 
     The manager's test system (SYSTEM_COMPONENTS) is here too. Each package is a workspace of its own in the
-    test cache; ``path`` is the view of them all (``install/setup.bash`` sources each).
+    test cache, per release; ``path`` is the view of them all (``install/setup.bash`` sources each).
     """
-    root = tmp_path_factory.mktemp("ros2")
+    root = tmp_path_factory.mktemp(f"ros2-{ros_release}")
     gen = root / "gen"
     for package, (iface, user) in {**COMPONENTS, **LIVE_COMPONENTS, **SYSTEM_COMPONENTS}.items():
         first = generate(iface, gen)
@@ -64,6 +94,7 @@ def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> W
     ws.mkdir()
     ok, tail, seconds = build(ros_venv, gen, ws)
     assert ok, f"the generated packages did not build:\n{tail}"
-    print(f"\nros2-runtime build (or cache) of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: "
+    print(f"\nros2-runtime ({ros_release}) build (or cache) of "
+          f"{', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: "
           f"{seconds:.0f} s")
     return Workspace(ros_venv, gen, ws, seconds)

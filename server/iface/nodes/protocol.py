@@ -203,5 +203,5 @@ SERVICES: tuple[ProtocolService, ...] = (
          SrvField("string", "record", "the hand-over record (JSON, as `iface-lsp handover` prints)"))),
 )
 SERVICE_TYPES = tuple(s.type_name for s in SERVICES)
-#: The services a component's own interface package held before iface_msgs (still written there for now).
+#: The services every component node serves whose types its generated code names (beside ``Describe``).
 COMPONENT_SERVICES = tuple(s for s in SERVICES if s.type_name in ("SaveState", "RestoreState", "ComponentControl"))

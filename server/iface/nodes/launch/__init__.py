@@ -2,7 +2,9 @@
 
 ``iface-lsp generate living_room.iface --target launch --out DIR`` writes
 ``DIR/<system>.launch.py``: each instance's package, executable, node name and parameter file, in
-the system's start order (``runtime.system``). A file that declares no system is refused.
+the system's start order (``nodes.system``), and, with the launch argument ``manager:=true``, the
+system's component manager in their place (``iface-lsp manager``, which starts the instances itself).
+A file that declares no system is refused.
 
 May import: what ``runtime`` may, and the other modules of ``runtime``.
 """
@@ -51,6 +53,12 @@ def launch_instance(spec: InstanceSpec, out: str) -> LaunchInstance:
     return LaunchInstance(spec.name, spec.package, spec.executable, spec.node, params, spec.restart != "never")
 
 
+def down_timeout(instances: int) -> int:
+    """Seconds a manager started by launch has to take ``instances`` down (each: deactivate, snapshot, shutdown,
+    the process's end) before launch sends it SIGTERM; SIGKILL follows 10 s later and would leave them running."""
+    return 30 + 30 * instances
+
+
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """``<system>.launch.py`` for a system file."""
     iface = comp.interface
@@ -66,7 +74,10 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     instances = [launch_instance(i, out if isinstance(out, str) else ".") for i in system.instances]
     templates = TemplateSet(TEMPLATES, "launch", filters={"pystr": repr}, override=options.get("templates"))
     name = f"{system.name}.launch.py"
+    here = os.path.abspath(out if isinstance(out, str) else ".")
+    system_file = Path(os.path.relpath(os.path.abspath(comp.path), here)).as_posix()
     text = templates.render("system.launch.py.j2", system=system, instances=instances, file_name=name,
+                            system_file=system_file, down_timeout=down_timeout(len(instances)),
                             header=header_lines("#", Path(comp.path).name).rstrip("\n"))
     return Result(files=[GeneratedFile(name, text, (comp.source, iface.system.name_span))])
 
@@ -79,4 +90,4 @@ TARGET = Target(
     templates=str(TEMPLATES),
 )
 
-__all__ = ["TARGET", "LaunchInstance", "generate", "launch_instance"]
+__all__ = ["TARGET", "LaunchInstance", "down_timeout", "generate", "launch_instance"]
