@@ -166,12 +166,12 @@ def _as_the_previous_release_wrote(path: Path) -> None:
 def test_a_file_the_previous_release_generated_is_still_iface_s_own(tmp_path: Path) -> None:
     """Its header says ``iface-hash``: it is regenerated (with the new name), not refused as the user's; an old
     file edited by hand is still refused as edited."""
-    assert run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "-q").returncode == 0
+    assert run_main("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "-q").returncode == 0
     files = sorted(p for p in tmp_path.rglob("*") if p.is_file())
     for path in files:
         _as_the_previous_release_wrote(path)
     assert all(b"(iface-hash: " in p.read_bytes() for p in files)
-    again = run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path))
+    again = run_main("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path))
     assert again.returncode == 0, again.stderr
     assert "not written by iface" not in again.stderr and "edited by hand" not in again.stderr
     assert f"{len(files)} written, 0 unchanged" in again.stderr
@@ -179,5 +179,5 @@ def test_a_file_the_previous_release_generated_is_still_iface_s_own(tmp_path: Pa
     target = tmp_path / "listing1/msg/Message1.msg"
     _as_the_previous_release_wrote(target)
     target.write_text(target.read_text() + "int32 added_by_hand\n")
-    refused = run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path))
+    refused = run_main("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path))
     assert refused.returncode == 1 and "Message1.msg was edited by hand" in refused.stderr

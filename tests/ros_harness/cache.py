@@ -38,7 +38,8 @@ DEFAULT_BOUND_MB = 2000
 LAYOUT = "v1"
 COMPLETE = "complete.json"
 IN_PROGRESS = "in-progress"
-#: Written by the processes that run what an entry holds (Python's bytecode, ctest's records), not part of what was built.
+#: Written by the processes that run what an entry holds (Python's bytecode, ctest's records), not part of
+#: what was built.
 _NOT_BUILT = ("__pycache__", "Testing")
 
 _using: dict[str, IO[str]] = {}  # key → the use lock this process holds (shared) until it ends

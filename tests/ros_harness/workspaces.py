@@ -92,7 +92,8 @@ def _version(tool: str, path: str) -> str:
     if where is None:
         return f"{tool}: none"
     done = subprocess.run([where, "--version"], capture_output=True, text=True, timeout=60, check=False)
-    return f"{tool}: {where}: {(done.stdout or done.stderr).strip().splitlines()[0] if done.stdout or done.stderr else ''}"
+    said = (done.stdout or done.stderr).strip().splitlines()
+    return f"{tool}: {where}: {said[0] if said else ''}"
 
 
 def _file(path: Path) -> str:
@@ -111,7 +112,8 @@ def toolchain(venv: Path, cpp: bool) -> str:
              *(_version(tool, path) for tool in ("cc", "c++", "cmake", "make"))]
     shared = shared_dir()
     if cpp:
-        parts += [f"cpp {_file(venv / 'cpp' / 'stamp')} {_file(venv / 'cpp' / 'cpp-env.sh')}", f"command {_CPP_COMMAND}"]
+        parts += [f"cpp {_file(venv / 'cpp' / 'stamp')} {_file(venv / 'cpp' / 'cpp-env.sh')}",
+                  f"command {_CPP_COMMAND}"]
     elif shared is not None:
         runtime = shared / "ros2-runtime"
         parts += [f"build.sh {_file(runtime / 'build.sh')} check_types.py {_file(runtime / 'check_types.py')}"]
@@ -135,6 +137,9 @@ _COLCON = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--bui
            "install", "--event-handlers", "console_direct-", "--cmake-args", "-DBUILD_TESTING=OFF"]
 #: The C++ build, as docs/targets.md says (and the compile commands kept for the tests that compile one file).
 _CPP_COMMAND = [*_COLCON, "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON"]
+#: Packages with unit tests of their own: built with BUILD_TESTING on, their build folder kept whole, so that
+#: ctest runs them there (test_rclcpp_e2e.py) without a second build.
+UNIT_TESTED = ("iface_runtime_cpp",)
 
 
 def _order(found: dict[str, Package]) -> list[str]:
@@ -177,6 +182,8 @@ def _make(venv: Path, group: tuple[Package, ...], cpp: bool, underlays: list[Lay
         if cpp or shared is None:
             shutil.copytree(gen, ws / "src", symlinks=True)
             cmd = [*(_CPP_COMMAND if cpp else _COLCON), f"-DPython3_EXECUTABLE={venv}/bin/python"]
+            if _unit_tested(group):
+                cmd = [part.replace("-DBUILD_TESTING=OFF", "-DBUILD_TESTING=ON") for part in cmd]
             if cpp:
                 cmd += [f"-DCMAKE_EXE_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_LDFLAGS', '')}",
                         f"-DCMAKE_SHARED_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_SHARED_LDFLAGS', '')}"]
@@ -188,18 +195,23 @@ def _make(venv: Path, group: tuple[Package, ...], cpp: bool, underlays: list[Lay
         if done.returncode != 0:
             tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-30:])
             return f"{', '.join(p.name for p in group)} did not build (log: {ws}/colcon.log):\n{tail}"
-        _prune(ws)
+        _prune(ws, keep={p.name for p in group if p.name in UNIT_TESTED})
         return None
 
     return make
 
 
-def _prune(ws: Path) -> None:
-    """Leave what the tests use: install/, src/, the build's logs and each package's compile commands."""
+def _unit_tested(group: tuple[Package, ...]) -> bool:
+    return any(p.name in UNIT_TESTED and p.build_type != "ament_python" for p in group)
+
+
+def _prune(ws: Path, keep: set[str]) -> None:
+    """Leave what the tests use: install/, src/, the build's logs, each package's compile commands and the whole
+    build folder of the packages ``keep`` names."""
     shutil.rmtree(ws / "log", ignore_errors=True)
     build = ws / "build"
     for package in build.iterdir() if build.is_dir() else ():
-        if not package.is_dir():
+        if not package.is_dir() or package.name in keep:
             continue
         for child in package.iterdir():
             if child.is_dir() and not child.is_symlink():
@@ -222,7 +234,8 @@ def _plan(venv: Path, found: dict[str, Package], below: list[Layer], cpp: bool) 
             on += [k for k in (*on_of[key], key) if k not in on]
         with_cpp = cpp and any(not p.interfaces and p.build_type != "ament_python" for p in group)
         key = cache.key_of(toolchain(venv, with_cpp), *(f"{p.name} {cache.digest_tree(p.folder)}" for p in group),
-                           *(f"on {k}" for k in direct))
+                           *(f"on {k}" for k in direct),
+                           *(["BUILD_TESTING=ON"] if with_cpp and _unit_tested(group) else []))
         on_of[key] = tuple(on)
         provider.update(dict.fromkeys(names, key))
         plan.append(_Planned(group, key, tuple(on), with_cpp))
@@ -269,12 +282,14 @@ def build_layers(venv: Path, generated: Path, *, underlays: Sequence[Path] = (),
 
 
 def write_view(workspace: Path, layers: list[Layer]) -> None:
-    """Make ``workspace`` the view of ``layers``: its install/setup.bash sources each, install/PKG links to each package."""
+    """Make ``workspace`` the view of ``layers``: its install/setup.bash sources each, install/PKG links to each
+    package."""
     install = workspace / "install"
     if install.is_dir():
         shutil.rmtree(install)
     install.mkdir(parents=True)
-    lines = ["# The layers of this workspace: each a workspace of the iface test cache (tests/ros_harness/workspaces.py),",
+    lines = ["# The layers of this workspace: each a workspace of the iface test cache",
+             "# (tests/ros_harness/workspaces.py),",
              "# sourced in order (each one's own packages: its underlays are the layers before it)."]
     sh = list(lines)
     for prefix in dict.fromkeys(p for layer in layers for p in layer.chain):

@@ -12,6 +12,7 @@ import subprocess
 import sys
 import textwrap
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -28,7 +29,8 @@ def place(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     return tmp_path
 
 
-def maker(counter: Path, text: str = "built", seconds: float = 0.0, fail: str | None = None):  # type: ignore[no-untyped-def]
+def maker(counter: Path, text: str = "built", seconds: float = 0.0,
+          fail: str | None = None) -> Callable[[Path], str | None]:
     def make(folder: Path) -> str | None:
         with open(counter, "a") as f:
             f.write(f"{os.getpid()}\n")

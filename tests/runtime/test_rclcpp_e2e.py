@@ -8,8 +8,8 @@ in a workspace of its own): ws_cpp, the C++ counter 2.0 (examples/counter_v2.ifa
 tests/runtime/data/counter_v2_node.cpp) on iface_runtime_cpp, counter_msgs and iface_msgs; the Python
 counter 1.0 for the hand-overs across languages (test_handover.py's); every_member's C++ package with
 the user file iface writes (every kind of member: its templates compile), beside its Python package
-(the session's), both on the one every_member_msgs; the C++ counter 1.0 on ws_cpp. drive_rclcpp.py runs the scenario of one C++ node,
-drive_container.py that of a component container; each test below is one of their steps. Every
+(the session's), both on the one every_member_msgs; the C++ counter 1.0 on ws_cpp. drive_rclcpp.py runs
+the scenario of one C++ node, drive_container.py that of a component container; each test below is one of their steps. Every
 wait is bounded, every process is stopped by its own handle, traffic stays on loopback in a random
 ROS_DOMAIN_ID.
 """
@@ -30,8 +30,7 @@ from typing import Any
 import pytest
 
 from ..ros_harness.ros import DATA, HARNESS, ROOT, build, environment, generate, run_bounded
-from ..ros_harness import cache
-from ..ros_harness.workspaces import cpp_environment, layers_of, toolchain, workspace_of
+from ..ros_harness.workspaces import cpp_environment, workspace_of
 
 DRIVER = HARNESS / "drive_rclcpp.py"
 COUNTER_V2 = ROOT / "examples" / "counter_v2.iface"
@@ -100,7 +99,7 @@ def workspaces(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict
     ws_cpp = built(ros_venv, gen, root / "ws_cpp", "counter_msgs, iface_runtime_cpp and counter 2.0 (C++)", cpp=True)
     gen_py = generated(root, "gen_py", ROOT / "examples" / "counter.iface", "rclpy", DATA / "counter_node.py")
     ws_py = built(ros_venv, gen_py, root / "ws_py", "the Python counter 1.0")
-    return {"venv": ros_venv, "root": root, "gen": gen, "ws_cpp": ws_cpp, "ws_py": ws_py, "env": env}
+    return {"venv": ros_venv, "root": root, "ws_cpp": ws_cpp, "ws_py": ws_py, "env": env}
 
 
 def signed_package(installed: Path, root: Path) -> dict[str, str]:
@@ -162,46 +161,15 @@ def passed(run: dict[str, Any], step: str) -> None:
     assert run[step]["ok"], f"{step}: {run[step]['detail']} (logs in {info['logs']})"
 
 
-def runtime_tests_build(workspaces: dict[str, Any]) -> Path:
-    """iface_runtime_cpp (the one ws_cpp holds) built with BUILD_TESTING on, its unit tests with it: a test cache
-    entry of its own (under the key of its sources and of iface_msgs' layer), the build folder returned."""
-    venv, ws_cpp = workspaces["venv"], workspaces["ws_cpp"]
-    source = workspaces["gen"] / "iface_runtime_cpp"
-    below = [layer.key for layer in layers_of(ws_cpp) if "iface_msgs" in layer.packages]
-    key = cache.key_of("iface_runtime_cpp unit tests", toolchain(venv, True), cache.digest_tree(source), *below)
-    env = overlay(workspaces["env"], ws_cpp, "setup.bash")
-
-    def make(folder: Path) -> str | None:
-        shutil.copytree(source, folder / "src", symlinks=True)
-        output = ""
-        for argv in (["cmake", "-S", "src", "-B", "build", "-DBUILD_TESTING=ON",
-                      f"-DCMAKE_EXE_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_LDFLAGS', '')}",
-                      f"-DCMAKE_SHARED_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_SHARED_LDFLAGS', '')}"],
-                     ["cmake", "--build", "build", "--parallel", "2"]):
-            done = subprocess.run(argv, cwd=folder, env=env, capture_output=True, text=True, timeout=1200,
-                                  check=False)
-            output += f"$ {' '.join(argv)}\n{done.stdout}{done.stderr}"
-            (folder / "build.log").write_text(output)
-            if done.returncode != 0:
-                return f"{' '.join(argv)} failed (log: {folder}/build.log):\n{output[-3000:]}"
-        return None
-
-    try:
-        return cache.entry(key, f"iface_runtime_cpp with its unit tests (rclcpp of {venv})", make).path / "build"
-    except cache.BuildFailed as failed:
-        raise AssertionError(str(failed)) from None
-
-
 def test_the_cpp_runtimes_own_unit_tests_pass(workspaces: dict[str, Any]) -> None:
     """iface_runtime_cpp's unit tests (its test/: the JSON, the state document and the widening table the
-    Python tests hold compat and iface_runtime_py to, the parameter checks, the work gate), built with
-    BUILD_TESTING on (from the test cache) and run by ctest, every time."""
-    build = runtime_tests_build(workspaces)
+    Python tests hold compat and iface_runtime_py to, the parameter checks, the work gate), built with the
+    library in ws_cpp (BUILD_TESTING on for it: workspaces.UNIT_TESTED) and run by ctest, every time."""
+    build = workspace_of(workspaces["ws_cpp"], "iface_runtime_cpp") / "build" / "iface_runtime_cpp"
     env = overlay(workspaces["env"], workspaces["ws_cpp"], "setup.bash")
     log = workspaces["root"] / "runtime-tests.log"
     argv = ["ctest", "--output-on-failure", "--timeout", "120"]  # its records (Testing/) are no part of the entry
-    done = subprocess.run(argv, cwd=build, env=env, capture_output=True, text=True, timeout=1200,
-                          check=False)
+    done = subprocess.run(argv, cwd=build, env=env, capture_output=True, text=True, timeout=1200, check=False)
     output = f"$ {' '.join(argv)}\n{done.stdout}{done.stderr}"
     log.write_text(output)
     assert done.returncode == 0, f"ctest failed (log: {log}):\n{output[-3000:]}"

@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import ast
-import json
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
