@@ -28,6 +28,7 @@ from ..ros_harness.workspaces import toolchain
 from .conftest import Workspace
 
 SECTION = "## From the interface to a running node"
+TUTORIAL = ROOT / "docs" / "tutorial.md"
 DEFAULT_ENV = "~/.cache/ros2-runtime/ros2-env.sh"
 
 #: Drives /robot_arm (started without --activate) through configure and activate, printing what exists when.
@@ -87,8 +88,8 @@ LIFECYCLE = textwrap.dedent("""
 
 def readme_blocks() -> list[list[str]]:
     """The shell lines of each ```sh block of the README's section, comments dropped."""
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    assert SECTION in text, f"README.md has no '{SECTION}'"
+    text = TUTORIAL.read_text(encoding="utf-8")
+    assert SECTION in text, f"{TUTORIAL.name} has no '{SECTION}'"
     section = text[text.index(SECTION):]
     section = section[:section.find("\n#", len(SECTION))]
     blocks = re.findall(r"```sh\n(.*?)```", section, re.DOTALL)
