@@ -68,7 +68,7 @@ def prepare(args: argparse.Namespace) -> int:
     (root / "idle.iface").write_text(f'system idle version "1.0.0"\ninclude "room_sensor.iface"\n{idle}',
                                      encoding="utf-8")
     for side in ("a", "b"):
-        shutil.copytree(ws / "install", root / side / "install", symlinks=True)
+        shutil.copytree(ws / "install", root / side / "install")  # copies: the cached packages are read-only
     env = environment(venv, ws, root / "ros-log")
     cfg = {"root": str(root), "python": sys.executable, "runs": args.runs, "replacements": args.replacements,
            "idle": args.idle, "only": args.only, "env": env}

@@ -28,6 +28,8 @@ if command -v npm >/dev/null; then
   (cd vscode-extension && { [ -d node_modules ] || npm ci --no-audit --no-fund --loglevel=error; })
 fi
 
-# One worker per core (pytest-xdist); tests/conftest.py keeps each module, and all ROS 2 tests, in one worker.
-# IFACE_TEST_WORKERS=0 runs everything in this process.
-python3 -m pytest -q -n "${IFACE_TEST_WORKERS:-auto}" --dist loadgroup "$@"
+# One worker per core (pytest-xdist); tests/conftest.py keeps each module in one worker and hands out the
+# longest first (hence no reordering by xdist). IFACE_TEST_WORKERS=0 runs everything in this process.
+# Built ROS workspaces are kept in the test cache ($IFACE_TEST_CACHE, else ~/.cache/iface-tests:
+# docs/testing.md).
+python3 -m pytest -q -n "${IFACE_TEST_WORKERS:-auto}" --dist loadgroup --no-loadscope-reorder "$@"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import signal
@@ -59,14 +60,33 @@ def generated_in_two_processes(target: str, paths: list[Path]) -> tuple[str, str
     return in_two_processes(_GENERATE, target, *(str(p) for p in paths))
 
 
-def run_main(*args: str) -> subprocess.CompletedProcess[str]:
-    """Run ``iface-lsp ARGS`` in this process (``iface.cli.main``: no interpreter start) and capture its output."""
+def run_main(*args: str, cwd: Path | str | None = None, stdin: str | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``iface-lsp ARGS`` in this process (``iface.cli.main``: no interpreter start) and capture its output.
+
+    For a test of what the CLI prints and returns; what only the process shows (its exit status as the
+    interpreter ends, signals, a closed pipe, ``python -m iface``, hash seeds) needs ``run_cli``.
+    ``cwd``: the folder it runs in (this process's is changed, then restored); ``stdin``: its input.
+    """
     from iface.cli import main
 
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        code = main(list(args))
-    return subprocess.CompletedProcess(["iface-lsp", *args], code, out.getvalue(), err.getvalue())
+    # streams as a process has them: UTF-8, strict on stdout and backslashreplace on stderr, so that what
+    # a terminal cannot take fails here as it would there (the CLI reconfigures them as it does a real one)
+    out = io.TextIOWrapper(io.BytesIO(), encoding="utf-8", errors="strict", newline="\n", write_through=True)
+    err = io.TextIOWrapper(io.BytesIO(), encoding="utf-8", errors="backslashreplace", newline="\n",
+                           write_through=True)
+    saved = sys.stdin
+    if stdin is not None:
+        sys.stdin = io.TextIOWrapper(io.BytesIO(stdin.encode("utf-8")), encoding="utf-8")
+    try:
+        with contextlib.chdir(cwd or os.getcwd()), redirect_stdout(out), redirect_stderr(err):
+            try:
+                code = main(list(args))
+            except SystemExit as e:  # as the interpreter would turn it into the exit status
+                code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+    finally:
+        sys.stdin = saved
+    texts = [stream.buffer.getvalue().decode("utf-8") for stream in (out, err)]
+    return subprocess.CompletedProcess(["iface-lsp", *args], code, *texts)
 
 
 @pytest.fixture
@@ -75,20 +95,39 @@ def cli():
     return run_cli
 
 
+#: The modules that take longest in one worker (seconds, cold test cache; docs/testing.md says when measured):
+#: handed out first, the longest first, so that no long one starts last. The others follow in collection order.
+LONG = {
+    "tests/runtime/test_rclcpp_e2e.py": 300,
+    "tests/runtime/test_live.py": 250,
+    "tests/test_vscode_extension.py": 240,
+    "tests/runtime/test_handover.py": 230,
+    "tests/runtime/test_rclpy_start.py": 220,
+    "tests/runtime/test_ros2_build.py": 190,
+    "tests/core/test_every_command.py": 180,
+    "tests/emit/test_reserved_names.py": 150,
+    "tests/runtime/test_manager.py": 120,
+    "tests/runtime/test_rclpy_e2e.py": 100,
+    "tests/importers/test_idl_roundtrip.py": 90,
+    "tests/runtime/test_rclpy_qos.py": 80,
+    "tests/core/test_incremental.py": 70,
+}
+
+
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Under pytest-xdist (``--dist loadgroup``, as scripts/test.sh runs it), each module's tests run in one
-    worker, so that its module-scoped fixtures (servers, builds) are made once, and every test that runs ROS 2
-    goes to one worker per ROS 2 release, because they share one colcon workspace built per session and release.
-    Those groups are the longest, so they are handed out first."""
+    """Under pytest-xdist (``--dist loadgroup --no-loadscope-reorder``, as scripts/test.sh runs it), each module's
+    tests run in one worker (a module run once per ROS 2 release: once per release), so that its module-scoped
+    fixtures (servers, scenarios) are made once; the modules of ``LONG`` are handed out first. The ROS modules
+    spread over the workers like the others: their workspaces come from the test cache
+    (tests/ros_harness/cache.py), where a worker waits for, or takes, what another one builds, never building it
+    twice."""
     # in a worker xdist turns "dist" into "no" and keeps "loadgroup"; the controller collects nothing
     if not getattr(config.option, "loadgroup", False):
         return
-    ros = [item for item in items if "ros_venv" in getattr(item, "fixturenames", ())]
-    for item in ros:  # one group per ROS 2 release (tests/runtime/conftest.py): each builds its own workspace
-        release = getattr(item, "callspec", None) and item.callspec.params.get("ros_release")
-        item.add_marker(pytest.mark.xdist_group(f"ros-{release}" if release else "ros"))
-    rest = [item for item in items if "ros_venv" not in getattr(item, "fixturenames", ())]
-    for item in rest:
-        item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))
-    items[:] = ros + rest
+    for item in items:
+        callspec = getattr(item, "callspec", None)
+        release = callspec.params.get("ros_release") if callspec is not None else None
+        module = item.nodeid.split("::", 1)[0]
+        item.add_marker(pytest.mark.xdist_group(f"{module}-{release}" if release else module))
+    items.sort(key=lambda item: -LONG.get(item.nodeid.split("::", 1)[0], 0))  # stable: a module's order is kept

@@ -36,6 +36,13 @@ def run_cli(*args: str, cwd: Path | None = None, hash_seed: str | None = None) -
                           cwd=str(cwd or DATA), timeout=120, check=False, env=env)
 
 
+def run_main(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    """The CLI run in this process (``tests.conftest.run_main``), in ``cwd`` (default: the fixtures)."""
+    from tests.conftest import run_main as in_process
+
+    return in_process(*args, cwd=cwd or DATA)
+
+
 @functools.cache
 def cached(path: Path) -> Compilation:
     """Compile a fixture once per test session (comparisons do not change compilations)."""

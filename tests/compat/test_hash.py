@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 import pytest
-from compat_support import DATA, cached, run_cli
+from compat_support import DATA, cached, run_main
 
 from iface.compat import compare, interface_hash
 
@@ -38,9 +38,9 @@ def test_equivalence_is_symmetric_on_fixtures() -> None:
 
 
 def test_hash_cli_ignores_comments_and_layout() -> None:
-    one = run_cli("hash", "verdicts/arm_v1.iface")
-    two = run_cli("hash", "verdicts/arm_v1_relaid.iface")
-    three = run_cli("hash", "verdicts/arm_v2.iface")
+    one = run_main("hash", "verdicts/arm_v1.iface")
+    two = run_main("hash", "verdicts/arm_v1_relaid.iface")
+    three = run_main("hash", "verdicts/arm_v2.iface")
     assert one.returncode == two.returncode == three.returncode == 0
     assert one.stdout == two.stdout != three.stdout
     assert one.stdout.startswith("sha256:") and len(one.stdout.strip()) == len("sha256:") + 64
@@ -49,21 +49,21 @@ def test_hash_cli_ignores_comments_and_layout() -> None:
 def test_manifest_sign_and_verify(tmp_path: Path) -> None:
     key = tmp_path / "key"
     key.write_bytes(b"s3cret")
-    signed = run_cli("hash", "verdicts/arm_v1.iface", "--manifest", "--key", str(key))
+    signed = run_main("hash", "verdicts/arm_v1.iface", "--manifest", "--key", str(key))
     assert signed.returncode == 0
     manifest = json.loads(signed.stdout)
     assert manifest["component"] == "arm" and manifest["signature"]["algorithm"] == "hmac-sha256"
     assert [f["path"] for f in manifest["files"]] == ["arm_v1.iface"]
     path = tmp_path / "arm.manifest.json"
     path.write_text(signed.stdout)
-    ok = run_cli("hash", "verdicts/arm_v1_relaid.iface", "--verify", str(path), "--key", str(key))
+    ok = run_main("hash", "verdicts/arm_v1_relaid.iface", "--verify", str(path), "--key", str(key))
     assert ok.returncode == 0 and "matches" in ok.stdout
-    other = run_cli("hash", "verdicts/arm_v2.iface", "--verify", str(path), "--key", str(key))
+    other = run_main("hash", "verdicts/arm_v2.iface", "--verify", str(path), "--key", str(key))
     assert other.returncode == 1 and "interface hash" in other.stderr
     key.write_bytes(b"other")
-    forged = run_cli("hash", "verdicts/arm_v1.iface", "--verify", str(path), "--key", str(key))
+    forged = run_main("hash", "verdicts/arm_v1.iface", "--verify", str(path), "--key", str(key))
     assert forged.returncode == 1 and "signature does not match" in forged.stderr
-    nokey = run_cli("hash", "verdicts/arm_v1.iface", "--verify", str(path))
+    nokey = run_main("hash", "verdicts/arm_v1.iface", "--verify", str(path))
     assert nokey.returncode == 1 and "give --key" in nokey.stderr
 
 

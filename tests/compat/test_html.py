@@ -7,7 +7,7 @@ from pathlib import Path
 
 import html5lib
 import pytest
-from compat_support import DATA, cached, run_cli
+from compat_support import DATA, cached, run_main
 
 from iface.compat import compare
 from iface.compat.html import AREAS, render_html
@@ -29,10 +29,10 @@ def _text(el) -> str:  # type: ignore[no-untyped-def]
 
 @pytest.mark.parametrize(("old", "new"), CASES)
 def test_page_has_the_verdict_first_and_every_finding_in_its_set_with_links(old: str, new: str) -> None:
-    page = run_cli("compat", old, new, "--format", "html")
-    data = json.loads(run_cli("compat", old, new, "--format", "json").stdout)
+    page = run_main("compat", old, new, "--format", "html")
+    data = json.loads(run_main("compat", old, new, "--format", "json").stdout)
     assert page.returncode == data["exit_code"]
-    assert page.stdout == run_cli("compat", old, new, "--format", "html").stdout  # byte-identical
+    assert page.stdout == run_main("compat", old, new, "--format", "html").stdout  # byte-identical
     root = _parse(page.stdout)
     body = root.find(f"{XHTML}body")
     first = next(el for el in body.iter() if el.tag.startswith(XHTML + "h"))
@@ -64,7 +64,7 @@ def test_page_has_the_verdict_first_and_every_finding_in_its_set_with_links(old:
 
 
 def test_page_is_self_contained() -> None:
-    text = run_cli("compat", *CASES[0], "--format", "html").stdout
+    text = run_main("compat", *CASES[0], "--format", "html").stdout
     root = _parse(text)
     for el in root.iter():
         assert el.tag not in (f"{XHTML}script", f"{XHTML}link", f"{XHTML}img", f"{XHTML}iframe")

@@ -12,7 +12,7 @@ import json
 import shutil
 from pathlib import Path
 
-from compat_support import run_cli
+from compat_support import run_main
 
 from iface.compat import compare
 from iface.compat.graph import build, graph_json
@@ -55,14 +55,14 @@ def _comp(path: Path) -> Compilation:
 
 
 def test_graph_of_the_bundled_example_exits_0() -> None:
-    done = run_cli("graph", str(EXAMPLES / "robot_arm.iface"), cwd=ROOT)
+    done = run_main("graph", str(EXAMPLES / "robot_arm.iface"), cwd=ROOT)
     assert done.returncode == 0, done.stderr
     assert "error" not in done.stderr
     systems = [EXAMPLES / "living_room.iface"]  # a system file is graphed alone: its instances are the graph
-    every = run_cli("graph", *(str(p) for p in sorted(EXAMPLES.glob("*.iface")) if p not in systems), cwd=ROOT)
+    every = run_main("graph", *(str(p) for p in sorted(EXAMPLES.glob("*.iface")) if p not in systems), cwd=ROOT)
     assert every.returncode == 0, every.stderr
     for system in systems:
-        alone = run_cli("graph", str(system), cwd=ROOT)
+        alone = run_main("graph", str(system), cwd=ROOT)
         assert alone.returncode == 0 and "error" not in alone.stderr, alone.stderr
 
 
@@ -74,7 +74,7 @@ def test_a_type_is_one_type_whether_written_by_stem_or_namespace(tmp_path: Path)
     assert {(lk["name"], lk["type"]) for lk in data["links"]} == {
         ("/arm/joint_state", "robot_arm_msgs/JointState"), ("/arm/joint_command", "robot_arm_msgs/JointCommand"),
         ("/gripper/move_to_pose", "robot_arm_msgs/MoveToPose")}
-    done = run_cli("graph", str(files["robot_arm"]), str(files["gripper"]), "--format", "json", cwd=tmp_path)
+    done = run_main("graph", str(files["robot_arm"]), str(files["gripper"]), "--format", "json", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     data = json.loads(done.stdout)
     assert data["components"][0]["at"] == {"file": "robot_arm.iface", "line": 2, "column": 11}
@@ -116,7 +116,7 @@ def test_a_parameter_renamed_under_its_id_is_incompatible_and_named(tmp_path: Pa
     for name in ("robot_arm.iface", "arm_common.iface"):
         shutil.copy(EXAMPLES / name, tmp_path / name)
     (tmp_path / "renamed.iface").write_text(arm.replace("2: float max_speed", "2: float top_speed"))
-    done = run_cli("compat", "robot_arm.iface", "renamed.iface", cwd=tmp_path)
+    done = run_main("compat", "robot_arm.iface", "renamed.iface", cwd=tmp_path)
     assert done.returncode == 1
     assert "error[parameter-renamed]" in done.stdout
     assert "'max_speed' (id 2 of 'arm_params') is now named 'top_speed'" in done.stdout

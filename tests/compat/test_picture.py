@@ -9,7 +9,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
-from compat_support import DATA, cached, run_cli
+from compat_support import DATA, cached, run_main
 
 from iface.compat.graph import build, graph_json, render_dot
 from iface.compat.layout import Box, Edge, Layout, layered
@@ -223,13 +223,13 @@ def test_cli_svg(layout: str) -> None:
         pytest.skip("Graphviz's dot is not installed (apt-get install graphviz)")
     args = ["graph", "system/camera.iface", "system/detector.iface", "system/logger.iface", "--format", "svg",
             "--layout", layout]
-    one, two = run_cli(*args), run_cli(*args)
+    one, two = run_main(*args), run_main(*args)
     assert one.returncode == 1, one.stderr  # the checks find errors, as with the other formats
     assert one.stdout == two.stdout
     assert "error[graph-qos-mismatch]" in one.stderr
     root = _svg(one.stdout)
     assert root.tag == f"{SVG}svg"
-    clean = run_cli("graph", "verdicts/arm_v1.iface", "verdicts/planner.iface", "verdicts/monitor.iface",
+    clean = run_main("graph", "verdicts/arm_v1.iface", "verdicts/planner.iface", "verdicts/monitor.iface",
                     "--format", "svg", "--layout", layout)
     assert clean.returncode == 0 and clean.stderr == ""
 
@@ -251,5 +251,5 @@ def test_cli_svg_says_what_is_missing_when_dot_is_asked_for_and_absent(tmp_path:
 
 
 def test_cli_layout_needs_svg() -> None:
-    done = run_cli("graph", "system/camera.iface", "--format", "dot", "--layout", "builtin")
+    done = run_main("graph", "system/camera.iface", "--format", "dot", "--layout", "builtin")
     assert done.returncode == 2 and "--layout applies to --format svg only" in done.stderr

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import run_cli
+from tests.conftest import run_main
 
 
 def _check(tmp_path: Path, name: str, data: bytes):
     p = tmp_path / name
     p.write_bytes(data)
-    return run_cli("check", str(p))
+    return run_main("check", str(p))
 
 
 def _assert_clean_failure(r, code: str, rc: int = 1) -> None:
@@ -61,7 +61,7 @@ def test_invalid_utf8(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("name", ["missing.iface"])
 def test_missing_file_is_an_io_error(tmp_path: Path, name: str) -> None:
-    r = run_cli("check", str(tmp_path / name))
+    r = run_main("check", str(tmp_path / name))
     assert r.returncode == 2
     assert "missing.iface:1:1: error[cannot-read]: no such file" in r.stdout and "Traceback" not in r.stderr
 
@@ -69,7 +69,7 @@ def test_missing_file_is_an_io_error(tmp_path: Path, name: str) -> None:
 def test_wrong_suffix_is_a_usage_error(tmp_path: Path) -> None:
     p = tmp_path / "x.txt"
     p.write_text("struct A {}")
-    r = run_cli("check", str(p))
+    r = run_main("check", str(p))
     assert r.returncode == 2 and ".iface or .thrift" in r.stderr
 
 

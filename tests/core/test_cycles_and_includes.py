@@ -11,7 +11,7 @@ import pytest
 
 from iface.semantics import compile as compile_module
 from iface.semantics.compile import MAX_INCLUDE_DEPTH, Workspace
-from tests.conftest import ROOT, run_cli
+from tests.conftest import ROOT, run_main
 
 
 def _errors(text: str, name: str) -> list[tuple[int, str, str]]:
@@ -48,7 +48,7 @@ def test_a_recursive_typedef_in_a_robot_file_does_not_hang(tmp_path: Path) -> No
         subprocess.run([sys.executable, "-c", code], check=True, timeout=120, cwd=ROOT)
     except subprocess.TimeoutExpired:
         pytest.fail("checking a file with 'typedef list<A> A' does not end")
-    r = run_cli("check", str(src))
+    r = run_main("check", str(src))
     assert r.returncode == 1 and "error[typedef-cycle]" in r.stdout
 
 
@@ -68,7 +68,7 @@ def test_a_chain_of_hundreds_of_includes_has_no_false_error(tmp_path: Path) -> N
     comp = Workspace().compile_path(str(top))  # inside pytest: a deep stack already
     assert [d.format() for d in comp.all_diagnostics() if d.severity == 1] == []
     assert len(comp.closure()) == 600
-    r = run_cli("check", "-q", str(top))
+    r = run_main("check", "-q", str(top))
     assert r.returncode == 0 and r.stdout == "", r.stdout[:500]
 
 

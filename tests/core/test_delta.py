@@ -18,7 +18,7 @@ from iface.forms.dump import dump_interface
 from iface.forms.jsonform import to_json
 from iface.semantics.compile import Compilation, Workspace
 
-from ..conftest import ROOT, run_cli
+from ..conftest import ROOT, run_main
 
 ARM = ROOT / "examples" / "robot_arm.iface"
 LISTING1 = ROOT / "tests" / "core" / "data" / "valid" / "listing1.iface"
@@ -97,17 +97,17 @@ def test_the_json_form_keeps_a_flat_diagnostics_body_in_its_written_order(tmp_pa
 
 
 def test_check_prints_one_line_on_success_and_nothing_with_quiet() -> None:
-    done = run_cli("check", str(ARM))
+    done = run_main("check", str(ARM))
     assert done.returncode == 0 and done.stdout == "ok: 2 files, 16 definitions\n"
-    assert run_cli("check", "-q", str(ARM)).stdout == ""
-    flat = run_cli("check", str(LISTING1))
+    assert run_main("check", "-q", str(ARM)).stdout == ""
+    flat = run_main("check", str(LISTING1))
     assert flat.stdout.splitlines()[-1] == "ok: 1 file, 9 definitions, 11 warnings"
-    quiet = run_cli("check", "-q", str(LISTING1))
+    quiet = run_main("check", "-q", str(LISTING1))
     assert quiet.returncode == 0 and quiet.stdout == ""
 
 
 def test_the_examples_check_without_warnings() -> None:
-    done = run_cli("check", *(str(p) for p in sorted((ROOT / "examples").glob("*.iface"))))
+    done = run_main("check", *(str(p) for p in sorted((ROOT / "examples").glob("*.iface"))))
     assert done.returncode == 0
     assert not [line for line in done.stdout.splitlines() if "warning[" in line or "error[" in line], done.stdout
     files = len(list((ROOT / "examples").glob("*.iface")))

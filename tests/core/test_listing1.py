@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from tests.conftest import run_cli
+from tests.conftest import run_main
 
 from .helpers import DATA, compile_file
 
@@ -10,7 +10,7 @@ LISTING1 = DATA / "valid" / "listing1.iface"
 
 
 def test_listing1_checks_with_exit_zero() -> None:
-    r = run_cli("check", str(LISTING1))
+    r = run_main("check", str(LISTING1))
     assert r.returncode == 0, r.stdout + r.stderr
     assert "error" not in r.stdout
     assert "warning[flat-service]" in r.stdout and "warning[flat-action]" in r.stdout

@@ -14,7 +14,7 @@ import pytest
 
 from iface.semantics.compile import Workspace
 from iface.syntax.transform import decode_literal
-from tests.conftest import run_cli
+from tests.conftest import run_main
 
 TARGETS = ("ros2", "px4", "ardupilot", "idl", "json", "markdown")
 
@@ -128,14 +128,14 @@ def test_values_nested_deeper_than_types_are_refused_and_kept_shallow() -> None:
 def test_every_command_answers_without_a_traceback(text: str, tmp_path: Path) -> None:
     src = tmp_path / "in.iface"
     src.write_text(text, encoding="utf-8")
-    r = run_cli("check", str(src))
+    r = run_main("check", str(src))
     assert r.returncode == 1 and ("number-out-of-range" in r.stdout or "invalid-escape" in r.stdout), r.stdout
     for target in TARGETS:
         out = tmp_path / f"out-{target}"
-        r = run_cli("generate", str(src), "-t", target, "-o", str(out))
+        r = run_main("generate", str(src), "-t", target, "-o", str(out))
         assert r.returncode == 1, (target, r.stdout, r.stderr)
         assert "Traceback" not in r.stderr and not out.exists(), (target, r.stderr)
     for command in (["dump"], ["hash"], ["contract"], ["compat", str(src)], ["graph"], ["fmt", "--check"]):
-        r = run_cli(*command, str(src))
+        r = run_main(*command, str(src))
         assert r.returncode in (0, 1, 2), (command, r.stderr)
         assert "Traceback" not in r.stderr + r.stdout, (command, r.stderr)

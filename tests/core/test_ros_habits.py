@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from iface.semantics.compile import Workspace
 
-from ..conftest import run_cli
+from ..conftest import run_main
 
 HABITS = """component cam
 namespace ros2 cam
@@ -49,7 +49,7 @@ def test_a_ros_constant_written_as_a_field_is_told_it_is_a_field(tmp_path) -> No
 
 def test_the_cli_shows_both_hints(tmp_path) -> None:  # type: ignore[no-untyped-def]
     (tmp_path / "cam.iface").write_text(HABITS)
-    done = run_cli("check", str(tmp_path / "cam.iface"))
+    done = run_main("check", str(tmp_path / "cam.iface"))
     assert done.returncode == 1
     assert "error[syntax-error]: 'std_msgs/Header' is how ROS 2 writes a type of another package" in done.stdout
     assert done.stdout.splitlines()[-1].startswith("failed: 1 error")

@@ -16,7 +16,7 @@ from iface.semantics.compile import Workspace
 from iface.semantics.systems import period, start_order
 from iface.syntax.parse import parse_text
 from iface.text.printer import print_items
-from tests.conftest import run_cli, run_main
+from tests.conftest import run_main
 
 from .helpers import DATA, EXAMPLES, write_home
 from .test_every_command import assert_every_command_answers
@@ -167,7 +167,7 @@ def test_every_command_answers_on_a_system_file(home: Path, tmp_path: Path) -> N
 
 
 def test_the_living_room_example_is_clean() -> None:
-    r = run_cli("check", str(EXAMPLES / "living_room.iface"))  # the real entry point, in its own process
+    r = run_main("check", str(EXAMPLES / "living_room.iface"))  # the real entry point, in its own process
     assert r.returncode == 0 and "error" not in r.stdout and "warning" not in r.stdout, r.stdout
     assert run_main("fmt", "--check", str(EXAMPLES / "living_room.iface"), str(EXAMPLES / "room_sensor.iface"),
                    str(EXAMPLES / "thermostat.iface")).returncode == 0

@@ -15,7 +15,7 @@ import yaml
 
 from iface.emit import generate
 from iface.semantics.compile import Workspace
-from tests.conftest import ROOT, run_cli
+from tests.conftest import ROOT, run_main
 
 from .oracles import load_yaml
 
@@ -29,22 +29,22 @@ def _generate(text: str, target: str, tmp: Path, name: str = "snippet.iface"):  
 
 
 def test_every_file_written_is_named_and_quiet_silences(tmp_path: Path) -> None:
-    done = run_cli("generate", str(ARM), "-t", "json", "-o", str(tmp_path))
+    done = run_main("generate", str(ARM), "-t", "json", "-o", str(tmp_path))
     assert done.returncode == 0
     assert f"wrote {tmp_path / 'robot_arm.json'}" in done.stderr  # one file: named too
     assert done.stderr.splitlines()[-1] == "1 written, 0 unchanged"
-    md = run_cli("generate", str(ARM), "-t", "markdown", "-o", str(tmp_path))
+    md = run_main("generate", str(ARM), "-t", "markdown", "-o", str(tmp_path))
     assert f"wrote {tmp_path / 'robot_arm.md'}" in md.stderr
-    assert run_cli("generate", str(ARM), "-t", "markdown", "-o", str(tmp_path), "--force", "-q").stderr == ""
+    assert run_main("generate", str(ARM), "-t", "markdown", "-o", str(tmp_path), "--force", "-q").stderr == ""
 
 
 def test_a_refused_file_says_whether_it_was_edited_or_never_iface_s(tmp_path: Path) -> None:
-    assert run_cli("generate", str(ARM), "-t", "px4", "-o", str(tmp_path), "-q").returncode == 0
+    assert run_main("generate", str(ARM), "-t", "px4", "-o", str(tmp_path), "-q").returncode == 0
     edited = tmp_path / "msg" / "JointState.msg"
     edited.write_text(edited.read_text() + "# a note\n")
     foreign = tmp_path / "msg" / "JointCommand.msg"
     foreign.write_text("# PX4's own file, written by hand\nuint64 timestamp\n")
-    done = run_cli("generate", str(ARM), "-t", "px4", "-o", str(tmp_path))
+    done = run_main("generate", str(ARM), "-t", "px4", "-o", str(tmp_path))
     assert done.returncode == 1
     lines = {line.split(": ", 1)[1].split(" ", 1)[0]: line for line in done.stderr.splitlines()
              if line.startswith("iface-lsp generate: ")}

@@ -67,6 +67,23 @@ def test_every_target_from_the_registry_is_guarded(monkeypatch: pytest.MonkeyPat
     assert [d.code for d in result.diagnostics] == ["internal-error"]
 
 
+def test_the_installed_plugins_are_read_once_per_search_path(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """Reading every installed distribution's entry points costs tens of milliseconds: once per process and
+    ``sys.path``, not once per command (a generate run asks for its target twice)."""
+    scans: list[str] = []
+
+    def entry_points(group: str) -> list[_EntryPoint]:
+        scans.append(group)
+        return [_EntryPoint("boom", _raises(RuntimeError("x")))]
+
+    monkeypatch.setattr(plugins, "entry_points", entry_points)
+    assert list(registry.targets()) == list(registry.targets()) == ["boom"]
+    assert registry.get_target("boom") is not None
+    assert scans == [registry.GROUP]
+    monkeypatch.syspath_prepend(str(tmp_path))  # another search path: read again
+    assert list(registry.targets()) == ["boom"] and len(scans) == 2
+
+
 def test_the_cli_reports_a_broken_target_without_a_traceback(tmp_path: Path) -> None:
     site = tmp_path / "site"
     dist = site / "broken_target-1.0.dist-info"

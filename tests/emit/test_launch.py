@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT, run_cli, run_main
+from tests.conftest import ROOT, run_main
 from tests.core.helpers import write_home
 
 
@@ -70,7 +70,7 @@ def test_a_binary_or_broken_file_gets_its_own_error_before_the_targets_kind(tmp_
     broken = tmp_path / "broken.iface"
     broken.write_text("system s\ninstance a : \n", encoding="utf-8")
     for path, code in ((binary, "binary-file"), (broken, "syntax")):
-        done = run_cli("generate", str(path), "--target", "launch", "--out", str(tmp_path / "out"))
+        done = run_main("generate", str(path), "--target", "launch", "--out", str(tmp_path / "out"))
         assert done.returncode == 1, done.stderr
         assert f"{path.name}:" in done.stderr + done.stdout and code in done.stderr + done.stdout, done.stderr
         assert "declares no system" not in done.stderr

@@ -385,13 +385,13 @@ def test_a_parameter_alone_makes_a_module(tmp_path: Path) -> None:
 
 
 def test_imported_px4_messages_generate_back_without_a_module(tmp_path: Path) -> None:
-    from tests.conftest import run_cli
+    from tests.conftest import run_main
 
     src = ROOT / "tests" / "importers" / "data" / "px4" / "msg"
-    assert run_cli("import", "--from", "px4", str(src), "--out", str(tmp_path / "iface"), "-q").returncode == 0
+    assert run_main("import", "--from", "px4", str(src), "--out", str(tmp_path / "iface"), "-q").returncode == 0
     (imported,) = (tmp_path / "iface").glob("*.iface")
     out = tmp_path / "out"
-    proc = run_cli("generate", str(imported), "-t", "px4", "-o", str(out), "-q")
+    proc = run_main("generate", str(imported), "-t", "px4", "-o", str(out), "-q")
     assert proc.returncode == 0, proc.stdout + proc.stderr
     written = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
     assert written and all(p.startswith("msg/") for p in written)

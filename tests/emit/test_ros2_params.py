@@ -95,11 +95,11 @@ def test_the_new_codes_are_in_the_table() -> None:
 
 
 def test_cli_empty_list_exit_0_with_warning_and_no_unloadable_value(tmp_path: Path) -> None:
-    from tests.conftest import run_cli
+    from tests.conftest import run_main
 
     src = tmp_path / "p.iface"
     src.write_text("component c\nconfiguration c { i32[] empty = [], u64 huge = 18446744073709551615 }\n")
-    proc = run_cli("generate", str(src), "-t", "ros2", "-o", str(tmp_path / "out"))
+    proc = run_main("generate", str(src), "-t", "ros2", "-o", str(tmp_path / "out"))
     assert proc.returncode == 1
     assert "warning[ros2-param-empty-list]" in proc.stdout and "error[ros2-param-value]" in proc.stdout
     assert not (tmp_path / "out").exists()

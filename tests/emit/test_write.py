@@ -10,7 +10,7 @@ import pytest
 from iface.emit import generate
 from iface.emit.base import GeneratedFile
 from iface.emit.write import atomic_write, path_problem, write_files
-from tests.conftest import run_cli
+from tests.conftest import run_main
 
 from .helpers import compile_text
 
@@ -117,7 +117,7 @@ def test_cli_writes_nothing_when_a_path_is_blocked(tmp_path: Path) -> None:
     out = tmp_path / "out"
     (out / "blocked").mkdir(parents=True)
     (out / "blocked" / "msg").write_text("a file where the msg folder goes\n")
-    proc = run_cli("generate", str(src), "-t", "ros2", "-o", str(out))
+    proc = run_main("generate", str(src), "-t", "ros2", "-o", str(out))
     assert proc.returncode == 2, proc.stderr
     assert "is not a folder" in proc.stderr and "nothing was written" in proc.stderr
     assert tree(out) == {"blocked/msg": b"a file where the msg folder goes\n"}
@@ -149,7 +149,7 @@ def test_cli_over_long_message_name_is_a_located_error_and_writes_nothing(tmp_pa
     src.write_text(f"component c\nmessage {name} {{ i32 x }}\npublishes {name} on \"/t\"\n")
     out = tmp_path / "out"
     for target in ("ros2", "px4", "idl", "ardupilot"):
-        proc = run_cli("generate", str(src), "-t", target, "-o", str(out))
+        proc = run_main("generate", str(src), "-t", target, "-o", str(out))
         assert proc.returncode == 1, (target, proc.stdout, proc.stderr)
         assert "longname.iface:2:9: error[" in proc.stdout, (target, proc.stdout)
         assert not out.exists()

@@ -15,7 +15,7 @@ import pytest
 from iface.emit import generate
 from iface.emit.base import GeneratedFile
 from iface.emit.write import write_files
-from tests.conftest import ROOT, run_cli
+from tests.conftest import ROOT, run_main
 
 from .helpers import compile_text
 
@@ -76,19 +76,19 @@ def test_a_symbolic_link_is_never_written_through(tmp_path: Path, inside: bool) 
     src = tmp_path / "modes.iface"
     src.write_text(SOURCE)
     out = tmp_path / "out"
-    assert run_cli("generate", str(src), "-t", "ros2", "-o", str(out), "-q").returncode == 0
+    assert run_main("generate", str(src), "-t", "ros2", "-o", str(out), "-q").returncode == 0
     victim = (out / "modes_msgs" / "victim.txt") if inside else (tmp_path / "victim.txt")
     victim.write_text("precious\n")
     link = out / "modes_msgs" / "msg" / "M.msg"
     link.unlink()
     link.symlink_to(victim)
 
-    refused = run_cli("generate", str(src), "-t", "ros2", "-o", str(out))
+    refused = run_main("generate", str(src), "-t", "ros2", "-o", str(out))
     assert refused.returncode == 1, refused.stderr
     assert "M.msg is a symbolic link; not followed and not replaced" in refused.stderr
     assert link.is_symlink() and victim.read_text() == "precious\n"
 
-    forced = run_cli("generate", str(src), "-t", "ros2", "-o", str(out), "--force")
+    forced = run_main("generate", str(src), "-t", "ros2", "-o", str(out), "--force")
     assert forced.returncode == 0, forced.stderr
     assert f"M.msg was a symbolic link to {victim}; --force replaced the link" in forced.stderr
     assert not link.is_symlink() and "int32 x" in link.read_text()

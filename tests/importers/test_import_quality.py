@@ -14,7 +14,7 @@ import pytest
 
 from iface.semantics.compile import Workspace
 
-from ..conftest import ROOT, run_cli
+from ..conftest import ROOT, run_main
 from .helpers import PX4, ROBOT_GEOMETRY, ROBOT_MSGS, ROS2
 
 RANGE_MSGS = ROS2 / "range_msgs"
@@ -29,15 +29,15 @@ def _corpus() -> Path | None:
 
 
 def _import(tmp_path: Path, source: str, *inputs: Path) -> list[Path]:
-    done = run_cli("import", "-q", "--from", source, *(str(p) for p in inputs), "--out", str(tmp_path))
+    done = run_main("import", "-q", "--from", source, *(str(p) for p in inputs), "--out", str(tmp_path))
     assert done.returncode == 0, done.stderr
     return sorted(tmp_path.glob("*.iface"))
 
 
 def _assert_hand_written(files: list[Path]) -> None:
-    fmt = run_cli("fmt", "--check", *(str(p) for p in files))
+    fmt = run_main("fmt", "--check", *(str(p) for p in files))
     assert fmt.returncode == 0, fmt.stdout + fmt.stderr
-    check = run_cli("check", *(str(p) for p in files))
+    check = run_main("check", *(str(p) for p in files))
     assert check.returncode == 0, check.stdout
     lines = check.stdout.splitlines()
     assert len(lines) == 1 and lines[0].startswith("ok: "), check.stdout  # not one warning, hint or note
@@ -113,6 +113,6 @@ def test_every_corpus_package_imports_as_if_written_by_hand(tmp_path: Path) -> N
         pytest.skip("the shared corpus (../shared/corpus or IFACE_CORPUS) is not here")
     packages = [p for p in sorted((corpus / "ros2").glob("*/")) + sorted((corpus / "ros2").glob("*/*/"))
                 if (p / "msg").is_dir() or (p / "srv").is_dir() or (p / "action").is_dir()]
-    done = run_cli("import", "-q", "--from", "ros2", *(str(p) for p in packages), "--out", str(tmp_path))
+    done = run_main("import", "-q", "--from", "ros2", *(str(p) for p in packages), "--out", str(tmp_path))
     assert done.returncode == 0, done.stderr  # the .idl with a wchar too
     _assert_hand_written(sorted(tmp_path.glob("*.iface")))

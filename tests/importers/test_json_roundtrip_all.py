@@ -19,7 +19,7 @@ from iface.importers.json import run as import_json
 from iface.model.diagnostics import Severity
 from iface.semantics.compile import Compilation, Workspace
 
-from ..conftest import ROOT, run_cli
+from ..conftest import ROOT, run_main
 from .test_import_quality import _corpus
 
 EXAMPLES = ROOT / "examples"
@@ -35,7 +35,7 @@ def _inputs(tmp: Path) -> list[Path]:
         # the ROS 2 packages, as import --from ros2 writes them
         packages = [p for p in sorted((corpus / "ros2").glob("*/")) + sorted((corpus / "ros2").glob("*/*/"))
                     if any((p / kind).is_dir() for kind in ("msg", "srv", "action"))]
-        run_cli("import", "-q", "--from", "ros2", *(str(p) for p in packages), "--out", str(tmp))
+        run_main("import", "-q", "--from", "ros2", *(str(p) for p in packages), "--out", str(tmp))
         found += sorted(tmp.glob("*.iface"))
     return found
 
@@ -104,17 +104,17 @@ def test_every_example_fixture_and_corpus_file_round_trips_to_identical_files(tm
 
 def test_the_robot_arm_round_trips_through_the_cli(tmp_path: Path) -> None:
     arm = EXAMPLES / "robot_arm.iface"
-    assert run_cli("generate", str(arm), "-t", "json", "-o", str(tmp_path / "json"), "-q").returncode == 0
+    assert run_main("generate", str(arm), "-t", "json", "-o", str(tmp_path / "json"), "-q").returncode == 0
     form = json.loads((tmp_path / "json" / "robot_arm.json").read_text())
     assert [x["path"] for x in form["included"]] == ["arm_common.iface"]
     assert form["included"][0]["form"]["file"] == "arm_common.iface"
-    done = run_cli("import", "--from", "json", str(tmp_path / "json" / "robot_arm.json"), "--out", str(tmp_path / "imp"))
+    done = run_main("import", "--from", "json", str(tmp_path / "json" / "robot_arm.json"), "--out", str(tmp_path / "imp"))
     assert done.returncode == 0, done.stderr
     assert sorted(p.name for p in (tmp_path / "imp").iterdir()) == ["arm_common.iface", "robot_arm.iface"]
-    check = run_cli("check", str(tmp_path / "imp" / "robot_arm.iface"))
+    check = run_main("check", str(tmp_path / "imp" / "robot_arm.iface"))
     assert check.returncode == 0 and check.stdout.startswith("ok: 2 files"), check.stdout
     for out, source in (("a", arm), ("b", tmp_path / "imp" / "robot_arm.iface")):
-        assert run_cli("generate", str(source), "-t", "ros2", "-o", str(tmp_path / out), "-q").returncode == 0
+        assert run_main("generate", str(source), "-t", "ros2", "-o", str(tmp_path / out), "-q").returncode == 0
     a = {p.relative_to(tmp_path / "a"): p.read_bytes() for p in (tmp_path / "a").rglob("*") if p.is_file()}
     b = {p.relative_to(tmp_path / "b"): p.read_bytes() for p in (tmp_path / "b").rglob("*") if p.is_file()}
     assert a == b and len(a) > 10
@@ -124,7 +124,7 @@ def test_an_embedded_include_that_would_leave_the_output_folder_is_refused(tmp_p
     form = json.loads(render(Workspace().compile_path(str(EXAMPLES / "robot_arm.iface"))))
     form["included"][0]["path"] = "../arm_common.iface"
     (tmp_path / "x.json").write_text(json.dumps(form))
-    done = run_cli("import", "--from", "json", str(tmp_path / "x.json"), "--out", str(tmp_path / "out"))
+    done = run_main("import", "--from", "json", str(tmp_path / "x.json"), "--out", str(tmp_path / "out"))
     assert done.returncode == 1
     assert "/included/0/path" in done.stderr and "import it on its own" in done.stderr
 

@@ -8,24 +8,20 @@ tests skip, saying why.
 Builds use ``ros2-runtime/build.sh`` (``IFACE_ROS2_SHARED``, else ``../shared`` beside the
 clone) and fall back to the venv's colcon with the same arguments.
 
-The packages every component shares (``iface_msgs``, ``iface_runtime_py``: ``SHARED_PACKAGES``) and
-every interface package are built once per test process and content, each in a workspace of its own
-that the component workspaces are built on (colcon's underlays: sourcing a component workspace
-sources them too), so that the scenarios do not compile the same type supports again.
+``build`` takes every package from the test cache (``workspaces.py``, ``cache.py``): each is built
+once per content on this machine, in a workspace of its own on those of the packages it depends on.
 """
 
 from __future__ import annotations
 
 import fcntl
-import hashlib
 import os
 import random
 import re
-import shutil
 import subprocess
 import sys
 import tempfile
-import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import IO
 
@@ -155,133 +151,28 @@ def generate(iface: Path, out: Path, *extra: str) -> subprocess.CompletedProcess
                            str(out), "-q", *extra], capture_output=True, text=True, timeout=120, check=False)
 
 
-#: Packages ``generate`` writes beside every component; with every interface package, built once per process.
-SHARED_PACKAGES = ("iface_msgs", "iface_runtime_py")
-#: Workspaces of packages built before in this process, by the digest of their files and their dependencies'.
-_reused: dict[str, Path] = {}
-_NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
-_DEPEND = re.compile(r"<(?:depend|build_depend|exec_depend|build_export_depend)>\s*([^<\s]+)\s*</")
+def build(venv: Path, generated: Path, workspace: Path, *, underlays: Sequence[Path] = (),
+          cpp: bool = False) -> tuple[bool, str, float]:
+    """Build every package under ``generated`` and make ``workspace`` their workspace: (ok, why not, seconds).
 
-
-def _digest(folder: Path) -> str:
-    h = hashlib.sha256()
-    for path in sorted(folder.rglob("*")):
-        if path.is_file():
-            h.update(path.relative_to(folder).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
-    return h.hexdigest()
-
-
-def _packages(generated: Path) -> dict[str, tuple[Path, set[str]]]:
-    """Each package directly under ``generated``: its folder and what it depends on."""
-    found: dict[str, tuple[Path, set[str]]] = {}
-    for xml in sorted(generated.glob("*/package.xml")):
-        text = xml.read_text(encoding="utf-8")
-        name = _NAME.search(text)
-        if name:
-            found[name.group(1)] = (xml.parent, set(_DEPEND.findall(text)))
-    return found
-
-
-def _reusable(folder: Path, name: str) -> bool:
-    """The shared packages and interface packages: the same files give the same build, whoever asks."""
-    cmake = folder / "CMakeLists.txt"
-    return name in SHARED_PACKAGES or (cmake.is_file() and "rosidl_generate_interfaces" in cmake.read_text("utf-8"))
-
-
-def reused_underlays(venv: Path, generated: Path, near: Path) -> tuple[list[Path], set[str], str]:
-    """The workspaces that hold the reusable packages of ``generated`` (built now when new), the names they cover.
-
-    Each reusable package is built alone, on the workspaces of the generated packages it depends on,
-    once per process and content: the protocol's type supports and a component's interface package
-    are compiled once however many scenarios use them. On failure: no workspaces, why.
+    Each package comes from the test cache, built there once per content (``workspaces.py``):
+    ``workspace/install/setup.bash`` sources them, ``workspace/install/PKG`` is each package (read-only).
+    ``underlays``: workspaces made by ``build`` that the packages may depend on; ``cpp``: build the
+    C++ packages against rclcpp.
     """
-    packages = _packages(generated)
-    reusable = {n for n, (folder, _) in packages.items() if _reusable(folder, n)}
-    changed = True
-    while changed:  # a package on a generated dependency that is built with the component is built there too
-        changed = False
-        for name in sorted(reusable):
-            if any(d in packages and d not in reusable for d in packages[name][1]):
-                reusable.discard(name)
-                changed = True
-    if reusable == set(packages):  # the component workspace needs a package of its own
-        return [], set(), ""
-    keys: dict[str, str] = {}
-    underlays: list[Path] = []
-    pending = sorted(reusable)
-    while pending:
-        name = next(n for n in pending if all(d not in reusable or d in keys for d in packages[n][1]))
-        pending.remove(name)
-        folder, depends = packages[name]
-        inner = sorted(d for d in depends if d in reusable)
-        # the venv too: the same files built against another release are another build
-        key = hashlib.sha256((str(venv) + _digest(folder) + "".join(keys[d] for d in inner)).encode()).hexdigest()
-        keys[name] = key
-        if key not in _reused:
-            root = near.parent / f"iface-{name}-{key[:12]}"
-            shutil.rmtree(root, ignore_errors=True)
-            shutil.copytree(folder, root / "gen" / name)
-            (root / "ws").mkdir()
-            ok, tail, _ = _build(venv, root / "gen", root / "ws", [_reused[keys[d]] for d in inner])
-            if not ok:
-                return [], set(), f"{name}: {tail}"
-            _reused[key] = root / "ws"
-        underlays.append(_reused[key])
-    return underlays, reusable, ""
+    from .workspaces import build as build_cached
+
+    return build_cached(venv, generated, workspace, underlays=underlays, cpp=cpp)
 
 
-def build(venv: Path, generated: Path, workspace: Path) -> tuple[bool, str, float]:
-    """Build every package under ``generated`` into ``workspace``: (ok, last lines, seconds).
-
-    The reusable packages among them (``reused_underlays``) come from workspaces built before, which
-    ``workspace`` is built on (colcon's underlays: its ``install/setup.bash`` sources them too).
-    """
-    start = time.monotonic()
-    underlays, taken, why = reused_underlays(venv, generated, workspace)
-    if why:
-        return False, why, time.monotonic() - start
-    if taken:
-        generated = own_packages(generated, workspace, taken)
-    ok, tail, _ = _build(venv, generated, workspace, underlays)
-    return ok, tail, time.monotonic() - start
-
-
-def own_packages(generated: Path, workspace: Path, taken: set[str]) -> Path:
-    """A copy of ``generated`` without the packages ``taken`` (those come from underlays), beside ``workspace``."""
-    own = workspace / "gen-own"
-    shutil.rmtree(own, ignore_errors=True)
-    folders = {folder.name for name, (folder, _) in _packages(generated).items() if name in taken}
-    shutil.copytree(generated, own, ignore=lambda folder, names: [n for n in names if Path(folder) == generated
-                                                                 and n in folders])
-    return own
-
-
-def sourced(env: dict[str, str], workspaces: list[Path]) -> dict[str, str]:
-    """``env`` with each workspace's ``install/setup.bash`` sourced on top, in order."""
+def sourced(env: dict[str, str], workspaces: Sequence[Path], script: str = "setup.bash") -> dict[str, str]:
+    """``env`` with each workspace's ``install/SCRIPT`` sourced on top, in order."""
     if not workspaces:
         return env
-    script = "set +u; " + " && ".join(f'. "{ws}/install/setup.bash" >/dev/null' for ws in workspaces)
+    script = "set +u; " + " && ".join(f'. "{ws}/install/{script}" >/dev/null' for ws in workspaces)
     dump = subprocess.run(["bash", "-c", script + " && env -0"], capture_output=True, timeout=60, check=True,
                           env=env).stdout
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
-
-
-def _build(venv: Path, generated: Path, workspace: Path, underlays: list[Path]) -> tuple[bool, str, float]:
-    start = time.monotonic()
-    shared = shared_dir()
-    env = sourced(environment(venv), underlays)
-    if shared is not None:
-        cmd = ["bash", str(shared / "ros2-runtime" / "build.sh"), str(generated), str(workspace)]
-    else:
-        src = workspace / "src"
-        shutil.rmtree(src, ignore_errors=True)
-        shutil.copytree(generated, src)
-        cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
-               "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
-               f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF"]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=1200, env=env, cwd=workspace, check=False)
-    tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-25:])
-    return done.returncode == 0, tail, time.monotonic() - start
 
 
 def run_bounded(cmd: list[str], env: dict[str, str], timeout: float, log: Path) -> int | None:

@@ -1,4 +1,8 @@
-"""Fixtures of the runtime tests: the ROS 2 runtime of each release and one workspace built per session and release.
+"""Fixtures of the runtime tests: the ROS 2 runtime of each release and the workspace of the test components per
+release.
+
+Its packages come from the test cache (tests/ros_harness/workspaces.py): built once per content and release on
+this machine, whichever worker or run asks first; the workspace itself is a view of them.
 
 A module that sets ``PER_RELEASE = True`` runs once per release ``IFACE_ROS_DISTRO`` selects (default:
 every release, ``ros_harness.ros.RELEASES``), its test ids naming the release (``[jazzy-…]``); the
@@ -72,10 +76,10 @@ def ros_venv(ros_release: str) -> Path:
 
 @pytest.fixture(scope="session")
 def ros_workspace(ros_venv: Path, ros_release: str, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
-    """Generate each component (then put the tests' user module in place and generate again), build once per
-    release.
+    """Generate each component (then put the tests' user module in place and generate again) and build them.
 
-    The manager's test system (SYSTEM_COMPONENTS) is built here too: one colcon build per session and release.
+    The manager's test system (SYSTEM_COMPONENTS) is here too. Each package is a workspace of its own in the
+    test cache, per release; ``path`` is the view of them all (``install/setup.bash`` sources each).
     """
     root = tmp_path_factory.mktemp(f"ros2-{ros_release}")
     gen = root / "gen"
@@ -90,6 +94,7 @@ def ros_workspace(ros_venv: Path, ros_release: str, tmp_path_factory: pytest.Tem
     ws.mkdir()
     ok, tail, seconds = build(ros_venv, gen, ws)
     assert ok, f"the generated packages did not build:\n{tail}"
-    print(f"\nros2-runtime ({ros_release}) build of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: "
+    print(f"\nros2-runtime ({ros_release}) build (or cache) of "
+          f"{', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: "
           f"{seconds:.0f} s")
     return Workspace(ros_venv, gen, ws, seconds)

@@ -1,7 +1,7 @@
 """End to end: `iface-lsp handover` replaces a running counter 1.0 by counter 2.0, and refuses what it must.
 
 Both components are generated from examples/counter.iface and examples/counter_v2.iface, built each
-into its own workspace with the ROS 2 runtime, and run on loopback; drive_handover.py runs the
+into its own workspace with the ROS 2 runtime (from the test cache), and run on loopback; drive_handover.py runs the
 scenario (every wait bounded, every process stopped by its own handle). Skipped, saying why, without
 the runtime.
 """
@@ -71,9 +71,11 @@ def run(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, A
     for name, body in variants.items():
         assert body != text, name
         (root / f"{name}.iface").write_text(body, encoding="utf-8")
-    package = ws_new / "install" / "counter"
+    installed = ws_new / "install" / "counter"  # in the test cache: read-only, signed as copies
+    package = root / "signed" / "counter"
+    shutil.copytree(installed, package)
     unsigned = root / "unsigned" / "counter"
-    shutil.copytree(package, unsigned)
+    shutil.copytree(installed, unsigned)
     store = root / "store"
     store.mkdir()
     pub, _ = keygen(root / "trusted.key")

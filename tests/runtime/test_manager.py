@@ -98,7 +98,7 @@ def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[st
     (sysdir / "thermostat_new.iface").write_text(new_text, encoding="utf-8")
     (sysdir / "thermostat_bad.iface").write_text(bad_text, encoding="utf-8")
     for side in ("signed", "unsigned"):
-        shutil.copytree(ws / "install", root / side / "install", symlinks=True)
+        shutil.copytree(ws / "install", root / side / "install")  # copies: the cached packages are read-only
     store = root / "store"
     store.mkdir()
     pub, _ = keygen(root / "trusted.key")

@@ -3,13 +3,13 @@
 rclcpp has no wheel: ../shared/ros2-runtime/build-cpp.sh builds it from its sources into
 VENV/cpp (scripts/install-ros.sh does, in CI). Without it these tests skip, saying so.
 
-Workspaces are built once per module: ws_cpp, iface_runtime_cpp and the C++ counter 2.0 on
-iface_msgs and counter_msgs (built once per process: tests/runtime/ros.py) (examples/counter_v2.iface with
-tests/runtime/data/counter_v2_node.cpp); the Python counter 1.0 for the hand-overs across
-languages; on top of ws_cpp, each package alone: every_member's C++ package with the user file
-iface writes (every kind of member: its templates compile; every_member_msgs comes from the
-session's workspace) and the C++ counter 1.0. drive_rclcpp.py runs the scenario of one C++ node,
-drive_container.py that of a component container; each test below is one of their steps. Every
+The packages come from the test cache (tests/ros_harness/workspaces.py: each built once per content,
+in a workspace of its own): ws_cpp, the C++ counter 2.0 (examples/counter_v2.iface with
+tests/runtime/data/counter_v2_node.cpp) on iface_runtime_cpp, counter_msgs and iface_msgs; the Python
+counter 1.0 for the hand-overs across languages (test_handover.py's); every_member's C++ package with
+the user file iface writes (every kind of member: its templates compile), beside its Python package
+(the session's), both on the one every_member_msgs; the C++ counter 1.0 on ws_cpp. drive_rclcpp.py runs
+the scenario of one C++ node, drive_container.py that of a component container; each test below is one of their steps. Every
 wait is bounded, every process is stopped by its own handle, traffic stays on loopback in a random
 ROS_DOMAIN_ID.
 """
@@ -29,8 +29,8 @@ from typing import Any
 
 import pytest
 
-from ..ros_harness.ros import (DATA, HARNESS, ROOT, build, environment, generate, own_packages, reused_underlays,
-                           run_bounded, sourced)
+from ..ros_harness.ros import DATA, HARNESS, ROOT, build, environment, generate, run_bounded
+from ..ros_harness.workspaces import cpp_environment, workspace_of
 
 DRIVER = HARNESS / "drive_rclcpp.py"
 COUNTER_V2 = ROOT / "examples" / "counter_v2.iface"
@@ -54,17 +54,6 @@ STEPS = [
 ]
 
 
-def rclcpp_env(venv: Path) -> dict[str, str] | None:
-    """The environment of ros2-env.sh and cpp-env.sh (rclcpp built by build-cpp.sh); None without rclcpp."""
-    cpp_env = venv / "cpp" / "cpp-env.sh"
-    if not cpp_env.is_file():
-        return None
-    script = f'set +u; . "{venv}/ros2-env.sh" >/dev/null && . "{cpp_env}" >/dev/null && env -0'
-    base = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=base).stdout
-    return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
-
-
 def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> dict[str, str]:
     """``env`` with the workspace ``ws`` sourced on top (its install/local_setup.bash; setup.bash: with its underlays)."""
     script = f'set +u; . "{ws}/install/{script}" >/dev/null && env -0'
@@ -72,33 +61,33 @@ def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> 
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
 
 
-def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path) -> tuple[bool, str, float]:
-    """colcon build of every package under ``generated`` against rclcpp, as docs/targets.md says.
+def generated(root: Path, name: str, iface: Path, target: str, user: Path | None = None) -> Path:
+    """``generate IFACE --target TARGET`` into root/NAME, with the tests' user file in place when given."""
+    gen = root / name
+    done = generate(iface, gen, "--target", target)
+    assert done.returncode == 0, done.stderr
+    if user is not None:
+        package = iface.stem.removesuffix("_v2")
+        mine = gen / package / ("src/node.cpp" if target == "rclcpp" else f"{package}/node.py")
+        shutil.copyfile(user, mine)
+        again = generate(iface, gen, "--target", target)
+        assert again.returncode == 0, again.stderr
+        assert mine.read_text() == user.read_text(), f"{mine.name} was overwritten"
+    return gen
 
-    Its interface packages (iface_msgs, counter_msgs…) come from the workspaces the other scenarios of
-    this process built them in when they did (``ros.reused_underlays``); iface_runtime_cpp and the
-    components are built here.
-    """
-    start = time.monotonic()
-    underlays, taken, why = reused_underlays(venv, generated, ws)
-    if why:
-        return False, why, time.monotonic() - start
-    shutil.copytree(own_packages(generated, ws, taken) if taken else generated, ws / "src")
-    env = sourced(env, underlays)
-    cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
-           "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
-           f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
-           f"-DCMAKE_EXE_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_LDFLAGS', '')}",
-           f"-DCMAKE_SHARED_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_SHARED_LDFLAGS', '')}"]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=1500, env=env, cwd=ws, check=False)
-    (ws / "colcon.log").write_text(done.stdout + done.stderr)
-    tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-30:])
-    return done.returncode == 0, tail, time.monotonic() - start
+
+def built(venv: Path, gen: Path, ws: Path, what: str, **how: Any) -> Path:
+    """``gen`` built (from the test cache) into the workspace ``ws``, which is returned."""
+    ws.mkdir()
+    ok, tail, seconds = build(venv, gen, ws, **how)
+    assert ok, f"{what} did not build:\n{tail}"
+    print(f"\nbuild (or cache) of {what}: {seconds:.0f} s")
+    return ws
 
 
 @pytest.fixture(scope="module")
 def workspaces(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
-    env = rclcpp_env(ros_venv)
+    env = cpp_environment(ros_venv)
     if env is None:
         pytest.skip(f"rclcpp is not built in {ros_venv}/cpp: run `bash ../shared/ros2-runtime/build-cpp.sh "
                     f"{ros_venv}` (scripts/install-ros.sh does)")
@@ -106,35 +95,21 @@ def workspaces(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict
     if missing:
         pytest.skip(f"no {', '.join(missing)} on PATH to build C++")
     root = tmp_path_factory.mktemp("rclcpp")
-    gen = root / "gen_cpp"
-    done = generate(COUNTER_V2, gen, "--target", "rclcpp")
-    assert done.returncode == 0, done.stderr
-    user = gen / "counter" / "src" / "node.cpp"
-    shutil.copyfile(DATA / "counter_v2_node.cpp", user)
-    again = generate(COUNTER_V2, gen, "--target", "rclcpp")
-    assert again.returncode == 0, again.stderr
-    assert user.read_text() == (DATA / "counter_v2_node.cpp").read_text(), "node.cpp was overwritten"
-    ws_cpp = root / "ws_cpp"
-    ws_cpp.mkdir()
-    ok, tail, seconds = build_cpp(ros_venv, env, gen, ws_cpp)
-    assert ok, f"the generated C++ packages did not build (log: {ws_cpp}/colcon.log):\n{tail}"
-    print(f"\nrclcpp build of counter_msgs and counter (C++): {seconds:.0f} s")
-    gen_py = root / "gen_py"
-    done = generate(ROOT / "examples" / "counter.iface", gen_py)
-    assert done.returncode == 0, done.stderr
-    shutil.copyfile(DATA / "counter_node.py", gen_py / "counter" / "counter" / "node.py")
-    ws_py = root / "ws_py"
-    ws_py.mkdir()
-    ok, tail, seconds = build(ros_venv, gen_py, ws_py)
-    assert ok, f"the Python counter did not build:\n{tail}"
+    gen = generated(root, "gen_cpp", COUNTER_V2, "rclcpp", DATA / "counter_v2_node.cpp")
+    ws_cpp = built(ros_venv, gen, root / "ws_cpp", "counter_msgs, iface_runtime_cpp and counter 2.0 (C++)", cpp=True)
+    gen_py = generated(root, "gen_py", ROOT / "examples" / "counter.iface", "rclpy", DATA / "counter_node.py")
+    ws_py = built(ros_venv, gen_py, root / "ws_py", "the Python counter 1.0")
     return {"venv": ros_venv, "root": root, "ws_cpp": ws_cpp, "ws_py": ws_py, "env": env}
 
 
-def signed_package(package: Path, root: Path) -> dict[str, str]:
-    """Sign the installed C++ package as README says (its executable and libraries included); a tampered copy."""
+def signed_package(installed: Path, root: Path) -> dict[str, str]:
+    """Sign (a copy of: the cached one is read-only) the installed C++ package as README says (its executable and
+    libraries included); a tampered copy."""
     key, store = root / "keys" / "me.key", root / "trusted"
     key.parent.mkdir()
     store.mkdir()
+    package = root / "signed" / "counter"
+    shutil.copytree(installed, package, symlinks=True)
     for argv in (["--keygen", str(key)], [str(package), "--key", str(key)]):
         done = subprocess.run([sys.executable, "-m", "iface", "sign", *argv], capture_output=True, text=True,
                               timeout=60, check=False)
@@ -188,23 +163,17 @@ def passed(run: dict[str, Any], step: str) -> None:
 
 def test_the_cpp_runtimes_own_unit_tests_pass(workspaces: dict[str, Any]) -> None:
     """iface_runtime_cpp's unit tests (its test/: the JSON, the state document and the widening table the
-    Python tests hold compat and iface_runtime_py to, the parameter checks, the work gate), built in ws_cpp's
-    build of the library with BUILD_TESTING on and run by ctest."""
-    build = workspaces["ws_cpp"] / "build" / "iface_runtime_cpp"
+    Python tests hold compat and iface_runtime_py to, the parameter checks, the work gate), built with the
+    library in ws_cpp (BUILD_TESTING on for it: workspaces.UNIT_TESTED) and run by ctest, every time."""
+    build = workspace_of(workspaces["ws_cpp"], "iface_runtime_cpp") / "build" / "iface_runtime_cpp"
     env = overlay(workspaces["env"], workspaces["ws_cpp"], "setup.bash")
     log = workspaces["root"] / "runtime-tests.log"
-    output = ""
-    for argv in (["cmake", "-DBUILD_TESTING=ON", "."], ["cmake", "--build", ".", "--parallel", "2"],
-                 ["ctest", "--output-on-failure", "--timeout", "120"]):
-        done = subprocess.run(argv, cwd=build, env=env, capture_output=True, text=True, timeout=1200, check=False)
-        output += f"$ {' '.join(argv)}\n{done.stdout}{done.stderr}"
-        log.write_text(output)
-        assert done.returncode == 0, f"{' '.join(argv)} failed (log: {log}):\n{output[-3000:]}"
+    argv = ["ctest", "--output-on-failure", "--timeout", "120"]  # its records (Testing/) are no part of the entry
+    done = subprocess.run(argv, cwd=build, env=env, capture_output=True, text=True, timeout=1200, check=False)
+    output = f"$ {' '.join(argv)}\n{done.stdout}{done.stderr}"
+    log.write_text(output)
+    assert done.returncode == 0, f"ctest failed (log: {log}):\n{output[-3000:]}"
     assert "100% tests passed, 0 tests failed out of 4" in output, output[-2000:]
-
-
-#: The packages generate writes beside every component: built once per module, in ws_cpp.
-SHARED = ("iface_msgs", "iface_runtime_cpp", "iface_runtime_py")
 
 
 def component_only(gen: Path, keep: str) -> None:
@@ -215,25 +184,16 @@ def component_only(gen: Path, keep: str) -> None:
 
 
 @pytest.fixture(scope="module")
-def every_member_cpp(workspaces: dict[str, Any], ros_workspace: Any) -> tuple[Path, dict[str, str]]:
-    """every_member's C++ package with the user file iface writes, on top of the session's workspace
-    (conftest.py), which already holds every_member_msgs: the interface package both targets share, and
-    of ws_cpp, which holds iface_msgs and iface_runtime_cpp."""
+def every_member_cpp(workspaces: dict[str, Any]) -> tuple[Path, dict[str, str]]:
+    """every_member's C++ package with the user file iface writes, beside its Python package (the session's:
+    the same cache entries), which shares every_member_msgs with it: the interface package both targets write."""
     venv, root = workspaces["venv"], workspaces["root"]
-    gen = root / "gen_every_member"
-    done = generate(DATA / "every_member.iface", gen, "--target", "rclcpp")
-    assert done.returncode == 0, done.stderr
-    component_only(gen, "every_member")
-    env = overlay(overlay(workspaces["env"], ros_workspace.path, "setup.bash"), workspaces["ws_cpp"])
-    ws = root / "ws_every_member"
-    ws.mkdir()
-    ok, tail, seconds = build_cpp(venv, env, gen, ws)
-    assert ok, f"every_member (C++) did not build (log: {ws}/colcon.log):\n{tail}"
-    print(f"\nrclcpp build of every_member (C++): {seconds:.0f} s")
-    # ws_cpp's setup.bash chains the rclcpp install (librclcpp, composition_interfaces); the Python workspace's does not
-    run_env = overlay(environment(venv, workspaces["ws_cpp"], root / "ros-log"), ros_workspace.path, "setup.bash")
-    run_env = overlay(overlay(run_env, workspaces["ws_cpp"]), ws)
-    return ws, run_env
+    iface = DATA / "every_member.iface"
+    ws_py = built(venv, generated(root, "gen_every_member_py", iface, "rclpy", DATA / "every_member_node.py"),
+                  root / "ws_every_member_py", "every_member (Python)")
+    ws = built(venv, generated(root, "gen_every_member", iface, "rclcpp"), root / "ws_every_member",
+               "every_member (C++)", cpp=True, underlays=[ws_py])
+    return ws, environment(venv, ws, root / "ros-log")
 
 
 @pytest.fixture(scope="module")
@@ -241,17 +201,11 @@ def counter_v1_cpp(workspaces: dict[str, Any]) -> tuple[Path, dict[str, str]]:
     """The C++ counter 1.0 (examples/counter.iface, tests/runtime/data/counter_node.cpp) on top of ws_cpp:
     its counter_msgs is 2.0's, which holds 1.0's (one interface package per process, as in a container)."""
     venv, root = workspaces["venv"], workspaces["root"]
-    gen = root / "gen_counter_v1"
-    done = generate(ROOT / "examples" / "counter.iface", gen, "--target", "rclcpp")
-    assert done.returncode == 0, done.stderr
+    gen = generated(root, "gen_counter_v1", ROOT / "examples" / "counter.iface", "rclcpp", DATA / "counter_node.cpp")
     component_only(gen, "counter")
-    shutil.copyfile(DATA / "counter_node.cpp", gen / "counter" / "src" / "node.cpp")
-    ws = root / "ws_counter_v1"
-    ws.mkdir()
-    ok, tail, seconds = build_cpp(venv, overlay(workspaces["env"], workspaces["ws_cpp"], "setup.bash"), gen, ws)
-    assert ok, f"counter 1.0 (C++) did not build (log: {ws}/colcon.log):\n{tail}"
-    print(f"\nrclcpp build of counter 1.0 (C++, the component alone): {seconds:.0f} s")
-    return ws, overlay(environment(venv, workspaces["ws_cpp"], root / "ros-log"), ws)
+    ws = built(venv, gen, root / "ws_counter_v1", "counter 1.0 (C++, the component alone)", cpp=True,
+               underlays=[workspaces["ws_cpp"]])
+    return ws, environment(venv, ws, root / "ros-log")
 
 
 CONTAINER_DRIVER = HARNESS / "drive_container.py"
@@ -366,7 +320,7 @@ print(json.dumps(out))
 def test_a_user_file_that_no_longer_matches_stops_the_build_with_the_reason(workspaces: dict[str, Any],
                                                                            tmp_path: Path) -> None:
     """The interface lost a member and gained one: the compiler names both, and the interface file."""
-    ws = workspaces["ws_cpp"]
+    ws = workspace_of(workspaces["ws_cpp"], "counter")  # the colcon workspace in the cache that built it
     commands = json.loads((ws / "build" / "counter" / "compile_commands.json").read_text())
     entry = next(c for c in commands if c["file"].endswith("/src/node.cpp"))
     text = (DATA / "counter_v2_node.cpp").read_text()

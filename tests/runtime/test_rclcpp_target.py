@@ -5,7 +5,6 @@ from __future__ import annotations
 import ast
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -13,6 +12,7 @@ import pytest
 from iface.emit import generate, get_target
 from iface.emit.base import GeneratedFile
 from iface.semantics.compile import Workspace
+from tests.conftest import run_main
 from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml
 
@@ -32,8 +32,8 @@ def files_of(case: str, target: str = "rclcpp") -> list[GeneratedFile]:
 
 
 def cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True, timeout=120,
-                          check=False)
+    """``iface-lsp ARGS``, run in this process."""
+    return run_main(*args)
 
 
 def test_found_through_the_entry_point() -> None:

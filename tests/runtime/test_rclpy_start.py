@@ -1,8 +1,9 @@
 """Starting a generated node as a user does: the README's commands, and user code the interface no longer matches.
 
 The README's "From the interface to a running node" blocks are run as written (in a temporary folder that
-holds the examples; the runtime's ros2-env.sh where the block names the default one): the first builds and
-starts the node with `ros2 run`, the second looks at it with `ros2 node info`, `ros2 lifecycle get` and
+holds the examples; the runtime's ros2-env.sh where the block names the default one; the folder the colcon
+build made is kept in the test cache and used again while the lines and what they build stay the same): the
+first builds and starts the node with `ros2 run`, the second looks at it with `ros2 node info`, `ros2 lifecycle get` and
 `ros2 param describe`, each given `--no-daemon --spin-time 2` and asked again within a bound while it does
 not see the node yet (ros_harness/ros2cli.py). Loopback only, a random ROS_DOMAIN_ID, every wait bounded,
 every process stopped by its own handle.
@@ -20,8 +21,10 @@ import sys
 import textwrap
 from pathlib import Path
 
+from ..ros_harness import cache
 from ..ros_harness.ros import DEFAULT_VENV, ROOT, environment, run_bounded, sourced
 from ..ros_harness.ros2cli import Launched, cmdline, iface_lsp_on_path, ros2
+from ..ros_harness.workspaces import toolchain
 from .conftest import Workspace
 
 SECTION = "## From the interface to a running node"
@@ -93,6 +96,32 @@ def readme_blocks() -> list[list[str]]:
     return [[line.split("  #", 1)[0].strip() for line in block.splitlines() if line.strip()] for block in blocks]
 
 
+def _run_lines(lines: list[str], clone: Path, env: dict[str, str]) -> str | None:
+    """Run the shell ``lines`` in a new clone (the examples in it) at ``clone``: None, or what went wrong."""
+    clone.mkdir(parents=True)
+    shutil.copytree(ROOT / "examples", clone / "examples")
+    script = "set -e\n" + "\n".join(lines) + "\n"
+    done = subprocess.run(["bash", "-c", script], cwd=clone, env=env, capture_output=True, text=True, timeout=1200,
+                          check=False)
+    return None if done.returncode == 0 else f"{script}\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
+
+
+def readme_clone(venv: Path, setup: list[str], env: dict[str, str], scratch: Path) -> Path:
+    """The clone where the README's setup lines ran, built with colcon as a user does: from the test cache when
+    the same lines built the same sources with the same runtime before (what they build is what the lines
+    before ``colcon`` write: they run first in ``scratch``)."""
+    before = setup[:next(i for i, line in enumerate(setup) if line.startswith("colcon "))]
+    why = _run_lines(before, scratch, env)
+    assert why is None, why
+    key = cache.key_of("README", *setup, cache.digest_tree(scratch / "src"), toolchain(venv, False))
+    try:
+        entry = cache.entry(key, "the README's commands (From the interface to a running node)",
+                            lambda folder: _run_lines(setup, folder / "clone", env))
+    except cache.BuildFailed as failed:
+        raise AssertionError(str(failed)) from None
+    return entry.path / "clone"
+
+
 def test_the_readme_commands_start_a_node_the_ros2_command_shows(ros_venv: Path, tmp_path: Path) -> None:
     blocks = readme_blocks()
     assert len(blocks) == 2, blocks
@@ -104,16 +133,10 @@ def test_the_readme_commands_start_a_node_the_ros2_command_shows(ros_venv: Path,
     assert start == "ros2 run robot_arm robot_arm --activate", start
     assert [shlex.split(line)[:3] for line in looks] == [["ros2", "node", "info"], ["ros2", "lifecycle", "get"],
                                                          ["ros2", "param", "describe"]], looks
-    work = tmp_path / "clone"
-    work.mkdir()
-    shutil.copytree(ROOT / "examples", work / "examples")
     env = environment(ros_venv, log_dir=tmp_path / "ros-log")
     # iface-lsp of this checkout, whatever is installed
     env["PATH"] = iface_lsp_on_path(tmp_path / "bin", ROOT, sys.executable) + os.pathsep + env["PATH"]
-    script = "set -e\n" + "\n".join(setup) + "\n"
-    built = subprocess.run(["bash", "-c", script], cwd=work, env=env, capture_output=True, text=True, timeout=1200,
-                           check=False)
-    assert built.returncode == 0, f"{script}\n{built.stdout[-3000:]}\n{built.stderr[-3000:]}"
+    work = readme_clone(ros_venv, setup, env, tmp_path / "scratch")
     assert (work / "src" / "robot_arm" / "robot_arm" / "node.py").is_file()
     sources = [line for line in setup if line.startswith("source ")]
     node = Launched(["bash", "-c", "\n".join([*sources, f"exec {start}"])], env, tmp_path / "node.log", cwd=work)

@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import ast
-import json
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -15,6 +13,7 @@ from iface.emit import generate, get_target
 from iface.emit.base import GeneratedFile
 from iface.nodes import protocol, remap
 from iface.semantics.compile import Workspace
+from tests.conftest import run_main
 from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml, rosbags_parse, rosidl_parse
 
@@ -35,8 +34,8 @@ def files_of(case: str) -> list[GeneratedFile]:
 
 
 def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True, timeout=120,
-                          cwd=cwd, check=False)
+    """``iface-lsp ARGS``, run in this process."""
+    return run_main(*args, cwd=cwd)
 
 
 def component_of(files: dict[str, str]) -> str:

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 from iface.emit.write import stamp, unstamp
 from iface.nodes import protocol, shared
+from tests.conftest import run_main
 from tests.emit.golden_util import check_golden
 from tests.emit.oracles import rosidl_parse
 
@@ -19,8 +19,8 @@ _VERSION = re.compile(r"<version>([^<]+)</version>")
 
 
 def cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "iface", *args], capture_output=True, text=True, timeout=120,
-                          check=False)
+    """``iface-lsp ARGS``, run in this process."""
+    return run_main(*args)
 
 
 def generate(out: Path, example: str, target: str = "rclpy") -> subprocess.CompletedProcess[str]:

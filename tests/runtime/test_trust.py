@@ -5,12 +5,12 @@ from __future__ import annotations
 import json
 import stat
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from iface.operate.trust import SIGNATURE_FILE, TrustError, keygen, sign, verify
+from tests.conftest import run_main
 
 
 @pytest.fixture
@@ -85,8 +85,7 @@ def test_keys_are_never_overwritten_and_bad_keys_are_clear_errors(tmp_path: Path
 
 def test_the_sign_command(tmp_path: Path, package: Path) -> None:
     def cli(*args: str) -> subprocess.CompletedProcess[str]:
-        return subprocess.run([sys.executable, "-m", "iface", "sign", *args], capture_output=True, text=True,
-                              timeout=60, check=False)
+        return run_main("sign", *args)
 
     key = tmp_path / "ci.key"
     made = cli("--keygen", str(key))
