@@ -43,7 +43,7 @@ def scattered(n: int) -> tuple[list[Box], list[Edge]]:
 
 def main() -> None:
     for name, shape, sizes in (("pipeline", pipeline, (20, 100, 500)), ("random", scattered, (20, 50, 100))):
-        previous = None
+        previous, prev_n = None, 1
         for n in sizes:
             boxes, edges = shape(n)
             gc.collect()

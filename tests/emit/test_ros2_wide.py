@@ -8,7 +8,6 @@ uORB has neither: the px4 target refuses each with a code at the member.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
 

@@ -100,6 +100,12 @@ class PyPackage(NodeView[MemberView]):
                                                                          "action_server")},
                       key=lambda r: (r.package, r.kind, r.name))
 
+    def runtime_names(self) -> list[str]:
+        """What base.py imports from the runtime: only the names it uses (a linter flags the others)."""
+        used = {"DEFAULT_TIMEOUT_SEC": bool(self.of_kind("client", "action_client")), "ComponentNode": True,
+                "HandlerSpec": bool(self.spec.handlers()), "ParamSpec": bool(self.spec.params)}
+        return [name for name, is_used in used.items() if is_used]
+
     def handlers_literal(self) -> list[str]:
         """Lines of the HANDLERS mapping."""
         out = []

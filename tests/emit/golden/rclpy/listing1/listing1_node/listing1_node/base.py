@@ -22,7 +22,7 @@ from typing import Any
 from listing1.action import Action1, Action2
 from listing1.msg import Listing1State
 from listing1.srv import Diagnostics, Service1, Service2
-from iface_runtime_py.runtime import DEFAULT_TIMEOUT_SEC, ComponentNode, HandlerSpec, ParamSpec
+from iface_runtime_py.runtime import ComponentNode, HandlerSpec, ParamSpec
 
 
 class Listing1Parameters:
