@@ -66,7 +66,7 @@ def test_html_draws_each_container_around_its_instances(spec: Any, capsys: pytes
     _status(spec, _data(), "html")
     page = capsys.readouterr().out
     box = re.search(r'<div class="process container" id="container-box">(.*?</div>)</div>(?:\n|</section>)', page,
-                    re.S)
+                    re.DOTALL)
     assert box is not None, page
     inside = box.group(1)
     assert 'id="instance-one"' in inside and 'id="instance-two"' in inside and "pid 202" in inside
