@@ -222,12 +222,12 @@ def sharing_problem(library: Path, container_pid: int, container_env: dict[str, 
     theirs = needed(library, container_env)
     loaded = mapped_files(container_pid)
     by_name: dict[str, str] = {}
-    for path in loaded:
-        by_name.setdefault(os.path.basename(path), path)
+    for file in loaded:
+        by_name.setdefault(os.path.basename(file), file)
     for name, path in sorted(mine.items()):
         if path is None:
             return f"NEW's {library.name} needs {name}, which NEW's own environment does not find"
-        there: str | None = by_name.get(name) or theirs.get(name)
+        there = by_name.get(name) or theirs.get(name)
         if there is None:
             return f"the container would not find {name}, which NEW's {library.name} needs (NEW's is {path})"
         if not same_file(path, there):
