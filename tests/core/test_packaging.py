@@ -7,6 +7,8 @@ import sys
 import zipfile
 from pathlib import Path
 
+from iface.nodes.shared import source_files
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -22,3 +24,8 @@ def test_wheel_contains_grammar_and_entry_points(tmp_path: Path) -> None:
         ep = next(n for n in names if n.endswith("entry_points.txt"))
         text = z.read(ep).decode()
         assert "iface-lsp = iface.cli:main" in text and "[iface.targets]" in text
+        # the runtime packages generate copies: every file of them, and nothing else (no byte-code cache)
+        for runtime in ("iface_runtime_py", "iface_runtime_cpp"):
+            prefix = f"iface/nodes/runtimes/{runtime}/"
+            shipped = {n[len(prefix):]: z.read(n).decode() for n in names if n.startswith(prefix)}
+            assert shipped == dict(source_files(runtime)), runtime

@@ -30,7 +30,7 @@ def test_generate_writes_the_package_and_is_idempotent(tmp_path: Path) -> None:
     assert proc.returncode == 0, proc.stderr
     files = tree(out)
     assert "listing1/package.xml" in files and "listing1/msg/Message1.msg" in files
-    assert all(b"iface-hash: " in data for data in files.values())
+    assert all(b"iface-text-hash: " in data for data in files.values())
     assert proc.stderr.count("wrote ") == len(files)
     again = run_cli("generate", LISTING1, "--target", "ros2", "--out", str(out))
     assert again.returncode == 0 and tree(out) == files
@@ -150,3 +150,34 @@ def test_a_package_split_over_two_files_generates_in_one_command(tmp_path: Path)
     assert r.returncode == 0, r.stderr
     cmake = (tmp_path / "gen" / "dock_msgs" / "CMakeLists.txt").read_text()
     assert '"msg/Dock.msg"' in cmake and '"action/Dock.action"' in cmake
+
+
+def _as_the_previous_release_wrote(path: Path) -> None:
+    """Stamp ``path`` as iface did before the edit guard was named ``iface-text-hash``: ``(iface-hash: …)``."""
+    from iface.emit.base import GENERATED_MARK, content_hash
+    from iface.emit.write import unstamp
+
+    body, digest = unstamp(path.read_text(encoding="utf-8"))
+    assert digest is not None
+    path.write_text(body.replace(GENERATED_MARK, f"{GENERATED_MARK} (iface-hash: {content_hash(body)})", 1),
+                    encoding="utf-8")
+
+
+def test_a_file_the_previous_release_generated_is_still_iface_s_own(tmp_path: Path) -> None:
+    """Its header says ``iface-hash``: it is regenerated (with the new name), not refused as the user's; an old
+    file edited by hand is still refused as edited."""
+    assert run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path), "-q").returncode == 0
+    files = sorted(p for p in tmp_path.rglob("*") if p.is_file())
+    for path in files:
+        _as_the_previous_release_wrote(path)
+    assert all(b"(iface-hash: " in p.read_bytes() for p in files)
+    again = run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path))
+    assert again.returncode == 0, again.stderr
+    assert "not written by iface" not in again.stderr and "edited by hand" not in again.stderr
+    assert f"{len(files)} written, 0 unchanged" in again.stderr
+    assert all(b"(iface-text-hash: " in p.read_bytes() for p in files)
+    target = tmp_path / "listing1/msg/Message1.msg"
+    _as_the_previous_release_wrote(target)
+    target.write_text(target.read_text() + "int32 added_by_hand\n")
+    refused = run_cli("generate", LISTING1, "-t", "ros2", "-o", str(tmp_path))
+    assert refused.returncode == 1 and "Message1.msg was edited by hand" in refused.stderr

@@ -3,13 +3,19 @@
 from __future__ import annotations
 
 import shutil
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 
-from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
+from iface.nodes.shared import RUNTIMES
+
 from ..ros_harness.ros import DATA, ROOT, build, generate, runtime_venv
+from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
+
+#: The Python runtime is a package of its own (iface/nodes/runtimes/iface_runtime_py): its tests import it as it is.
+sys.path.insert(0, str(RUNTIMES / "iface_runtime_py"))
 
 #: The components the end-to-end tests build and run: (interface, user module of the tests).
 COMPONENTS = {

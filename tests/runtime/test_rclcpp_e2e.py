@@ -186,6 +186,23 @@ def passed(run: dict[str, Any], step: str) -> None:
     assert run[step]["ok"], f"{step}: {run[step]['detail']} (logs in {info['logs']})"
 
 
+def test_the_cpp_runtimes_own_unit_tests_pass(workspaces: dict[str, Any]) -> None:
+    """iface_runtime_cpp's unit tests (its test/: the JSON, the state document and the widening table the
+    Python tests hold compat and iface_runtime_py to, the parameter checks, the work gate), built in ws_cpp's
+    build of the library with BUILD_TESTING on and run by ctest."""
+    build = workspaces["ws_cpp"] / "build" / "iface_runtime_cpp"
+    env = overlay(workspaces["env"], workspaces["ws_cpp"], "setup.bash")
+    log = workspaces["root"] / "runtime-tests.log"
+    output = ""
+    for argv in (["cmake", "-DBUILD_TESTING=ON", "."], ["cmake", "--build", ".", "--parallel", "2"],
+                 ["ctest", "--output-on-failure", "--timeout", "120"]):
+        done = subprocess.run(argv, cwd=build, env=env, capture_output=True, text=True, timeout=1200, check=False)
+        output += f"$ {' '.join(argv)}\n{done.stdout}{done.stderr}"
+        log.write_text(output)
+        assert done.returncode == 0, f"{' '.join(argv)} failed (log: {log}):\n{output[-3000:]}"
+    assert "100% tests passed, 0 tests failed out of 4" in output, output[-2000:]
+
+
 #: The packages generate writes beside every component: built once per module, in ws_cpp.
 SHARED = ("iface_msgs", "iface_runtime_cpp", "iface_runtime_py")
 

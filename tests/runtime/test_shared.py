@@ -9,6 +9,7 @@ from pathlib import Path
 
 from iface.emit.write import stamp, unstamp
 from iface.nodes import protocol, shared
+from tests.emit.golden_util import check_golden
 from tests.emit.oracles import rosidl_parse
 
 from ..ros_harness.ros import ROOT
@@ -88,3 +89,8 @@ def test_two_components_share_one_copy_and_a_newer_one_is_kept(tmp_path: Path) -
     assert not (out / "iface_msgs" / "srv" / "Describe.srv").exists()  # left as found: not even a missing file
     quiet = cli("generate", str(EXAMPLES / "counter.iface"), "--target", "rclpy", "--out", str(out), "-q")
     assert quiet.returncode == 0 and quiet.stderr == ""
+
+
+def test_iface_msgs_is_its_golden() -> None:
+    """iface_msgs is generated from iface.nodes.protocol for every node target alike: one golden (golden/ros2)."""
+    check_golden("ros2", "iface_msgs", list(shared.msgs_package().files))

@@ -139,7 +139,7 @@ def _report(report: WriteReport, args: argparse.Namespace) -> int:
             continue
         if p in report.foreign:
             print(f"iface-lsp generate: {os.path.join(out, p)} exists and was not written by iface (it has no "
-                  "iface-hash stamp); not overwritten (--force overwrites it)", file=sys.stderr)
+                  "iface-text-hash stamp); not overwritten (--force overwrites it)", file=sys.stderr)
         else:
             print(f"iface-lsp generate: {os.path.join(out, p)} was edited by hand since it was generated; "
                   "not overwritten (--force overwrites it)", file=sys.stderr)

@@ -26,9 +26,10 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
-from .base import GENERATED_MARK, GeneratedFile, content_hash
+from .base import GENERATED_MARK, OLD_TEXT_HASH, TEXT_HASH, GeneratedFile, content_hash
 
-_STAMP = re.compile(r" \(iface-hash: ([0-9a-f]{16})\)")
+#: The stamp after the generated mark, as written now and as releases before wrote it.
+_STAMP = re.compile(rf" \((?:{re.escape(TEXT_HASH)}|{re.escape(OLD_TEXT_HASH)}): ([0-9a-f]{{16}})\)")
 #: Used when the file system does not say (the Linux and POSIX limits).
 DEFAULT_NAME_MAX = 255
 DEFAULT_PATH_MAX = 4096
@@ -150,17 +151,20 @@ def _folder_conflicts(paths: Iterable[tuple[str, Path]]) -> list[str]:
 
 
 def stamp(text: str) -> str:
-    """Put the content hash right after the generated mark of the header.
+    """Put the edit guard, the hash of the text, right after the generated mark of the header.
 
     The hash covers the text without the stamp, so an edit anywhere is detected.
     """
     if GENERATED_MARK not in text:
         return text
-    return text.replace(GENERATED_MARK, f"{GENERATED_MARK} (iface-hash: {content_hash(text)})", 1)
+    return text.replace(GENERATED_MARK, f"{GENERATED_MARK} ({TEXT_HASH}: {content_hash(text)})", 1)
 
 
 def unstamp(text: str) -> tuple[str, str | None]:
-    """The text without its stamp, and the stamped hash (None if there is none)."""
+    """The text without its stamp, and the stamped hash (None if there is none).
+
+    A file of an older release, stamped ``iface-hash``, reads the same: it is iface's own, not the user's.
+    """
     m = _STAMP.search(text)
     if m is None:
         return text, None

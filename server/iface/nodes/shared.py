@@ -1,7 +1,9 @@
 """The packages every generated component shares, written once into the output folder beside them.
 
 ``iface_msgs`` (the protocol's interface package, from ``iface.nodes.protocol``) and the
-runtime packages (``iface_runtime_py``…) are the same for every component. ``generate`` writes
+runtime packages (``iface_runtime_py``, ``iface_runtime_cpp``) are the same for every component. The
+runtimes are real packages in ``runtimes/`` (linted, type-checked and tested as they are): ``generate``
+copies their files verbatim, a generated-file header added to each. ``generate`` writes
 the ones its target needs into the output folder, so ``colcon build`` of that folder builds
 everything; a second component generated into the same folder finds them there. What is found
 decides what is written, by the version in the package's ``package.xml``:
@@ -21,8 +23,9 @@ import os
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
-from ..emit.base import GeneratedFile, TemplateSet
+from ..emit.base import GeneratedFile, TemplateSet, header_lines
 from ..emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ..emit.ros2 import render_package
 from ..emit.ros2.package import RosConst, RosField, RosInterface, RosPackage, RosSection, RosType
@@ -33,9 +36,14 @@ from . import protocol
 #: Who maintains the shared packages (package.xml wants someone).
 MAINTAINER = ("iface", "iface@example.invalid")
 LICENSE = "Apache-2.0"
-#: The name generated headers give as the source of the shared packages.
+#: The name generated headers give as the source of iface_msgs.
 SOURCE_NAME = "iface.nodes.protocol"
+#: The runtime packages, as they are copied (each a folder: ``iface_runtime_py/``, ``iface_runtime_cpp/``).
+RUNTIMES = Path(__file__).parent / "runtimes"
 _VERSION = re.compile(r"<version>\s*([^<\s]+)\s*</version>")
+#: The comment a generated header takes in a file, by the file's suffix (a file without one: ``#``).
+_COMMENTS = {".py": ("#", ""), ".cfg": ("#", ""), ".txt": ("#", ""), "": ("#", ""), ".cpp": ("//", ""),
+             ".hpp": ("//", ""), ".xml": ("<!--", " -->")}
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,18 +123,60 @@ def msgs_package() -> SharedPackage:
     return SharedPackage(pkg.name, pkg.version, tuple(files))
 
 
+def source_files(name: str) -> list[tuple[str, str]]:
+    """(path under the package, text) of every file of the runtime package ``name``, sorted.
+
+    Python's byte-code caches (left by the tests that import the package) are not files of it.
+    """
+    root = RUNTIMES / name
+    out = []
+    for path in sorted(root.rglob("*")):
+        rel = path.relative_to(root)
+        if path.is_file() and "__pycache__" not in rel.parts and path.suffix != ".pyc":
+            out.append((rel.as_posix(), path.read_text(encoding="utf-8")))
+    return out
+
+
+def with_header(path: str, text: str, source_name: str) -> str:
+    """``text`` with the generated-file header in the comment syntax of ``path`` (XML: after its declarations)."""
+    suffix = os.path.splitext(path)[1]
+    if suffix not in _COMMENTS:
+        raise ValueError(f"no comment syntax for {path}: add its suffix to shared._COMMENTS")
+    comment, end = _COMMENTS[suffix]
+    header = header_lines(comment, source_name, end=end)
+    if suffix != ".xml":
+        return header + text
+    lines = text.splitlines(keepends=True)
+    declarations = 0
+    while declarations < len(lines) and lines[declarations].startswith("<?"):
+        declarations += 1
+    return "".join(lines[:declarations]) + header + "".join(lines[declarations:])
+
+
+def source_version(name: str) -> str:
+    """The version in the runtime package's own package.xml (the one place it is written)."""
+    found = _VERSION.search((RUNTIMES / name / "package.xml").read_text(encoding="utf-8"))
+    if found is None:
+        raise ValueError(f"{RUNTIMES / name / 'package.xml'} has no <version>")
+    return found.group(1)
+
+
+def runtime_package(name: str) -> SharedPackage:
+    """The runtime package ``name`` as ``generate`` writes it: its files verbatim, each with a header."""
+    version = source_version(name)
+    source_name = f"{name} {version}"
+    return SharedPackage(name, version, tuple(GeneratedFile(f"{name}/{path}", with_header(path, text, source_name))
+                                              for path, text in source_files(name)))
+
+
 def runtime_py_package() -> SharedPackage:
     """``iface_runtime_py``: the rclpy components' runtime (ament_python)."""
-    from .rclpy.runtime_package import NAME, VERSION, runtime_files
-
-    return SharedPackage(NAME, VERSION, tuple(runtime_files(MAINTAINER, LICENSE)))
+    return runtime_package("iface_runtime_py")
 
 
 def runtime_cpp_package() -> SharedPackage:
-    """``iface_runtime_cpp``: the C++ node machinery (``iface.nodes.rclcpp.library``)."""
-    from .rclcpp.library import package
-
-    return package()
+    """``iface_runtime_cpp``: the rclcpp components' node machinery, one library they link (ament_cmake)."""
+    return runtime_package("iface_runtime_cpp")
 
 
 #: Every shared package, with the targets that write it.
@@ -137,7 +187,7 @@ PACKAGES: list[SharedEntry] = [
 ]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _made(name: str) -> SharedPackage:
     entry = next(e for e in PACKAGES if e.name == name)
     return entry.make()
@@ -195,5 +245,6 @@ def shared_files(target: str, out: str | None) -> tuple[list[GeneratedFile], lis
     return files, lines
 
 
-__all__ = ["PACKAGES", "Placement", "SharedEntry", "SharedPackage", "msgs_package", "packages_for", "place",
-           "runtime_py_package", "shared_files"]
+__all__ = ["PACKAGES", "RUNTIMES", "Placement", "SharedEntry", "SharedPackage", "msgs_package", "packages_for",
+           "place", "runtime_cpp_package", "runtime_package", "runtime_py_package", "shared_files", "source_files",
+           "source_version", "with_header"]

@@ -5,7 +5,7 @@
 - ``src/<interface package>/``: the ``ros2`` target's package, as the ``rclpy`` target does
   (``iface.nodes.nodepkg``);
 - ``src/iface_msgs/`` and ``src/iface_runtime_cpp/``, the shared packages (``iface.nodes.shared``;
-  the library from ``library``), once per output folder;
+  the library is the real package ``runtimes/iface_runtime_cpp``), once per output folder;
 - ``src/<component>/``: ``package.xml``, ``CMakeLists.txt`` (a component library registered with
   ``rclcpp_components_register_node``, and the executable), ``config/<node>.params.yaml``,
   ``launch/<node>.launch.py``, ``include/<component>/base.hpp`` (the generated lifecycle-node base
@@ -32,14 +32,13 @@ from ...emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ...emit.ros2 import render_package
 from ...emit.ros2.render import FILTERS as ROS2_FILTERS
 from ...emit.ros2.render import xml
-from ...emit.json import render as render_json
+from ...emit.json import generate as generate_json
 from ...semantics.compile import Compilation
 from .. import protocol
 from ..codes import diag
 from ..component import ComponentSpec
 from ..nodepkg import launch_text, prepare, protocol_refs, read_user_file, types_only
 from ..shared import shared_files
-from . import library
 from .render import CppPackage, build, cpp_comment, cpp_double, cpp_str
 from .usercode import check_user_source
 
@@ -47,13 +46,13 @@ TEMPLATES = Path(__file__).parent / "templates"
 FILTERS: dict[str, Callable[..., Any]] = {"cpp": cpp_str, "cstr": lambda s: cpp_str(s)[1:-1], "comment": cpp_comment,
                                           "cppdouble": cpp_double, "xml": xml}
 #: What every component package needs to build and run, beside the message packages it uses.
-RUNTIME_DEPENDS = (library.PACKAGE, "rclcpp", "rclcpp_action", "rclcpp_components", "rclcpp_lifecycle")
+RUNTIME_DEPENDS = ("iface_runtime_cpp", "rclcpp", "rclcpp_action", "rclcpp_components", "rclcpp_lifecycle")
 #: The user's file, relative to the component package.
 USER_FILE = "src/node.cpp"
 
 
 def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet, ros2: TemplateSet,
-                    interface_json: str) -> list[GeneratedFile]:
+                    interface: GeneratedFile) -> list[GeneratedFile]:
     """The component package."""
     root = v.pkg
     header = header_lines("//", spec.source_name).rstrip("\n")
@@ -62,7 +61,7 @@ def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet, 
     origin = (spec.ros.name_source, spec.ros.node_span)
     msg_depends = sorted(set(spec.depends))
     ctx: dict[str, Any] = {
-        "v": v, "header": header, "interface_json": interface_json,
+        "v": v, "header": header, "interface_file": interface.path,
         "depends": sorted(set(RUNTIME_DEPENDS) | set(msg_depends)),
         "cmake_depends": sorted(set(RUNTIME_DEPENDS) | set(msg_depends)), "msg_depends": msg_depends}
 
@@ -81,6 +80,7 @@ def component_files(spec: ComponentSpec, v: CppPackage, templates: TemplateSet, 
         GeneratedFile(f"{root}/src/base.cpp", render("base.cpp.j2"), origin),
         GeneratedFile(f"{root}/src/main.cpp", render("main.cpp.j2"), origin),
         GeneratedFile(f"{root}/{USER_FILE}", render("node.cpp.j2"), origin, once=True),
+        GeneratedFile(f"{root}/{interface.path}", interface.text, origin),
     ]
 
 
@@ -115,9 +115,8 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         if text is not None:
             result.diagnostics.extend(check_user_source(spec, path, text, strict=bool(options.get("check"))))
     shared, result.notes = shared_files("rclcpp", out if isinstance(out, str) else None)
-    interface_json = render_json(comp)
     result.files = sorted_files([*shared, *render_package(pkg, ros2),
-                                 *component_files(spec, v, templates, ros2, interface_json)])
+                                 *component_files(spec, v, templates, ros2, generate_json(comp, {}).files[0])])
     return result
 
 

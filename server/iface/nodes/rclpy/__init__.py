@@ -19,14 +19,13 @@ May import: what ``runtime`` may (``model``, ``syntax``, ``semantics``, ``text``
 from __future__ import annotations
 
 import dataclasses
-import json
 import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from ...emit.base import GeneratedFile, Result, Target, TemplateSet, header_lines, sorted_files
-from ...emit.json import render as render_json
+from ...emit.json import generate as generate_json
 from ...emit.ros2 import TEMPLATES as ROS2_TEMPLATES
 from ...emit.ros2 import render_package
 from ...emit.ros2.render import FILTERS as ROS2_FILTERS
@@ -46,13 +45,8 @@ RUNTIME_DEPENDS = ("iface_runtime_py", "rclpy")
 USER_MODULE = "node.py"
 
 
-def compact_json(comp: Compilation) -> str:
-    """The json target's form of ``comp`` on one line (the runtime's ``Describe`` indents it back)."""
-    return json.dumps(json.loads(render_json(comp)), ensure_ascii=False, separators=(",", ":"))
-
-
 def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateSet,
-                    interface_json: str) -> list[GeneratedFile]:
+                    interface: GeneratedFile) -> list[GeneratedFile]:
     """The component package."""
     v = build(spec)
     root = v.pkg
@@ -61,7 +55,7 @@ def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateS
     origin = (spec.ros.name_source, spec.ros.node_span)
     exec_depends = sorted(set(RUNTIME_DEPENDS) | set(spec.depends))
     ctx: dict[str, Any] = {"v": v, "header": header, "exec_depends": exec_depends,
-                           "interface_json": interface_json}
+                           "interface_file": interface.path}
 
     def render(name: str, **extra: Any) -> str:
         return templates.render(name, **{**ctx, **extra})
@@ -79,6 +73,7 @@ def component_files(spec: ComponentSpec, templates: TemplateSet, ros2: TemplateS
         GeneratedFile(f"{root}/{root}/__main__.py", render("main.py.j2"), origin),
         GeneratedFile(f"{root}/{root}/base.py", render("base.py.j2"), origin),
         GeneratedFile(f"{root}/{root}/{USER_MODULE}", render("node.py.j2"), origin, once=True),
+        GeneratedFile(f"{root}/{interface.path}", interface.text, origin),
     ]
     return files
 
@@ -105,7 +100,7 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
         if text is not None:
             result.diagnostics.extend(check_user_module(spec, path, text, strict=bool(options.get("check"))))
     shared, result.notes = shared_files("rclpy", out if isinstance(out, str) else None)
-    result.files = sorted_files([*shared, *render_package(pkg, ros2), *component_files(spec, templates, ros2, compact_json(comp))])
+    result.files = sorted_files([*shared, *render_package(pkg, ros2), *component_files(spec, templates, ros2, generate_json(comp, {}).files[0])])
     return result
 
 

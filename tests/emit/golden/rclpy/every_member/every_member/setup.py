@@ -11,7 +11,7 @@ setup(
     packages=[PACKAGE],
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
-        ("share/" + PACKAGE, ["package.xml"]),
+        ("share/" + PACKAGE, ["package.xml", 'every_member.json']),
         ("share/" + PACKAGE + "/config", ["config/every_member.params.yaml"]),
         ("share/" + PACKAGE + "/launch", ["launch/every_member.launch.py"]),
     ],

@@ -11,7 +11,7 @@ setup(
     packages=[PACKAGE],
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
-        ("share/" + PACKAGE, ["package.xml"]),
+        ("share/" + PACKAGE, ["package.xml", 'listing1.json']),
         ("share/" + PACKAGE + "/config", ["config/listing1.params.yaml"]),
         ("share/" + PACKAGE + "/launch", ["launch/listing1.launch.py"]),
     ],

@@ -11,7 +11,7 @@ setup(
     packages=[PACKAGE],
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
-        ("share/" + PACKAGE, ["package.xml"]),
+        ("share/" + PACKAGE, ["package.xml", 'robot_arm.json']),
         ("share/" + PACKAGE + "/config", ["config/robot_arm.params.yaml"]),
         ("share/" + PACKAGE + "/launch", ["launch/robot_arm.launch.py"]),
     ],
