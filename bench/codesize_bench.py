@@ -3,9 +3,12 @@
 Run: ``python bench/codesize_bench.py [--before DIR] [--build]`` — prints, for a thermostat-sized
 component (tests/runtime/data/thermostat.iface: 3 parameters, 3 state variables, a subscription, a
 publication, a service, an action, a diagnostics service) and examples/robot_arm.iface, the lines
-``generate`` writes per component package (rclpy and rclcpp; the user's file left out), and the
-lines of the shared packages written once per output folder. ``--before DIR`` runs the same with
-the iface of another checkout (e.g. ``/work/main``, before the runtime was shared) beside this one.
+``generate`` writes per component package (rclpy and rclcpp; the user's file and the interface's JSON
+file, data the package installs for ``~/describe``, left out: its lines are the ``json`` column), the
+lines of the shared packages written once per output folder, and how long ``generate`` takes in
+process (``cold``: the first call of a fresh process, compile and the targets' imports included;
+``warm``: a call after it; each the best of 3 processes, the warm one of 10 calls each). ``--before DIR`` runs the same with the iface of another checkout (e.g. ``/work/main``)
+beside this one.
 ``--build`` also times ``colcon build`` of each rclcpp component package on its own (the interface
 and shared packages built first, not timed), with the ROS 2 runtime of ``../shared/ros2-runtime``
 (``IFACE_ROS2_VENV``, default ``~/.cache/ros2-runtime``).
@@ -20,6 +23,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -38,9 +42,41 @@ def generate(checkout: Path, iface: Path, target: str, out: Path) -> None:
         raise SystemExit(f"generate failed ({checkout}, {iface.name}, {target}): {done.stderr[-400:]}")
 
 
-def lines(folder: Path) -> int:
-    """Lines of every file under ``folder`` but the user's."""
-    return sum(p.read_bytes().count(b"\n") for p in folder.rglob("*") if p.is_file() and p.name not in USER_FILES)
+def lines(folder: Path, skip: tuple[str, ...] = ()) -> int:
+    """Lines of every file under ``folder`` but the user's (and those named in ``skip``)."""
+    return sum(p.read_bytes().count(b"\n") for p in folder.rglob("*")
+               if p.is_file() and p.name not in USER_FILES and p.name not in skip)
+
+
+#: Run in a fresh process with a checkout's iface: the first generate (compile included), then the best of 10.
+_TIMING = """
+import sys, time
+from iface.emit import generate
+from iface.semantics.compile import Workspace
+path, target = sys.argv[1:3]
+start = time.perf_counter()
+generate(Workspace().compile_path(path), target)
+cold = time.perf_counter() - start
+comp = Workspace().compile_path(path)
+warm = []
+for _ in range(10):
+    start = time.perf_counter()
+    generate(comp, target)
+    warm.append(time.perf_counter() - start)
+print(cold * 1000, min(warm) * 1000)
+"""
+
+
+def generation_ms(checkout: Path, iface: Path, target: str, rounds: int = 3) -> tuple[float, float]:
+    """(cold, warm) milliseconds of ``generate`` with ``checkout``'s iface: the best of ``rounds`` fresh processes."""
+    env = dict(os.environ, PYTHONPATH=str(checkout / "server"))
+    runs = []
+    for _ in range(rounds):
+        done = subprocess.run([sys.executable, "-c", _TIMING, str(iface), target], env=env, capture_output=True,
+                              text=True, timeout=300, check=True)
+        cold, warm = done.stdout.split()
+        runs.append((float(cold), float(warm)))
+    return min(c for c, _ in runs), min(w for _, w in runs)
 
 
 def component_dir(out: Path, name: str) -> Path:
@@ -49,15 +85,31 @@ def component_dir(out: Path, name: str) -> Path:
         else out / f"{name}_node"
 
 
-def measure(checkout: Path, work: Path) -> dict[tuple[str, str], tuple[int, int, Path]]:
-    """(case, target) → (component lines, shared lines, output folder)."""
-    out: dict[tuple[str, str], tuple[int, int, Path]] = {}
+@dataclass
+class Figures:
+    """What one checkout generates for one case and target, and how fast."""
+
+    code: int
+    json: int
+    shared: int
+    cold_ms: float
+    warm_ms: float
+    folder: Path
+
+
+def measure(checkout: Path, work: Path) -> dict[tuple[str, str], Figures]:
+    """(case, target) → the figures."""
+    out: dict[tuple[str, str], Figures] = {}
     for case, iface in CASES.items():
         for target in ("rclpy", "rclcpp"):
             folder = work / f"{case}-{target}"
             generate(checkout, iface, target, folder)
             shared = sum(lines(folder / s) for s in SHARED if (folder / s).is_dir())
-            out[(case, target)] = (lines(component_dir(folder, case)), shared, folder)
+            package = component_dir(folder, case)
+            data = (f"{iface.stem}.json",)
+            code = lines(package, data)
+            out[(case, target)] = Figures(code, lines(package) - code, shared, *generation_ms(checkout, iface, target),
+                                          folder)
     return out
 
 
@@ -102,18 +154,18 @@ def main() -> int:
     runs = [("after", ROOT)] + ([("before", args.before.resolve())] if args.before else [])
     with tempfile.TemporaryDirectory(prefix="codesize-") as tmp:
         results = {label: measure(checkout, Path(tmp) / label) for label, checkout in runs}
-        print(f"{'component':<12} {'target':<7} " + " ".join(f"{label + ' lines':>13} {'shared':>7}"
-                                                             for label, _ in runs))
+        print(f"{'component':<12} {'target':<7} " + " ".join(
+            f"{label + ' lines':>13} {'json':>5} {'shared':>7} {'cold ms':>8} {'warm ms':>8}" for label, _ in runs))
         for case in CASES:
             for target in ("rclpy", "rclcpp"):
-                cells = " ".join(f"{results[label][(case, target)][0]:>13} {results[label][(case, target)][1]:>7}"
-                                 for label, _ in runs)
+                cells = " ".join(f"{f.code:>13} {f.json:>5} {f.shared:>7} {f.cold_ms:>8.1f} {f.warm_ms:>8.1f}"
+                                 for f in (results[label][(case, target)] for label, _ in runs))
                 print(f"{case:<12} {target:<7} {cells}")
         if args.build:
             for case in args.cases:
                 cells = []
                 for label, _ in runs:
-                    folder = results[label][(case, "rclcpp")][2]
+                    folder = results[label][(case, "rclcpp")].folder
                     seconds = build_time(folder, component_dir(folder, case).name, venv)
                     cells.append(f"{label} {seconds:.1f} s" if seconds is not None else f"{label} -")
                 print(f"build {case} (rclcpp, colcon --packages-select): {', '.join(cells)}")

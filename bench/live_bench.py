@@ -99,7 +99,7 @@ def main() -> int:
             found = 0
             for _ in range(args.repeat):
                 start = time.perf_counter()
-                found = len(verify(decls, read_live(graph, names)))
+                found = len(verify(decls, read_live(graph, decls)))
                 ten.append(time.perf_counter() - start)
         print(f"import one node (after discovery): best {min(one):.3f} s, median {statistics.median(one):.3f} s")
         print(f"verify {args.nodes} nodes (after discovery): best {min(ten):.3f} s, median "

@@ -79,14 +79,15 @@ def cli():
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under pytest-xdist (``--dist loadgroup``, as scripts/test.sh runs it), each module's tests run in one
     worker, so that its module-scoped fixtures (servers, builds) are made once, and every test that runs ROS 2
-    goes to one worker, because they share one colcon workspace built per session. That group is the longest,
-    so it is handed out first."""
+    goes to one worker per ROS 2 release, because they share one colcon workspace built per session and release.
+    Those groups are the longest, so they are handed out first."""
     # in a worker xdist turns "dist" into "no" and keeps "loadgroup"; the controller collects nothing
     if not getattr(config.option, "loadgroup", False):
         return
     ros = [item for item in items if "ros_venv" in getattr(item, "fixturenames", ())]
-    for item in ros:
-        item.add_marker(pytest.mark.xdist_group("ros"))
+    for item in ros:  # one group per ROS 2 release (tests/runtime/conftest.py): each builds its own workspace
+        release = getattr(item, "callspec", None) and item.callspec.params.get("ros_release")
+        item.add_marker(pytest.mark.xdist_group(f"ros-{release}" if release else "ros"))
     rest = [item for item in items if "ros_venv" not in getattr(item, "fixturenames", ())]
     for item in rest:
         item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))

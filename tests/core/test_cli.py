@@ -82,3 +82,23 @@ def test_cli_starts_without_site_hooks() -> None:
                                                  str(VALID / "mini_robot.iface")))
     r = subprocess.run([sys.executable, "-S", "-c", code], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
+
+
+def test_one_shot_commands_run_with_the_collector_paused_the_others_with_it_on(monkeypatch) -> None:
+    """Issue 33: `check` and the other commands that read files and end pause the cyclic collector for their run
+    (and give it back as it was: here, in process); those that run a ROS 2 node or live on keep it."""
+    import gc
+    import importlib
+
+    from iface import cli
+    from tests.conftest import run_main
+
+    assert cli.ONE_SHOT <= set(cli.COMMANDS)
+    assert not cli.ONE_SHOT & {"verify", "import", "handover", "manager", "system"}
+    seen: dict[str, bool] = {}
+    for name in ("check", "hash", "verify", "manager"):
+        module = importlib.import_module(cli.COMMANDS[name][0])
+        monkeypatch.setattr(module, "run", lambda args, name=name: seen.setdefault(name, gc.isenabled()) and 0)
+        run_main(name, str(VALID / "listing1.iface"))
+    assert seen == {"check": False, "hash": False, "verify": True, "manager": True}
+    assert gc.isenabled()

@@ -4,7 +4,8 @@ The layer order is written once, here, and drawn in docs/architecture.md:
 model → syntax → semantics → text → forms → emit → importers; compat beside them;
 nodes (generating node packages) above emit and compat; live (reading the graph) and operate (running a
 system) above nodes, operate above live; commands and lsp on top, neither importing the other.
-Generation never imports the code that reads or runs a live system.
+Generation never imports the code that reads or runs a live system. ``ros2_command`` (``ros2 iface``) is the only
+importer of ros2cli, and nothing imports it: the ``ros2`` command loads it through the entry points.
 """
 
 from __future__ import annotations
@@ -35,8 +36,11 @@ ALLOWED: dict[str, frozenset[str]] = {
                       "live", "operate"}),
 }
 #: Modules at the top of the package: the entry points, which may import every stage.
-TOP = frozenset({"__init__", "__main__", "cli"})
+TOP = frozenset({"__init__", "__main__", "cli", "ros2_command"})
 EDITOR_PROTOCOL = frozenset({"pygls", "lsprotocol"})
+#: ros2cli's packages: only where ROS 2 is sourced, so only the ``ros2 iface`` entry point imports them.
+ROS2CLI = frozenset({"ros2cli", "ros2node"})
+ROS2_ENTRY = "ros2_command"
 
 
 def _stage(path: Path, root: Path = PACKAGE) -> str:
@@ -115,6 +119,21 @@ def test_only_the_lsp_layer_imports_pygls() -> None:
         if {mod.split(".")[0] for _, mod in _imports(path)} & EDITOR_PROTOCOL:
             offenders.append(str(path.relative_to(PACKAGE)))
     assert offenders == []
+
+
+def test_only_the_ros2_entry_point_imports_ros2cli_and_nothing_imports_it() -> None:
+    """``ros2_command`` is loaded by ``ros2`` through its entry points alone: ros2cli is not there without ROS 2."""
+    importers, users = [], []
+    for path in _modules():
+        mods = {mod for _, mod in _imports(path)}
+        if path.stem != ROS2_ENTRY and {m.split(".")[0] for m in mods} & ROS2CLI:
+            importers.append(str(path.relative_to(PACKAGE)))
+        if any(m == f"iface.{ROS2_ENTRY}" or m.startswith(f"iface.{ROS2_ENTRY}.") for m in mods):
+            users.append(str(path.relative_to(PACKAGE)))
+    assert importers == [] and users == []
+    root = PACKAGE.parents[1]
+    entry_points = (root / "pyproject.toml").read_text(encoding="utf-8")
+    assert f'"iface.{ROS2_ENTRY}:IfaceCommand"' in entry_points
 
 
 def test_every_package_says_what_it_holds_and_may_import() -> None:

@@ -29,3 +29,9 @@ def test_wheel_contains_grammar_and_entry_points(tmp_path: Path) -> None:
             prefix = f"iface/nodes/runtimes/{runtime}/"
             shipped = {n[len(prefix):]: z.read(n).decode() for n in names if n.startswith(prefix)}
             assert shipped == dict(source_files(runtime)), runtime
+        # `ros2 iface` (issue 36): ros2cli finds the command, its verb group and the verbs by entry points
+        assert "[ros2cli.command]\niface = iface.ros2_command:IfaceCommand" in text
+        assert "[ros2cli.extension_point]\niface.verb = iface.ros2_command:VerbExtension" in text
+        verbs = text.split("[iface.verb]\n", 1)[1].split("\n\n", 1)[0].splitlines()
+        assert [v.split(" = ")[0] for v in verbs] == ["import", "replace", "snapshot", "status", "verify"]
+        assert "iface/ros2_command.py" in names

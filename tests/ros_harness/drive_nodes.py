@@ -23,6 +23,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 
+from iface.nodes import remap  # noqa: E402 - this checkout's (the environment puts its server/ first)
 from tests.ros_harness.probe import (Component, Probe, Protocol, Report, check, entry_point,  # noqa: E402
                                  incompatible)
 
@@ -289,10 +290,10 @@ def every_member(report: Report, logs: Path) -> None:
     probe = Probe()
     proto = Protocol(probe, "every_member_msgs")
     s = Component("every_member", logs, entry_point("every_member"))
-    peer_remaps = []
+    peer_remaps = []  # the action by its five parts too: Jazzy's rcl does not remap action names
     for name in ("/station/command", "/station/sample", "/station/events", "/station/work", "/station/travel",
                  "/station/limits/get_limit", "/station/limits/reset"):
-        peer_remaps += ["-r", f"{name}:={name.replace('/station/', '/peer/')}"]
+        peer_remaps += remap.arguments(name, name.replace("/station/", "/peer/"), action=name == "/station/travel")
     peer = Component("peer", logs, entry_point("every_member", "--activate"), tuple(peer_remaps))
     s2: Component | None = None
     names = ["gain", "retries", "priority", "enabled", "label", "start_mode", "offsets", "ids", "tags", "serial"]

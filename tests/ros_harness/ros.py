@@ -1,7 +1,10 @@
 """Finding the ROS 2 runtime, building generated packages with it, and its environment for processes.
 
-The runtime is the venv that ``../shared/ros2-runtime/setup.sh VENV`` makes: ``IFACE_ROS2_VENV``,
-else ``~/.cache/ros2-runtime`` when it exists. Without it the ROS tests skip, saying why.
+The runtime is the venv that ``../shared/ros2-runtime/setup.sh [--distro RELEASE] VENV`` makes, one per
+ROS 2 release (``RELEASES``): Kilted in ``IFACE_ROS2_VENV`` (else ``~/.cache/ros2-runtime``), Jazzy in
+``IFACE_ROS2_VENV_JAZZY`` (else ``~/.cache/ros2-runtime-jazzy``). ``IFACE_ROS_DISTRO`` (``kilted``,
+``jazzy`` or ``all``, the default) says which releases the tests run on. Without a release's venv its
+tests skip, saying why.
 Builds use ``ros2-runtime/build.sh`` (``IFACE_ROS2_SHARED``, else ``../shared`` beside the
 clone) and fall back to the venv's colcon with the same arguments.
 
@@ -31,20 +34,55 @@ ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "runtime" / "data"
 #: This folder: the drivers (``drive_*.py``) run with the ROS runtime's Python.
 HARNESS = Path(__file__).parent
-DEFAULT_VENV = Path.home() / ".cache" / "ros2-runtime"
-LOOPBACK = {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_LOCALHOST_ONLY": "1"}
+#: The ROS 2 releases the tests run on, the first one the default (the C++ runtime is built for it only).
+RELEASES = ("kilted", "jazzy")
+#: Where each release's venv is: the variable that names it, and the folder without it.
+VENV_VARIABLES = {"kilted": "IFACE_ROS2_VENV", "jazzy": "IFACE_ROS2_VENV_JAZZY"}
+DEFAULT_VENVS = {"kilted": Path.home() / ".cache" / "ros2-runtime",
+                 "jazzy": Path.home() / ".cache" / "ros2-runtime-jazzy"}
+DEFAULT_VENV = DEFAULT_VENVS["kilted"]
+#: The switch: which releases the tests run on.
+DISTRO_VARIABLE = "IFACE_ROS_DISTRO"
+LOOPBACK = {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST"}
 NOT_LOOPBACK = ("ROS_STATIC_PEERS", "ROS_DISCOVERY_SERVER", "FASTRTPS_DEFAULT_PROFILES_FILE",
                 "FASTDDS_DEFAULT_PROFILES_FILE", "ROS2_EASY_MODE")
 
 
-def runtime_venv() -> tuple[Path | None, str]:
-    """The runtime venv, or None and why it is not there."""
-    given = os.environ.get("IFACE_ROS2_VENV")
-    venv = Path(given) if given else DEFAULT_VENV
-    if not (venv / "ros2-env.sh").is_file():
-        where = f"IFACE_ROS2_VENV={given}" if given else f"{DEFAULT_VENV} (the default; set IFACE_ROS2_VENV)"
-        return None, (f"no ROS 2 runtime at {where}: install it with `bash ../shared/ros2-runtime/setup.sh VENV` "
-                      "(.ci/run does)")
+def selected_releases() -> list[str]:
+    """The releases ``IFACE_ROS_DISTRO`` names (``kilted``, ``jazzy``, ``all``; default all); ValueError for others."""
+    given = os.environ.get(DISTRO_VARIABLE, "").strip().lower()
+    if given in ("", "all"):
+        return list(RELEASES)
+    chosen = [r.strip() for r in given.split(",") if r.strip()]
+    unknown = [r for r in chosen if r not in RELEASES]
+    if unknown or not chosen:
+        raise ValueError(f"{DISTRO_VARIABLE}={given}: give {', '.join(RELEASES)} or all")
+    return [r for r in RELEASES if r in chosen]
+
+
+def release_of(venv: Path) -> str | None:
+    """The release a runtime venv holds (``ROS_DISTRO`` of its ros2-env.sh), None when it is no runtime."""
+    try:
+        text = (venv / "ros2-env.sh").read_text(encoding="utf-8")
+    except OSError:
+        return None
+    found = re.search(r"ROS_DISTRO=([a-z]+)", text)
+    return found.group(1) if found else None
+
+
+def runtime_venv(release: str = RELEASES[0]) -> tuple[Path | None, str]:
+    """The runtime venv of ``release``, or None and why it is not there."""
+    variable = VENV_VARIABLES[release]
+    given = os.environ.get(variable)
+    venv = Path(given) if given else DEFAULT_VENVS[release]
+    where = f"{variable}={given}" if given else f"{venv} (the default; set {variable})"
+    held = release_of(venv)
+    if held is None:
+        flag = "" if release == RELEASES[0] else f"--distro {release} "
+        return None, (f"no ROS 2 {release.capitalize()} runtime at {where}: install it with `bash "
+                      f"scripts/install-ros.sh` (or `bash ../shared/ros2-runtime/setup.sh {flag}VENV`; .ci/run does)")
+    if held != release:
+        return None, f"{where} holds ROS 2 {held}, not {release}"
     return venv, ""
 
 
@@ -95,6 +133,12 @@ def environment(venv: Path, workspace: Path | None = None, log_dir: Path | None 
                           env=base).stdout
     env = dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
     env.update(LOOPBACK)
+    if env.get("ROS_DISTRO") == "jazzy":
+        # Jazzy's rcl still reads it, and warns twice at every start (into each ros2 command's output too);
+        # ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST alone confines Fast DDS 2.14 (../shared/ros2-runtime, Jazzy)
+        env.pop("ROS_LOCALHOST_ONLY", None)
+    else:
+        env["ROS_LOCALHOST_ONLY"] = "1"  # Kilted's rcl ignores it; set for older tools
     # This checkout's iface first: a worktree's tests must not run another checkout's installed copy.
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "server"), env.get("PYTHONPATH", "")) if p)
     for key in NOT_LOOPBACK:
@@ -170,7 +214,8 @@ def reused_underlays(venv: Path, generated: Path, near: Path) -> tuple[list[Path
         pending.remove(name)
         folder, depends = packages[name]
         inner = sorted(d for d in depends if d in reusable)
-        key = hashlib.sha256((_digest(folder) + "".join(keys[d] for d in inner)).encode()).hexdigest()
+        # the venv too: the same files built against another release are another build
+        key = hashlib.sha256((str(venv) + _digest(folder) + "".join(keys[d] for d in inner)).encode()).hexdigest()
         keys[name] = key
         if key not in _reused:
             root = near.parent / f"iface-{name}-{key[:12]}"

@@ -1,7 +1,14 @@
-"""Fixtures of the runtime tests: the ROS 2 runtime and one workspace built per session."""
+"""Fixtures of the runtime tests: the ROS 2 runtime of each release and one workspace built per session and release.
+
+A module that sets ``PER_RELEASE = True`` runs once per release ``IFACE_ROS_DISTRO`` selects (default:
+every release, ``ros_harness.ros.RELEASES``), its test ids naming the release (``[jazzy-…]``); the
+other ROS modules (C++, the README's build) run on Kilted only. A release without its venv skips, saying
+why.
+"""
 
 from __future__ import annotations
 
+import os
 import shutil
 import sys
 from dataclasses import dataclass
@@ -11,7 +18,7 @@ import pytest
 
 from iface.nodes.shared import RUNTIMES
 
-from ..ros_harness.ros import DATA, ROOT, build, generate, runtime_venv
+from ..ros_harness.ros import DATA, DISTRO_VARIABLE, RELEASES, ROOT, build, generate, runtime_venv, selected_releases
 from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
 
 #: The Python runtime is a package of its own (iface/nodes/runtimes/iface_runtime_py): its tests import it as it is.
@@ -38,21 +45,39 @@ class Workspace:
     seconds: float
 
 
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """Every test that runs ROS 2 gets its release: each selected one in a PER_RELEASE module, else Kilted."""
+    if "ros_release" not in metafunc.fixturenames:
+        return
+    releases = selected_releases() if getattr(metafunc.module, "PER_RELEASE", False) else [RELEASES[0]]
+    metafunc.parametrize("ros_release", releases, indirect=True, scope="session", ids=releases)
+
+
 @pytest.fixture(scope="session")
-def ros_venv() -> Path:
-    venv, why = runtime_venv()
+def ros_release(request: pytest.FixtureRequest) -> str:
+    """The ROS 2 release of the test (``pytest_generate_tests``)."""
+    release = str(request.param)
+    if release not in selected_releases():
+        pytest.skip(f"runs on {release.capitalize()} only, and {DISTRO_VARIABLE}={os.environ.get(DISTRO_VARIABLE)}")
+    return release
+
+
+@pytest.fixture(scope="session")
+def ros_venv(ros_release: str) -> Path:
+    venv, why = runtime_venv(ros_release)
     if venv is None:
         pytest.skip(why)
     return venv
 
 
 @pytest.fixture(scope="session")
-def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
-    """Generate each component (then put the tests' user module in place and generate again), build once.
+def ros_workspace(ros_venv: Path, ros_release: str, tmp_path_factory: pytest.TempPathFactory) -> Workspace:
+    """Generate each component (then put the tests' user module in place and generate again), build once per
+    release.
 
-    The manager's test system (SYSTEM_COMPONENTS) is built here too: one colcon build for the session.
+    The manager's test system (SYSTEM_COMPONENTS) is built here too: one colcon build per session and release.
     """
-    root = tmp_path_factory.mktemp("ros2")
+    root = tmp_path_factory.mktemp(f"ros2-{ros_release}")
     gen = root / "gen"
     for package, (iface, user) in {**COMPONENTS, **LIVE_COMPONENTS, **SYSTEM_COMPONENTS}.items():
         first = generate(iface, gen)
@@ -65,5 +90,6 @@ def ros_workspace(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> W
     ws.mkdir()
     ok, tail, seconds = build(ros_venv, gen, ws)
     assert ok, f"the generated packages did not build:\n{tail}"
-    print(f"\nros2-runtime build of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: {seconds:.0f} s")
+    print(f"\nros2-runtime ({ros_release}) build of {', '.join([*COMPONENTS, *LIVE_COMPONENTS, *SYSTEM_COMPONENTS])}: "
+          f"{seconds:.0f} s")
     return Workspace(ros_venv, gen, ws, seconds)

@@ -21,6 +21,9 @@ from iface.operate.trust import keygen, sign
 
 from ..ros_harness.ros import DATA, HARNESS, ROOT, build, environment, generate, run_bounded
 
+#: Run once per ROS 2 release (tests/runtime/conftest.py).
+PER_RELEASE = True
+
 DRIVER = HARNESS / "drive_handover.py"
 STEPS = [
     "start: OLD active and counting, NEW started",

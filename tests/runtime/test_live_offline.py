@@ -297,3 +297,105 @@ def test_verify_waits_for_each_declared_endpoint_past_a_pause_in_discovery() -> 
     began = time.monotonic()
     assert graph.wait_for(["/live/listener"], expect={"/live/listener": {"/chatter"}}) == []
     assert time.monotonic() - began < 25, "a never-seen endpoint held the wait to the timeout"
+
+
+def test_every_node_with_another_type_on_a_declared_topic_service_or_action_is_found(tmp_path: Path) -> None:
+    """Issue 33: an undeclared node that publishes std_msgs/Int32 on /chatter, which the file publishes as
+    std_msgs/String, is named with both types at the declared line; so are subscribers, servers and clients."""
+    import json
+
+    from iface.live.report import render_json, render_sarif, render_text
+    from iface.live.verify import NamedPeer
+
+    d = declared_talker(tmp_path)
+    snap = talker()
+    quiet = Qos("best_effort", "volatile", "automatic")
+    peers = {
+        "/chatter": [Peer("/live/talker", "publishes", "std_msgs/msg/String", snap.topics[0].qos),
+                     Peer("/intruder", "publishes", "std_msgs/msg/Int32", quiet),
+                     Peer("/live/listener", "subscribes", "std_msgs/msg/String", quiet)],
+        "/numbers": [Peer("/live/talker", "subscribes", "std_msgs/msg/Int32", snap.topics[1].qos),
+                     Peer("/counter", "publishes", "std_msgs/msg/Int64", snap.topics[1].qos)],
+    }
+    named = {"/arm/move_to_pose": [NamedPeer("/arm", "provides", "std_srvs/srv/Trigger")],
+             "/follow": [NamedPeer("/boss", "calls", "other_msgs/action/Follow"),
+                         NamedPeer("/live/talker", "provides", "robot_arm_msgs/action/FollowTrajectory")]}
+    found = verify([d], LiveGraph(["/live/talker", "/intruder"], {"/live/talker": snap}, peers, named))
+    assert [(f.code, f.node) for f in found] == [("live-type-mismatch", n) for n in
+                                                  ("/intruder", "/counter", "/arm", "/boss")], found
+    lines = (tmp_path / "talker.iface").read_text().splitlines()
+    for f, name, want, got in zip(found, ("/chatter", "/numbers", "/arm/move_to_pose", "/follow"),
+                                  ("std_msgs/String", "std_msgs/Int32", "robot_arm_msgs/MoveToPose",
+                                   "robot_arm_msgs/FollowTrajectory"),
+                                  ("std_msgs/Int32", "std_msgs/Int64", "std_srvs/Trigger", "other_msgs/Follow"),
+                                  strict=True):
+        assert f.message == f"'{name}': declared {want}, {f.node} {_verb(f.node)} {got}", f.message
+        assert f"\"{name}\"" in lines[f.line - 1], (name, lines[f.line - 1])
+    text = render_text(found, str, 1).splitlines()
+    assert text[0] == (f"{found[0].path}:{found[0].line}:{found[0].column}: error[live-type-mismatch]: '/chatter': "
+                       "declared std_msgs/String, /intruder publishes std_msgs/Int32 [/intruder]")
+    assert text[-1] == "verify: 1 node: 4 errors, 0 warnings"
+    doc = json.loads(render_json(found, str, 1))
+    assert [(x["node"], x["line"]) for x in doc["findings"]] == [(f.node, f.line) for f in found]
+    sarif = json.loads(render_sarif(found, str, "0"))["runs"][0]["results"]
+    assert [r["locations"][0]["physicalLocation"]["region"]["startLine"] for r in sarif] == [f.line for f in found]
+    assert all("[/" in r["message"]["text"] for r in sarif)
+
+
+def _verb(node: str) -> str:
+    return {"/intruder": "publishes", "/counter": "publishes", "/arm": "serves", "/boss": "calls"}[node]
+
+
+def test_a_declared_topic_of_a_node_that_is_not_running_is_still_checked(tmp_path: Path) -> None:
+    ghost = declared(compiled(tmp_path / "ghost.iface", "component ghost\nexternal std_msgs\n"
+                                                        'publishes std_msgs.String on "/ghost"\n'))
+    peers = {"/ghost": [Peer("/other", "subscribes", "std_msgs/msg/Bool", DEFAULT)]}
+    found = verify([ghost], LiveGraph(["/other"], {}, peers))
+    assert [(f.code, f.node, f.line) for f in found] == [("live-node-missing", "/ghost", 1),
+                                                         ("live-type-mismatch", "/other", 3)]
+
+
+class _GraphOfPeers:
+    """What read_live asks of the graph, answered from data; it records what is read node by node."""
+
+    def __init__(self) -> None:
+        self.asked: list[tuple[str, set[str]]] = []
+
+    def wait_for(self, names: list[str], expect: dict[str, set[str]] | None = None, whole: bool = False) -> list[str]:
+        assert whole, "verify waits for the whole graph to settle: other nodes come after the declared ones"
+        return []
+
+    def node_names(self) -> list[str]:
+        return ["/live/talker", "/other"]
+
+    def read_nodes(self, names: list[str]) -> dict[str, NodeReading]:
+        return {"/live/talker": talker()}
+
+    def peers(self, topic: str) -> list[tuple[str, str, str, Qos]]:
+        return [("/other", "publishes", "std_msgs/msg/Int64", DEFAULT)] if topic == "/numbers" else []
+
+    def names_and_types(self, kind: str) -> dict[str, tuple[str, ...]]:
+        if kind == "service":
+            return {"/arm/move_to_pose": ("robot_arm_msgs/srv/MoveToPose", "std_srvs/srv/Trigger"),
+                    "/live/talker/add": ("diagnostic_msgs/srv/AddDiagnostics",)}
+        return {"/follow": ("robot_arm_msgs/action/FollowTrajectory",)}
+
+    def named_peers(self, kind: str, names: set[str]) -> dict[str, list[tuple[str, str, str]]]:
+        self.asked.append((kind, names))
+        if kind == "service" and names:
+            return {"/arm/move_to_pose": [("/other", "provides", "std_srvs/srv/Trigger"),
+                                          ("/live/talker", "calls", "robot_arm_msgs/srv/MoveToPose")]}
+        return {}
+
+
+def test_read_live_asks_node_by_node_only_for_a_name_the_graph_carries_with_another_type(tmp_path: Path) -> None:
+    from iface.live.verify import read_live
+
+    graph = _GraphOfPeers()
+    live = read_live(graph, [declared_talker(tmp_path)])  # type: ignore[arg-type]
+    assert graph.asked == [("service", {"/arm/move_to_pose"}), ("action", set())]
+    assert set(live.peers) >= {"/chatter", "/numbers"}
+    found = verify([declared_talker(tmp_path)], live)
+    assert sorted((f.node, f.message.split(",")[0]) for f in found) == [
+        ("/other", "'/arm/move_to_pose': declared robot_arm_msgs/MoveToPose"),
+        ("/other", "'/numbers': declared std_msgs/Int32")]

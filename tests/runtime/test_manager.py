@@ -25,6 +25,9 @@ from iface.operate.trust import keygen, sign
 
 from ..ros_harness.ros import HARNESS, ROOT, environment, run_bounded
 
+#: Run once per ROS 2 release (tests/runtime/conftest.py).
+PER_RELEASE = True
+
 DRIVER = HARNESS / "drive_manager.py"
 STEPS = [
     "up: every instance active in order, status with its hash (json, html)",

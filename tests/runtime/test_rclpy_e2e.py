@@ -16,6 +16,9 @@ import pytest
 from .conftest import Workspace
 from ..ros_harness.ros import HARNESS, environment, run_bounded
 
+#: Run once per ROS 2 release (tests/runtime/conftest.py).
+PER_RELEASE = True
+
 DRIVER = HARNESS / "drive_nodes.py"
 COMMON = [
     "start: entry point with the generated parameter file",

@@ -21,6 +21,9 @@ import pytest
 
 from ..ros_harness.ros import DATA, HARNESS, build, environment, generate, run_bounded
 
+#: Run once per ROS 2 release (tests/runtime/conftest.py).
+PER_RELEASE = True
+
 DRIVER = HARNESS / "drive_qos.py"
 S = 1_000_000_000
 INFINITE = 9223372036854775807  # the largest rmw duration: what an unset deadline, lifespan or lease reads as

@@ -1,15 +1,18 @@
 """Starting a generated node as a user does: the README's commands, and user code the interface no longer matches.
 
-The README's "From the interface to a running node" block is run as written (in a temporary folder that
-holds the examples; the runtime's ros2-env.sh where the block names the default one), then the node it
-starts is looked at with rclpy's graph calls: up, active, its parameters described, its services there.
-Loopback only, a random ROS_DOMAIN_ID, every wait bounded, every process stopped by its own handle.
+The README's "From the interface to a running node" blocks are run as written (in a temporary folder that
+holds the examples; the runtime's ros2-env.sh where the block names the default one): the first builds and
+starts the node with `ros2 run`, the second looks at it with `ros2 node info`, `ros2 lifecycle get` and
+`ros2 param describe`, each given `--no-daemon --spin-time 2` and asked again within a bound while it does
+not see the node yet (ros_harness/ros2cli.py). Loopback only, a random ROS_DOMAIN_ID, every wait bounded,
+every process stopped by its own handle.
 """
 
 from __future__ import annotations
 
 import os
 import re
+import shlex
 import shutil
 import signal
 import subprocess
@@ -17,45 +20,12 @@ import sys
 import textwrap
 from pathlib import Path
 
+from ..ros_harness.ros import DEFAULT_VENV, ROOT, environment, run_bounded, sourced
+from ..ros_harness.ros2cli import Launched, cmdline, iface_lsp_on_path, ros2
 from .conftest import Workspace
-from ..ros_harness.ros import DEFAULT_VENV, ROOT, environment, run_bounded
 
 SECTION = "## From the interface to a running node"
 DEFAULT_ENV = "~/.cache/ros2-runtime/ros2-env.sh"
-
-#: Looks at the running /robot_arm from another process, as `ros2 node info`, `ros2 lifecycle get` and
-#: `ros2 param describe` would (the PyPI runtime has no ros2 command); prints one line per finding.
-LOOK = textwrap.dedent("""
-    import time
-    import rclpy
-    from rclpy.node import Node
-    from lifecycle_msgs.srv import GetState
-    from rcl_interfaces.srv import DescribeParameters
-
-    def call(node, srv, name, request):
-        client = node.create_client(srv, name)
-        assert client.wait_for_service(timeout_sec=20), name
-        future = client.call_async(request)
-        rclpy.spin_until_future_complete(node, future, timeout_sec=20)
-        assert future.result() is not None, name
-        return future.result()
-
-    rclpy.init()
-    node = Node("readme_look")
-    end = time.monotonic() + 30
-    while time.monotonic() < end:
-        rclpy.spin_once(node, timeout_sec=0.2)
-        state = call(node, GetState, "/robot_arm/get_state", GetState.Request()).current_state.label
-        if state == "active":
-            break
-    print("state", state)
-    print("services", " ".join(sorted(n for n, _ in node.get_service_names_and_types_by_node("robot_arm", "/"))))
-    d = call(node, DescribeParameters, "/robot_arm/describe_parameters",
-             DescribeParameters.Request(names=["max_speed"])).descriptors[0]
-    ranges = [(r.from_value, r.to_value) for r in d.floating_point_range]
-    print("max_speed", repr(d.description), ranges)
-    print("publishers", " ".join(i.node_name for i in node.get_publishers_info_by_topic("/arm/joint_state")))
-""")
 
 #: Drives /robot_arm (started without --activate) through configure and activate, printing what exists when.
 LIFECYCLE = textwrap.dedent("""
@@ -112,63 +82,60 @@ LIFECYCLE = textwrap.dedent("""
 """)
 
 
-def readme_commands() -> list[str]:
-    """The shell lines of the README block, comments dropped."""
+def readme_blocks() -> list[list[str]]:
+    """The shell lines of each ```sh block of the README's section, comments dropped."""
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     assert SECTION in text, f"README.md has no '{SECTION}'"
-    block = re.search(r"```sh\n(.*?)```", text[text.index(SECTION):], re.S)
-    assert block is not None, "no ```sh block in the section"
-    return [line.split("  #", 1)[0].strip() for line in block.group(1).splitlines() if line.strip()]
+    section = text[text.index(SECTION):]
+    section = section[:section.find("\n#", len(SECTION))]
+    blocks = re.findall(r"```sh\n(.*?)```", section, re.DOTALL)
+    return [[line.split("  #", 1)[0].strip() for line in block.splitlines() if line.strip()] for block in blocks]
 
 
-def test_the_readme_commands_give_a_node_standard_calls_can_look_at(ros_venv: Path, tmp_path: Path) -> None:
-    lines = readme_commands()
+def test_the_readme_commands_start_a_node_the_ros2_command_shows(ros_venv: Path, tmp_path: Path) -> None:
+    blocks = readme_blocks()
+    assert len(blocks) == 2, blocks
+    lines, looks = blocks
     assert lines[0].startswith("source "), lines
     if ros_venv != DEFAULT_VENV:
         lines = [line.replace(DEFAULT_ENV, str(ros_venv / "ros2-env.sh")) for line in lines]
     *setup, start = lines
-    assert start.startswith("python3 -m robot_arm"), start
+    assert start == "ros2 run robot_arm robot_arm --activate", start
+    assert [shlex.split(line)[:3] for line in looks] == [["ros2", "node", "info"], ["ros2", "lifecycle", "get"],
+                                                         ["ros2", "param", "describe"]], looks
     work = tmp_path / "clone"
     work.mkdir()
     shutil.copytree(ROOT / "examples", work / "examples")
-    bin_dir = tmp_path / "bin"  # iface-lsp of this checkout, whatever is installed
-    bin_dir.mkdir()
-    wrapper = f'#!/bin/sh\nPYTHONPATH="{ROOT / "server"}" exec "{sys.executable}" -m iface "$@"\n'
-    (bin_dir / "iface-lsp").write_text(wrapper)
-    (bin_dir / "iface-lsp").chmod(0o755)
     env = environment(ros_venv, log_dir=tmp_path / "ros-log")
-    env["PATH"] = f"{bin_dir}{os.pathsep}{env['PATH']}"
+    # iface-lsp of this checkout, whatever is installed
+    env["PATH"] = iface_lsp_on_path(tmp_path / "bin", ROOT, sys.executable) + os.pathsep + env["PATH"]
     script = "set -e\n" + "\n".join(setup) + "\n"
     built = subprocess.run(["bash", "-c", script], cwd=work, env=env, capture_output=True, text=True, timeout=1200,
                            check=False)
     assert built.returncode == 0, f"{script}\n{built.stdout[-3000:]}\n{built.stderr[-3000:]}"
     assert (work / "src" / "robot_arm" / "robot_arm" / "node.py").is_file()
-    with open(tmp_path / "node.log", "w") as log:
-        sources = [line for line in setup if line.startswith("source ")]
-        node = subprocess.Popen(["bash", "-c", "\n".join([*sources, f"exec {start}"])], cwd=work, env=env,
-                                stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    sources = [line for line in setup if line.startswith("source ")]
+    node = Launched(["bash", "-c", "\n".join([*sources, f"exec {start}"])], env, tmp_path / "node.log", cwd=work)
     try:
-        look = tmp_path / "look.py"
-        look.write_text(LOOK)
-        code = run_bounded(["bash", "-c", " && ".join([f'cd "{work}"', *sources, f'exec python3 "{look}"'])], env,
-                           120, tmp_path / "look.log")
-        seen = (tmp_path / "look.log").read_text(errors="replace")
+        shell = sourced(env, [work / "ws"])  # "in another shell, with the same two source lines"
+        expected = {"info": ("/arm/joint_state: robot_arm_msgs/msg/JointState",
+                             "/robot_arm/save_state: iface_msgs/srv/SaveState",
+                             "/robot_arm/describe: iface_msgs/srv/Describe",
+                             "/arm/follow_trajectory: robot_arm_msgs/action/FollowTrajectory"),
+                    "get": ("active [3]",),
+                    "describe": ("Parameter name: max_speed", "Type: double", "Min value: 0.1", "Max value: 3.0")}
+        for line in looks:
+            argv = shlex.split(line)
+            wanted = expected[argv[2]]
+            answer = ros2(shell, *argv[1:], until=wanted[0], within=60)
+            assert answer.code == 0 and all(w in answer.out for w in wanted), f"{answer}\nnode:\n{node.log()[-2000:]}"
+        node.watch()
+        assert any("robot_arm" in " ".join(cmdline(pid)) for pid in node.seen), node.seen
+        code = node.interrupt(timeout=30)  # Ctrl-C: ros2 run passes it on to the node
+        left = node.left_running(within=10)
+        assert code == 0 and not left, (code, left, node.log()[-2000:])
     finally:
-        os.killpg(node.pid, signal.SIGINT)
-        try:
-            node.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            os.killpg(node.pid, signal.SIGKILL)
-            node.wait(timeout=20)
-    node_log = (tmp_path / "node.log").read_text(errors="replace")
-    assert code == 0, f"{seen[-3000:]}\nnode:\n{node_log[-2000:]}"
-    assert "state active" in seen, seen
-    services = next(line for line in seen.splitlines() if line.startswith("services ")).split()[1:]
-    for name in ("/robot_arm/save_state", "/robot_arm/restore_state", "/robot_arm/control", "/arm/move_to_pose"):
-        assert name in services, services
-    assert re.search(r"max_speed '.+' \[\(0\.1, 3\.0\)\]", seen), seen
-    assert "publishers robot_arm" in seen, seen
-    assert node.returncode == 0, node_log[-2000:]
+        node.stop()
 
 
 def test_user_code_the_regenerated_interface_no_longer_matches_refuses_to_start(ros_workspace: Workspace,

@@ -13,7 +13,7 @@ import pytest
 
 from iface.emit import generate, get_target
 from iface.emit.base import GeneratedFile
-from iface.nodes import protocol
+from iface.nodes import protocol, remap
 from iface.semantics.compile import Workspace
 from tests.emit.golden_util import check_component_golden
 from tests.emit.oracles import catkin_package, load_yaml, rosbags_parse, rosidl_parse
@@ -305,21 +305,8 @@ def _setup(text: str) -> tuple[list[str], list[tuple[str, list[str]]]]:
     return scripts, data
 
 
-class _Recorder:
-    """Stands for a launch class: remembers how it was constructed."""
-
-    made: list[tuple[str, tuple[object, ...], dict[str, object]]] = []
-
-    def __init__(self, *args: object, **kwargs: object) -> None:
-        self.args, self.kwargs = args, kwargs
-        _Recorder.made.append((type(self).__name__, args, kwargs))
-
-
 @pytest.mark.parametrize("case", sorted(CASES))
-def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wired_name(case: str,
-                                                                                      monkeypatch) -> None:
-    import types
-
+def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wired_name(case: str) -> None:
     files = {f.path: f.text for f in files_of(case)}
     component = component_of(files)
     launch_path = next(p for p in files if p.startswith(f"{component}/launch/"))
@@ -338,32 +325,23 @@ def test_the_launch_file_names_the_entry_point_the_parameter_file_and_every_wire
     assert pkg is not None
     spec, _ = describe(comp, pkg, run)
     wired = {m.name for m in spec.all_members() if not m.name.startswith("~")}
-    assert {name for name, _ in consts["REMAPPINGS"]} == wired  # type: ignore[union-attr]
+    assert {name for name, _, _ in consts["REMAPPINGS"]} == wired  # type: ignore[union-attr]
+    actions = {m.name for m in spec.all_members() if m.kind in ("action_server", "action_client")}
+    assert {name for name, _, action in consts["REMAPPINGS"] if action} == actions  # type: ignore[union-attr]
+    assert consts["ACTION_PARTS"] == remap.ACTION_PARTS
+    # what `ros2 launch` makes of it: tests/runtime/test_launch.py runs it
 
-    # run it against stand-ins of launch and launch_ros that record what it builds
-    fakes = {name: types.ModuleType(name) for name in ("launch", "launch.actions", "launch.substitutions",
-                                                      "launch_ros", "launch_ros.actions", "ament_index_python",
-                                                      "ament_index_python.packages")}
-    for cls in ("LaunchDescription",):
-        setattr(fakes["launch"], cls, type(cls, (_Recorder,), {}))
-    fakes["launch.actions"].DeclareLaunchArgument = type("DeclareLaunchArgument", (_Recorder,), {})  # type: ignore[attr-defined]
-    fakes["launch.substitutions"].LaunchConfiguration = type("LaunchConfiguration", (_Recorder,), {})  # type: ignore[attr-defined]
-    fakes["launch_ros.actions"].LifecycleNode = type("LifecycleNode", (_Recorder,), {})  # type: ignore[attr-defined]
-    fakes["ament_index_python.packages"].get_package_share_directory = lambda p: f"/opt/ros/share/{p}"  # type: ignore[attr-defined]
-    for name, module in fakes.items():
-        monkeypatch.setitem(sys.modules, name, module)
-    _Recorder.made = []
-    namespace: dict[str, object] = {}
-    exec(compile(launch, launch_path, "exec"), namespace)
-    description = namespace["generate_launch_description"]()  # type: ignore[operator]
-    node = next(kw for kind, _, kw in _Recorder.made if kind == "LifecycleNode")
-    assert node["package"] == component and node["executable"] == consts["EXECUTABLE"]
-    declared = {args[0]: kw["default_value"] for kind, args, kw in _Recorder.made if kind == "DeclareLaunchArgument"}
-    params = node["parameters"][0]  # type: ignore[index]
-    assert declared[params.args[0]] == f"/opt/ros/share/{component}/config/{consts['PARAMS_FILE']}"
-    remapped = {name: declared[config.args[0]] for name, config in node["remappings"]}  # type: ignore[union-attr]
-    assert remapped == {name: name for name in wired}
-    assert description.args[0][-1].kwargs is node  # type: ignore[attr-defined]
+
+def test_an_action_is_remapped_by_its_name_and_its_five_parts() -> None:
+    assert remap.rules("/a/t", "/b/t") == [("/a/t", "/b/t")]
+    assert remap.arguments("/station/travel", "/peer/travel", action=True) == [
+        "-r", "/station/travel:=/peer/travel",
+        "-r", "/station/travel/_action/send_goal:=/peer/travel/_action/send_goal",
+        "-r", "/station/travel/_action/cancel_goal:=/peer/travel/_action/cancel_goal",
+        "-r", "/station/travel/_action/get_result:=/peer/travel/_action/get_result",
+        "-r", "/station/travel/_action/feedback:=/peer/travel/_action/feedback",
+        "-r", "/station/travel/_action/status:=/peer/travel/_action/status",
+    ]
 
 
 # ---- QoS values ROS 2 has no setting for -------------------------------------------------------------

@@ -102,11 +102,12 @@ def check_suffix(path: str) -> None:
         raise UsageError(f"{path}: expected a .iface or .thrift file{hint}")
 
 
-def print_link_notes(report: WriteReport, out: str, command: str) -> None:
-    """Say on stderr which symbolic links were refused, and which ``--force`` replaced (never followed)."""
+def print_link_notes(report: WriteReport, out: str, prog: str) -> None:
+    """Say on stderr which symbolic links were refused, and which ``--force`` replaced (never followed); each line
+    starts with ``prog`` (``iface-lsp generate``)."""
     for rel in report.links:
-        print(f"iface-lsp {command}: {os.path.join(out, rel)} is a symbolic link; not followed and not replaced "
+        print(f"{prog}: {os.path.join(out, rel)} is a symbolic link; not followed and not replaced "
               "(--force replaces the link itself with the file)", file=sys.stderr)
     for rel, target in report.replaced_links.items():
-        print(f"iface-lsp {command}: {os.path.join(out, rel)} was a symbolic link to {target}; --force replaced "
+        print(f"{prog}: {os.path.join(out, rel)} was a symbolic link to {target}; --force replaced "
               "the link with the file and left its target untouched", file=sys.stderr)

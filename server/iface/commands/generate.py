@@ -143,7 +143,7 @@ def _report(report: WriteReport, args: argparse.Namespace) -> int:
         else:
             print(f"iface-lsp generate: {os.path.join(out, p)} was edited by hand since it was generated; "
                   "not overwritten (--force overwrites it)", file=sys.stderr)
-    print_link_notes(report, out, "generate")
+    print_link_notes(report, out, "iface-lsp generate")
     if not args.quiet and not args.dry_run:
         print(f"{len(report.written)} written, {len(report.unchanged)} unchanged"
               + (f", {len(report.kept)} kept (yours)" if report.kept else "")

@@ -20,18 +20,29 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "files (px4), JSON files (json), or running nodes (node: /name or /ns/name)")
     p.add_argument("--from", dest="source", required=True, metavar="FORMAT",
                    help="what to import: " + ", ".join(sorted([*importers(), "node"])))
-    p.add_argument("--out", metavar="DIR", help="the folder to write the .iface files to (node: default .)")
-    p.add_argument("--all", action="store_true", help="node: import every node on the graph")
-    p.add_argument("--all-endpoints", action="store_true",
-                   help="node: keep ROS 2's own endpoints and parameters (parameter services, /rosout, lifecycle's)")
-    p.add_argument("--system", metavar="NAME", help="node: also write the system file NAME.iface naming every node")
-    p.add_argument("--no-describe", action="store_true",
-                   help="node: read every node off the graph, also one that answers iface's Describe")
-    p.add_argument("--timeout", type=float, default=5.0, metavar="S",
-                   help="node: seconds to wait for discovery and for each answer (default 5)")
+    add_node_arguments(p, "node: ")
     p.add_argument("--deps", metavar="DIR",
                    help="ros2: a folder of ROS 2 packages; the packages the inputs use that are found there are "
                         "imported too, each into its own .iface, with includes between them")
+    add_output_arguments(p)
+
+
+def add_node_arguments(p: argparse.ArgumentParser, mark: str = "") -> list[argparse.Action]:
+    """The options of ``--from node`` (``mark`` starts their help: ``node: ``); the actions of --out and --timeout."""
+    out = p.add_argument("--out", metavar="DIR", help=f"the folder to write the .iface files to ({mark}default .)")
+    p.add_argument("--all", action="store_true", help=f"{mark}import every node on the graph")
+    p.add_argument("--all-endpoints", action="store_true",
+                   help=f"{mark}keep ROS 2's own endpoints and parameters (parameter services, /rosout, lifecycle's)")
+    p.add_argument("--system", metavar="NAME", help=f"{mark}also write the system file NAME.iface naming every node")
+    p.add_argument("--no-describe", action="store_true",
+                   help=f"{mark}read every node off the graph, also one that answers iface's Describe")
+    timeout = p.add_argument("--timeout", type=float, default=5.0, metavar="S",
+                             help=f"{mark}seconds to wait for discovery and for each answer (default 5)")
+    return [out, timeout]
+
+
+def add_output_arguments(p: argparse.ArgumentParser) -> None:
+    """--force and -q, which every source shares."""
     p.add_argument("--force", action="store_true", help="overwrite existing files whose content differs")
     p.add_argument("-q", "--quiet", action="store_true", help="print problems only, not the files written")
 
@@ -77,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
         if path not in report.links:
             print(f"iface-lsp import: {Path(args.out) / path}: exists with other content; not overwritten "
                   "(use --force)", file=sys.stderr)
-    print_link_notes(report, args.out, "import")
+    print_link_notes(report, args.out, "iface-lsp import")
     if not args.quiet:
         for path in report.written:
             print(f"wrote {Path(args.out) / path}")

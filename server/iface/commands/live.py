@@ -12,12 +12,12 @@ from ..importers.output import write_imported
 from .common import print_link_notes
 
 
-def ros_missing_line(command: str) -> str | None:
-    """The one line a command prints when ROS 2 is not sourced, or None when it is."""
+def ros_missing_line(prog: str) -> str | None:
+    """The one line a command (``prog``: ``iface-lsp verify``) prints when ROS 2 is not sourced, or None when it is."""
     from ..live.graph import ros_missing
 
     why = ros_missing()
-    return f"iface-lsp {command}: {why}" if why else None
+    return f"{prog}: {why}" if why else None
 
 
 def described_files(name: str, interface_json: str) -> list[GeneratedFile]:
@@ -50,16 +50,18 @@ def system_text(name: str, imported: list[tuple[str, str, str]]) -> str:
 
 
 def import_nodes(args: argparse.Namespace) -> int:
-    """``iface-lsp import --from node``: exit 0 all imported, 1 a node missing or a file refused, 2 usage/no ROS 2."""
-    missing_ros = ros_missing_line("import")
+    """``iface-lsp import --from node`` (``ros2 iface import``): exit 0 all imported, 1 a node missing or a file
+    refused, 2 usage/no ROS 2. Messages start with ``args.prog``."""
+    prog = args.prog
+    missing_ros = ros_missing_line(prog)
     if missing_ros:
         print(missing_ros, file=sys.stderr)
         return 2
     if not args.inputs and not args.all:
-        print("iface-lsp import: --from node needs NODE... or --all", file=sys.stderr)
+        print(f"{prog}: name the nodes to import (NODE...), or --all", file=sys.stderr)
         return 2
     if args.timeout <= 0:
-        print("iface-lsp import: --timeout must be more than 0 seconds", file=sys.stderr)
+        print(f"{prog}: --timeout must be more than 0 seconds", file=sys.stderr)
         return 2
     from ..live.graph import open_graph
     from ..live.to_iface import component_name, node_iface
@@ -73,7 +75,7 @@ def import_nodes(args: argparse.Namespace) -> int:
             names = sorted(set(names) | set(graph.wait_for_all()))
         absent = graph.wait_for(names)
         for name in absent:
-            print(f"iface-lsp import: {name}: no such node on the graph (waited {args.timeout:g} s)", file=sys.stderr)
+            print(f"{prog}: {name}: no such node on the graph (waited {args.timeout:g} s)", file=sys.stderr)
         snaps = graph.read_nodes([n for n in names if n not in absent], describe=not args.no_describe)
         for name, snap in snaps.items():
             if snap.describe_json:
@@ -91,7 +93,7 @@ def import_nodes(args: argparse.Namespace) -> int:
     seen: set[str] = set()
     for f in files:
         if f.path in seen:
-            print(f"iface-lsp import: two nodes would both be written to {f.path}; import them one at a time",
+            print(f"{prog}: two nodes would both be written to {f.path}; import them one at a time",
                   file=sys.stderr)
             return 2
         seen.add(f.path)
@@ -99,12 +101,12 @@ def import_nodes(args: argparse.Namespace) -> int:
         files.append(GeneratedFile(f"{args.system}.iface", system_text(args.system, instances)))
     report = write_imported(files, out, force=args.force)
     for line in report.errors:
-        print(f"iface-lsp import: {line}", file=sys.stderr)
+        print(f"{prog}: {line}", file=sys.stderr)
     for path in report.refused:
         if path not in report.links:
-            print(f"iface-lsp import: {Path(out) / path}: exists with other content; not overwritten (use --force)",
+            print(f"{prog}: {Path(out) / path}: exists with other content; not overwritten (use --force)",
                   file=sys.stderr)
-    print_link_notes(report, out, "import")
+    print_link_notes(report, out, prog)
     if not args.quiet:
         for path in report.written:
             print(f"wrote {Path(out) / path}")

@@ -25,33 +25,55 @@ from .common import display_path
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Declare the command's arguments."""
     sub = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-    status = sub.add_parser("status", help="the status of every instance")
-    status.add_argument("system", metavar="SYSTEM", help="the system file")
-    status.add_argument("--format", choices=("text", "json", "html"), default="text")
-    replace = sub.add_parser("replace", help="replace an instance by a new package and interface")
-    replace.add_argument("system", metavar="SYSTEM", help="the system file")
-    replace.add_argument("instance", metavar="INSTANCE", help="the instance to replace")
-    replace.add_argument("--new", required=True, metavar="NEW.iface", help="the interface of the replacement")
-    replace.add_argument("--package", required=True, type=Path, metavar="DIR",
-                         help="the replacement's install folder (ws/install/<package>)")
-    replace.add_argument("--timeout", type=float, default=10.0, metavar="S",
-                         help="how long each node may take to answer (default 10 s)")
-    snapshot = sub.add_parser("snapshot", help="save the state of the running instances now")
-    snapshot.add_argument("system", metavar="SYSTEM", help="the system file")
-    snapshot.add_argument("instance", metavar="INSTANCE", nargs="?", default="", help="only this instance")
-    for cmd in (status, replace, snapshot):
-        cmd.add_argument("--manager-timeout", type=float, default=10.0, metavar="S",
-                         help="how long to wait for the manager to answer (default 10 s)")
+    add_status_arguments(sub.add_parser("status", help="the status of every instance"))
+    add_replace_arguments(sub.add_parser("replace", help="replace an instance by a new package and interface"))
+    add_snapshot_arguments(sub.add_parser("snapshot", help="save the state of the running instances now"))
 
 
-def _fail(message: str) -> int:
-    print(f"iface-lsp system: {message}", file=sys.stderr)
-    return 2
+def add_status_arguments(p: argparse.ArgumentParser) -> dict[str, argparse.Action]:
+    """``status SYSTEM [--format text|json|html]``; the actions by name, for completers."""
+    found = {"system": p.add_argument("system", metavar="SYSTEM", help="the system file")}
+    p.add_argument("--format", choices=("text", "json", "html"), default="text")
+    found["manager_timeout"] = _manager_timeout(p)
+    return found
+
+
+def add_replace_arguments(p: argparse.ArgumentParser) -> dict[str, argparse.Action]:
+    """``replace SYSTEM INSTANCE --new NEW.iface --package DIR [--timeout S]``; the actions by name."""
+    found = {"system": p.add_argument("system", metavar="SYSTEM", help="the system file"),
+             "instance": p.add_argument("instance", metavar="INSTANCE", help="the instance to replace"),
+             "new": p.add_argument("--new", required=True, metavar="NEW.iface",
+                                   help="the interface of the replacement"),
+             "package": p.add_argument("--package", required=True, type=Path, metavar="DIR",
+                                       help="the replacement's install folder (ws/install/<package>)")}
+    p.add_argument("--timeout", type=float, default=10.0, metavar="S",
+                   help="how long each node may take to answer (default 10 s)")
+    found["manager_timeout"] = _manager_timeout(p)
+    return found
+
+
+def add_snapshot_arguments(p: argparse.ArgumentParser) -> dict[str, argparse.Action]:
+    """``snapshot SYSTEM [INSTANCE]``; the actions by name."""
+    found = {"system": p.add_argument("system", metavar="SYSTEM", help="the system file"),
+             "instance": p.add_argument("instance", metavar="INSTANCE", nargs="?", default="",
+                                        help="only this instance")}
+    found["manager_timeout"] = _manager_timeout(p)
+    return found
+
+
+def _manager_timeout(p: argparse.ArgumentParser) -> argparse.Action:
+    return p.add_argument("--manager-timeout", type=float, default=10.0, metavar="S",
+                          help="how long to wait for the manager to answer (default 10 s)")
 
 
 def run(args: argparse.Namespace) -> int:
-    """See the module's docstring for the exit codes."""
+    """See the module's docstring for the exit codes; messages start with ``args.prog`` (``iface-lsp system``,
+    ``ros2 iface status``)."""
     from ..nodes.system import SystemFileError, system_spec
+
+    def _fail(message: str) -> int:
+        print(f"{args.prog}: {message}", file=sys.stderr)
+        return 2
 
     if args.action == "replace":
         if args.timeout <= 0:

@@ -11,29 +11,31 @@ from .common import UsageError, check_suffix, compile_files, display_path, gathe
 from .live import ros_missing_line
 
 
-def add_arguments(p: argparse.ArgumentParser) -> None:
-    """Declare the command's arguments."""
-    p.add_argument("files", nargs="+", metavar="FILE_OR_SYSTEM",
-                   help="the .iface files of the running nodes (each names its node: ros2.node, else /<component>), "
-                        "or a system file (one node per instance)")
+def add_arguments(p: argparse.ArgumentParser) -> dict[str, argparse.Action]:
+    """Declare the command's arguments; their actions by name (``ros2 iface verify`` sets completers on them)."""
+    files = p.add_argument("files", nargs="+", metavar="FILE_OR_SYSTEM",
+                           help="the .iface files of the running nodes (each names its node: ros2.node, else "
+                                "/<component>), or a system file (one node per instance)")
     p.add_argument("--format", choices=("text", "json", "sarif"), default="text", help="output format")
-    p.add_argument("--timeout", type=float, default=5.0, metavar="S",
-                   help="seconds to wait for discovery and for each answer (default 5)")
-    p.add_argument("-I", "--include-path", action="append", default=[], metavar="DIR",
-                   help="a folder to search for included files")
+    timeout = p.add_argument("--timeout", type=float, default=5.0, metavar="S",
+                             help="seconds to wait for discovery and for each answer (default 5)")
+    include = p.add_argument("-I", "--include-path", action="append", default=[], metavar="DIR",
+                             help="a folder to search for included files")
+    return {"files": files, "timeout": timeout, "include_path": include}
 
 
 def run(args: argparse.Namespace) -> int:
-    """Exit 0 when every node conforms, 1 on findings (warnings included), 2 on usage, I/O or no ROS 2."""
+    """Exit 0 when every node conforms, 1 on findings (warnings included), 2 on usage, I/O or no ROS 2; messages
+    start with ``args.prog`` (``iface-lsp verify``, ``ros2 iface verify``)."""
     if args.timeout <= 0:
-        print("iface-lsp verify: --timeout must be more than 0 seconds", file=sys.stderr)
+        print(f"{args.prog}: --timeout must be more than 0 seconds", file=sys.stderr)
         return 2
     try:
         comps = _load(args.files, args.include_path)
     except UsageError as e:
-        print(f"iface-lsp verify: {e}", file=sys.stderr)
+        print(f"{args.prog}: {e}", file=sys.stderr)
         return 2
-    missing_ros = ros_missing_line("verify")
+    missing_ros = ros_missing_line(args.prog)
     if missing_ros:
         print(missing_ros, file=sys.stderr)
         return 2
@@ -43,9 +45,8 @@ def run(args: argparse.Namespace) -> int:
 
     decls = declared_all(comps)
     if not decls:
-        print("iface-lsp verify: no component or system in the given files (a node is declared by a `component` "
-              "or an `instance`)",
-              file=sys.stderr)
+        print(f"{args.prog}: no component or system in the given files (a node is declared by a `component` "
+              "or an `instance`)", file=sys.stderr)
         return 2
     with open_graph(args.timeout) as graph:
         live = read_live(graph, decls)

@@ -117,22 +117,6 @@ def px4_base(name: str) -> str | None:
     return BASE_TYPES[name].px4
 
 
-def idl_base(name: str) -> str | None:
-    """The OMG IDL (rosidl flavour) spelling of a base type, None if IDL has none."""
-    return BASE_TYPES[name].idl
-
-
-def json_schema_base(name: str, bound: int | None = None) -> dict[str, Any] | None:
-    """A fresh JSON Schema for a base type (``bound``: a bounded string's max length)."""
-    row = BASE_TYPES[name].json_schema
-    if row is None:
-        return None
-    schema = dict(row)
-    if bound is not None and name in ("string", "wstring"):
-        schema["maxLength"] = bound
-    return schema
-
-
 #: Targets whose bounded strings are 8-bit text only (``wstring<=N`` has no equivalent).
 _NARROW_TEXT = frozenset({"px4"})
 

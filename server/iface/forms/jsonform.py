@@ -20,7 +20,7 @@ from typing import Any
 
 from ..model import nodes as m
 from ..model.normalize import flat_order, normalize_action, normalize_service
-from ..model.source import Source, Span
+from ..model.source import Span
 
 #: The version of the JSON form; bumped when its meaning changes.
 FORMAT = "iface-json/1"
@@ -498,10 +498,3 @@ def from_json(doc: Any) -> str:
     from ..text.printer import print_items
 
     return print_items(items_from_json(doc))
-
-
-def interface_from_json(doc: Any, path: str = "<json>") -> m.Interface:
-    """An uncompiled Interface holding the items of a JSON form (compile its text to resolve it)."""
-    from ..semantics.compile import build_interface
-
-    return build_interface(Source(path, ""), items_from_json(doc))

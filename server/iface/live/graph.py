@@ -15,8 +15,16 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from .reading import (DESCRIBE_SERVICE, DESCRIBE_TYPE, LIFECYCLE_SERVICES, NamedEndpoint, NodeReading, Param, Qos,
-                       TopicEndpoint)
+from .reading import (
+    DESCRIBE_SERVICE,
+    DESCRIBE_TYPE,
+    LIFECYCLE_SERVICES,
+    NamedEndpoint,
+    NodeReading,
+    Param,
+    Qos,
+    TopicEndpoint,
+)
 
 QOS_OVERRIDES = "qos_overrides."
 _KINDS = {1: "bool", 2: "integer", 3: "double", 4: "string", 5: "byte_array", 6: "bool_array",
@@ -108,18 +116,27 @@ class Graph:
                     tuple(sorted((t, tuple(ty)) for t, ty in n.get_subscriber_names_and_types_by_node(name, ns))),
                     tuple(sorted((t, tuple(ty)) for t, ty in n.get_service_names_and_types_by_node(name, ns))),
                     tuple(sorted((t, tuple(ty)) for t, ty in n.get_client_names_and_types_by_node(name, ns))))
-        except Exception:  # the node left the graph between the two calls
+        except Exception:  # noqa: BLE001 - the node left the graph between the two calls
             return ()
 
+    def _whole(self) -> tuple[Any, ...]:
+        """Every node, topic and service on the graph with their types."""
+        n = self.node
+        return (tuple(self.node_names()), tuple(sorted((t, tuple(ty)) for t, ty in n.get_topic_names_and_types())),
+                tuple(sorted((s, tuple(ty)) for s, ty in n.get_service_names_and_types())))
+
     def wait_for(self, names: list[str], settle: float = 0.3, grace: float = GRACE_SEC,
-                 expect: dict[str, set[str]] | None = None) -> list[str]:
+                 expect: dict[str, set[str]] | None = None, whole: bool = False) -> list[str]:
         """Wait until every name is on the graph and what each has stops changing; the names missing at the end.
 
         A name still missing when others have come and the graph has not changed for ``grace`` seconds
         is taken as not running (so a missing node costs ``grace``, not the whole timeout). ``expect``
         names, per node, the topics and services it should have: while one of those is not seen, what
         the nodes have must stay the same for ``grace`` (not ``settle``) before it counts as absent,
-        since endpoints of a node are discovered one by one, with pauses under load.
+        since endpoints of a node are discovered one by one, with pauses under load. With ``whole``, the
+        whole graph's nodes, topics and services (and their types) must also have stopped changing, for as
+        long as the named nodes took to come (at least ``settle``, at most ``grace``): the other nodes on the
+        names a file declares are discovered on the same schedule, and a loaded machine delays them all.
         """
         start = time.monotonic()
         deadline = start + self.timeout
@@ -138,22 +155,26 @@ class Graph:
             time.sleep(0.05)
         if len(missing) == len(names):
             return missing
+        quiet = max(settle, min(time.monotonic() - start, grace)) if whole else settle
         names = [n for n in names if n not in missing]
         wanted = {n: (expect or {}).get(n, set()) for n in names}
 
         def complete(shape: tuple[Any, ...]) -> bool:
-            for n, parts in zip(names, shape, strict=True):
+            for n, parts in zip(names, shape[0], strict=True):
                 seen = {name for group in parts for name, _ in group}
                 if not wanted[n] <= seen:
                     return False
             return True
 
-        shape = tuple(self._shape(n) for n in names)
+        def read() -> tuple[Any, ...]:
+            return tuple(self._shape(n) for n in names), self._whole() if whole else ()
+
+        shape = read()
         stable_since = time.monotonic()
         while time.monotonic() < deadline and \
-                time.monotonic() - stable_since < (settle if complete(shape) else max(settle, grace)):
+                time.monotonic() - stable_since < (quiet if complete(shape) else max(quiet, grace)):
             time.sleep(0.05)
-            now = tuple(self._shape(n) for n in names)
+            now = read()
             if now != shape:
                 shape, stable_since = now, time.monotonic()
         return missing
@@ -250,6 +271,45 @@ class Graph:
                                                            _seconds(q.lifespan),
                                                            _seconds(q.liveliness_lease_duration))))
         return sorted(out, key=lambda x: (x[0], x[1]))
+
+    def names_and_types(self, kind: str) -> dict[str, tuple[str, ...]]:
+        """Every service (``kind`` ``service``) or action name on the graph with the types its servers and
+        clients have (one call: what the graph holds, no node asked)."""
+        if kind == "action":
+            from rclpy.action import graph as action_graph
+
+            listing = action_graph.get_action_names_and_types(self.node)
+        else:
+            listing = self.node.get_service_names_and_types()
+        return {name: tuple(types) for name, types in listing}
+
+    def named_peers(self, kind: str, names: set[str]) -> dict[str, list[tuple[str, str, str]]]:
+        """(node, role, type) of every server (``provides``) and client (``calls``) of the services or actions
+        ``names``, read node by node (hidden nodes left out); nothing is read when ``names`` is empty."""
+        out: dict[str, list[tuple[str, str, str]]] = {}
+        if not names:
+            return out
+        n = self.node
+        listings: tuple[tuple[str, Any], ...] = (("provides", n.get_service_names_and_types_by_node),
+                                                 ("calls", n.get_client_names_and_types_by_node))
+        if kind == "action":
+            from rclpy.action import graph as ag
+
+            listings = (("provides", lambda name, ns: ag.get_action_server_names_and_types_by_node(n, name, ns)),
+                        ("calls", lambda name, ns: ag.get_action_client_names_and_types_by_node(n, name, ns)))
+        for full in self.node_names():
+            ns, _, name = full.rpartition("/")
+            for role, listing in listings:
+                try:
+                    found = listing(name, ns or "/")
+                except Exception:  # noqa: BLE001 - the node left the graph meanwhile
+                    found = []
+                for sname, types in found:
+                    if sname in names:
+                        out.setdefault(sname, []).extend((full, role, t) for t in types)
+        for peers in out.values():
+            peers.sort()
+        return out
 
     def _calls(self, calls: list[tuple[Any, str, Any]]) -> list[Any]:
         """Call several services at once: each answer, or None when it did not come within the timeout."""

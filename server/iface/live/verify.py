@@ -2,8 +2,9 @@
 
 ``declared(comp)`` names the node a compiled interface stands for (``ros2.node = "/ns/name"`` on the
 component, else ``/<component>``); ``verify(nodes, live)`` compares each with what the graph told
-(``LiveGraph``) and returns ``Finding``s located at the declared line, naming the running node.
-Nothing here imports ROS: ``graph`` fills the ``LiveGraph``.
+(``LiveGraph``) and returns ``Finding``s located at the declared line, naming the running node; every
+other node that has a declared topic, service or action with another type is named too. Nothing here
+imports ROS: ``graph`` fills the ``LiveGraph``.
 """
 
 from __future__ import annotations
@@ -13,8 +14,8 @@ from typing import TYPE_CHECKING
 
 from ..compat import qos as qosrules
 from ..compat.canon import interface_hash
-from ..compat.side import Side
 from ..compat.parts import endpoint_type
+from ..compat.side import Side
 from ..model import nodes as m
 from ..model.source import Source, Span
 from ..semantics.compile import Compilation
@@ -31,9 +32,11 @@ CODES: dict[str, tuple[str, str]] = {
     "live-node-missing": ("error", "A declared node is not running."),
     "live-endpoint-missing": ("error", "A declared topic, service or action the running node does not have."),
     "live-endpoint-undeclared": ("warning", "A topic, service or action of the running node its file does not declare."),
-    "live-type-mismatch": ("error", "A declared endpoint the running node has with another type (both named)."),
-    "live-qos-incompatible": ("error", "A publisher and a subscriber on one topic whose QoS cannot match: "
-                              "reliability, durability, deadline or liveliness (ROS 2 then delivers nothing)."),
+    "live-type-mismatch": ("error", ("A declared topic, service or action that a node, declared or not, has with "
+                                     "another type (both named).")),
+    "live-qos-incompatible": ("error", ("A publisher and a subscriber on one topic whose QoS cannot match: "
+                                        "reliability, durability, deadline or liveliness (ROS 2 then delivers "
+                                        "nothing).")),
     "live-param-missing": ("error", "A declared parameter the running node does not have."),
     "live-param-type": ("error", "A parameter the running node holds with another type than declared."),
     "live-param-out-of-range": ("error", "A parameter whose running value is outside its declared range."),
@@ -70,13 +73,25 @@ class Peer:
     qos: Qos
 
 
+@dataclass(frozen=True, slots=True)
+class NamedPeer:
+    """A server (``provides``) or client (``calls``) of a service or action, of any node on the graph."""
+
+    node: str
+    role: str
+    type: str
+
+
 @dataclass(slots=True)
 class LiveGraph:
-    """What the graph told: the running node names, readings of the declared ones, every endpoint of their topics."""
+    """What the graph told: the running node names, readings of the declared ones, every publisher and
+    subscription of their topics and of the declared ones, and every server and client of each declared
+    service and action name the graph carries with another type than declared."""
 
     names: list[str] = field(default_factory=list)
     nodes: dict[str, NodeReading] = field(default_factory=dict)
     peers: dict[str, list[Peer]] = field(default_factory=dict)
+    named: dict[str, list[NamedPeer]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, slots=True)
@@ -185,6 +200,9 @@ def param_kind(f: m.Field) -> str | None:
     return None
 
 
+_DOES = {"publishes": "publishes", "subscribes": "subscribes", "provides": "serves", "calls": "calls"}
+
+
 class _Checker:
     def __init__(self, d: Declared, snap: NodeReading) -> None:
         self.d = d
@@ -193,13 +211,13 @@ class _Checker:
         self.iface = d.comp.interface
         self.out: list[Finding] = []
 
-    def at(self, code: str, message: str, span: Span | None) -> None:
+    def at(self, code: str, message: str, span: Span | None, node: str = "") -> None:
         line = col = eline = ecol = 0
         if span is not None:
             line, col = self.source.position(span.start)
             eline, ecol = self.source.position(span.end)
             line, col, eline, ecol = line + 1, col + 1, eline + 1, ecol + 1
-        self.out.append(Finding(code, message, self.d.node, self.source.path, line, col, eline, ecol))
+        self.out.append(Finding(code, message, node or self.d.node, self.source.path, line, col, eline, ecol))
 
     def anchor(self) -> Span | None:
         decl = self.iface.component
@@ -237,6 +255,22 @@ class _Checker:
             if key not in seen_named and e in own_endpoints(self.snap):
                 self.at("live-endpoint-undeclared", f"{self.d.node} {e.role} {e.kind} {ros_identity(e.type)} on "
                         f"'{e.name}', which its file does not declare", self.anchor())
+
+    def others(self, live: LiveGraph) -> None:
+        """Every other node on a declared topic, service or action with another type, at the declared line."""
+        side = Side(self.d.comp)
+        for ep in [*self.iface.subscribed, *self.iface.published, *self.iface.services, *self.iface.actions,
+                   *self.iface.diagnostics_endpoints]:
+            name = resolve_name(self.d.node, ep.name)
+            want = endpoint_type(side, ep)
+            span = ep.wiring.span if ep.wiring is not None else ep.span
+            peers: list[Peer] | list[NamedPeer] = live.peers.get(name, []) if ep.role in ("publishes", "subscribes") \
+                else live.named.get(name, [])
+            for p in peers:
+                got = ros_identity(p.type)
+                if p.node != self.d.node and got != want:
+                    self.at("live-type-mismatch", f"'{name}': declared {want}, {p.node} {_DOES[p.role]} {got}", span,
+                            p.node)
 
     def parameters(self) -> None:
         running = {p.name: p for p in own_params(self.snap, everything=True)}
@@ -305,7 +339,7 @@ def _qos_pairs(decls: list[Declared], live: LiveGraph) -> list[Finding]:
 
 
 def verify(decls: list[Declared], live: LiveGraph) -> list[Finding]:
-    """Every finding of the declared nodes against the graph, in file and line order."""
+    """Every finding of the declared nodes against the graph, each once, in file and line order."""
     out: list[Finding] = []
     for d in decls:
         snap = live.nodes.get(d.node)
@@ -315,15 +349,16 @@ def verify(decls: list[Declared], live: LiveGraph) -> list[Finding]:
                 c.source = d.instance[0]
             c.at("live-node-missing", f"{d.node} is not running (declared by component {d.comp.interface.name})",
                  d.instance[1] if d.instance is not None else c.anchor())
-            out.extend(c.out)
-            continue
-        c = _Checker(d, snap)
-        c.endpoints()
-        c.parameters()
-        c.describe()
+            c.source = d.comp.source
+        else:
+            c = _Checker(d, snap)
+            c.endpoints()
+            c.parameters()
+            c.describe()
+        c.others(live)
         out.extend(c.out)
     out.extend(_qos_pairs(decls, live))
-    return sorted(out, key=lambda f: (f.path, f.line, f.column, f.code, f.message))
+    return sorted(set(out), key=lambda f: (f.path, f.line, f.column, f.code, f.message, f.node))
 
 
 def expected_names(d: Declared) -> set[str]:
@@ -337,17 +372,41 @@ def expected_names(d: Declared) -> set[str]:
     return names
 
 
+def declared_names(decls: list[Declared]) -> tuple[set[str], dict[str, dict[str, set[str]]]]:
+    """The topics the files declare, and per kind (``service``, ``action``) each declared name with its types."""
+    topics: set[str] = set()
+    named: dict[str, dict[str, set[str]]] = {"service": {}, "action": {}}
+    for d in decls:
+        side = Side(d.comp)
+        iface = d.comp.interface
+        topics.update(resolve_name(d.node, ep.name) for ep in [*iface.subscribed, *iface.published])
+        for ep in [*iface.services, *iface.diagnostics_endpoints]:
+            named["service"].setdefault(resolve_name(d.node, ep.name), set()).add(endpoint_type(side, ep))
+        for ep in iface.actions:
+            named["action"].setdefault(resolve_name(d.node, ep.name), set()).add(endpoint_type(side, ep))
+    return topics, named
+
+
 def read_live(graph: Graph, decls: list[Declared]) -> LiveGraph:
-    """Read the nodes of ``decls`` and the peers on their topics off ``graph``."""
+    """Read the nodes of ``decls``, the publishers and subscriptions of their topics and of the declared ones,
+    and the servers and clients of every declared service or action the graph carries with another type."""
     live = LiveGraph()
     nodes = sorted({d.node for d in decls})
     expect: dict[str, set[str]] = {}
     for d in decls:
         expect.setdefault(d.node, set()).update(expected_names(d))
-    graph.wait_for(nodes, expect=expect)
+    graph.wait_for(nodes, expect=expect, whole=True)
     live.names = graph.node_names()
     live.nodes = graph.read_nodes([n for n in nodes if n in live.names])
-    topics = sorted({t.topic for s in live.nodes.values() for t in own_topics(s)})
+    declared_topics, named = declared_names(decls)
+    topics = sorted(declared_topics | {t.topic for s in live.nodes.values() for t in own_topics(s)})
     for topic in topics:
         live.peers[topic] = [Peer(n, r, t, q) for n, r, t, q in graph.peers(topic)]
+    for kind, wanted in named.items():
+        # the graph's own list of names and types (servers' and clients') first: only a name it carries with a
+        # type no file declares for it is looked for node by node
+        carried = graph.names_and_types(kind)
+        odd = {name for name, types in wanted.items() if len({ros_identity(t) for t in carried.get(name, ())} | types) > 1}
+        for name, peers in graph.named_peers(kind, odd).items():
+            live.named[name] = [NamedPeer(n, r, t) for n, r, t in peers]
     return live

@@ -14,6 +14,7 @@
   instances in start order, each with its package, executable, node, restart policy, snapshot
   period and interface hash).
 - ``launch``: the ``launch`` generation target (one ROS 2 launch file for a system file).
+- ``remap``: remapping rules that hold on every ROS 2 release (an action's by its five ``_action/`` names).
 
 Nothing here reads or runs a live system (that is ``live`` and ``operate``).
 

@@ -189,18 +189,11 @@ class ComponentSpec:
     state_type: RosRef | None = None
     diagnostics_rate: float = protocol.DEFAULT_DIAGNOSTICS_RATE
     depends: list[str] = field(default_factory=list)
-    #: Where the protocol services' types are: ``iface_msgs``, or "" for the component's own interface package.
-    protocol_package: str = ""
 
     @property
     def interface_package(self) -> str:
         """The ROS interface package (``robot_arm_msgs``)."""
         return self.ros.name
-
-    @property
-    def protocol_home(self) -> str:
-        """The package of the protocol services' types the node uses."""
-        return self.protocol_package or self.interface_package
 
     def all_members(self) -> list[Member]:
         """Members then Δ services."""
@@ -218,7 +211,7 @@ class ComponentSpec:
         """Every interface type the node uses, once, sorted (``with_protocol``: the protocol services' too)."""
         refs = {x.type for x in self.all_members()}
         if with_protocol:
-            refs.update(RosRef(self.protocol_home, "srv", s.type_name) for s in protocol.COMPONENT_SERVICES)
+            refs.update(RosRef(protocol.PACKAGE, "srv", s.type_name) for s in protocol.COMPONENT_SERVICES)
         if self.state_type is not None:
             refs.add(self.state_type)
         return sorted(refs, key=lambda r: (r.package, r.kind, r.name))
@@ -454,14 +447,6 @@ class _Builder:
         out = [StateVar(f.name, schema_type(f.type, self.pkg.name)) for f in ri.sections[0].fields]
         return out, RosRef(self.pkg.name, "msg", name)
 
-    def clashes(self) -> None:
-        taken = {ri.name: ri for ri in self.pkg.interfaces if ri.kind == "srv"}
-        for s in protocol.COMPONENT_SERVICES:
-            ri = taken.get(s.type_name)
-            if ri is not None:
-                self.diags.append(diag("runtime-name-clash", f"'{s.type_name}' is the name of a service every "
-                                       f"component node serves ({s.served_as}); rename this one", ri.source, ri.span))
-
 
 _INT_TYPES = frozenset({"byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64"})
 _ROS_INT_RANGES = {"byte": (0, 255), "char": (0, 255), "int8": m.INT_RANGES["i8"], "uint8": m.INT_RANGES["u8"],
@@ -527,21 +512,14 @@ def component_package_name(node: str, interface_package: str) -> str:
     return node if node != interface_package else f"{node}_node"
 
 
-def describe(comp: Compilation, pkg: RosPackage, run: DefinitionLowering,
-             protocol_package: str = "") -> tuple[ComponentSpec, list[Diagnostic]]:
-    """The node description of a compilation whose ROS 2 package lowered without errors.
-
-    ``protocol_package``: where the protocol services' types are (``iface_msgs``); "" for the
-    component's own interface package, whose definitions may then not take their names.
-    """
+def describe(comp: Compilation, pkg: RosPackage, run: DefinitionLowering) -> tuple[ComponentSpec, list[Diagnostic]]:
+    """The node description of a compilation whose ROS 2 package lowered without errors."""
     b = _Builder(comp, pkg, run)
     iface = comp.interface
     members = b.members()
     deltas = b.diagnostics()
     b.name_members(members + deltas)
     state, state_type = b.state()
-    if not protocol_package:
-        b.clashes()
     comp_decl = iface.component
     spec = ComponentSpec(
         component=iface.name, version=pkg.version, interface_hash=interface_hash(comp),
@@ -550,7 +528,7 @@ def describe(comp: Compilation, pkg: RosPackage, run: DefinitionLowering,
         ros=pkg, package=component_package_name(pkg.node, pkg.name), node=pkg.node,
         class_name=ros_type_name(iface.name) or "Component",
         members=members, diagnostics=deltas, params=b.params(), state=state, state_type=state_type,
-        diagnostics_rate=b.rate(), protocol_package=protocol_package)
+        diagnostics_rate=b.rate())
     deps = {r.package for r in spec.types()}
     if spec.of_kind("action_server") or spec.of_kind("action_client"):
         deps.add("action_msgs")

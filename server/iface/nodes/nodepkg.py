@@ -1,8 +1,8 @@
-"""What every node target shares: the interface package with the protocol services, and the description.
+"""The first step of both node targets: the interface package and the node's description; the launch file.
 
-The rclpy and rclcpp targets both write the ``ros2`` target's interface package plus the
-protocol services (``iface.nodes.protocol``), and a component package read from one
-``ComponentSpec``; this module does the first step for both.
+The rclpy and rclcpp targets both write the ``ros2`` target's interface package (the protocol's
+types are the shared ``iface_msgs``) and a component package read from one ``ComponentSpec``
+(``iface.nodes.pipeline`` runs the steps).
 """
 
 from __future__ import annotations
@@ -10,61 +10,31 @@ from __future__ import annotations
 import os
 from pathlib import Path
 from typing import Any
+
 from ..emit.base import Result, TemplateSet
 from ..emit.ros2.filenames import check_rosidl_names
 from ..emit.ros2.lower import lower_run
-from ..emit.ros2.package import RosConst, RosField, RosInterface, RosPackage, RosSection, RosType
+from ..emit.ros2.package import RosPackage
 from ..emit.ros2.render import check_msg_values
-from ..emit.support import component_span
 from ..semantics.compile import Compilation
-from . import protocol
 from .codes import diag
-from .component import ComponentSpec, RosRef, describe
+from .component import ComponentSpec, describe
 from .keywords import node_keywords
 from .qosmap import check_downgrades
 from .template_data import NodeView
 
 
-def _ros_type(text: str) -> RosType:
-    if text.endswith("[]"):
-        return RosType(primitive=text[:-2], array="unbounded")
-    return RosType(primitive=text)
-
-
-def add_protocol(pkg: RosPackage, comp: Compilation) -> None:
-    """Put the protocol services into the interface package."""
-    src = comp.interface.source
-    span = component_span(comp.interface)
-    for s in protocol.COMPONENT_SERVICES:
-        def section(name: str, fields: tuple[protocol.SrvField, ...],
-                    consts: tuple[protocol.SrvConst, ...] = ()) -> RosSection:
-            return RosSection(name, [RosField(f.name, _ros_type(f.type), None, [f.comment] if f.comment else [],
-                                              src, span) for f in fields],
-                              [RosConst(c.name, c.type, c.value, [c.comment] if c.comment else [], src, span)
-                               for c in consts])
-        pkg.interfaces.append(RosInterface("srv", s.type_name, [section("request", s.request, s.consts),
-                                                                section("response", s.response)],
-                                           list(s.doc), src, span))
-
-
-def protocol_refs(spec: ComponentSpec) -> list[RosRef]:
-    """SaveState, RestoreState and ComponentControl where the node finds them (``spec.protocol_home``)."""
-    return [RosRef(spec.protocol_home, "srv", s.type_name) for s in protocol.COMPONENT_SERVICES]
-
-
-def prepare(comp: Compilation, language: str,
-            shared_protocol: bool = False) -> tuple[Result, RosPackage | None, ComponentSpec | None]:
+def prepare(comp: Compilation, language: str) -> tuple[Result, RosPackage | None, ComponentSpec | None]:
     """The interface package and the node description; None and the findings on errors.
 
-    ``language`` (``python`` or ``c++``) is the node's: it decides which keywords are refused.
-    ``shared_protocol``: the node speaks the protocol through ``iface_msgs`` (written beside it by
-    ``iface.nodes.shared``); otherwise its own interface package gets the protocol services.
+    ``language`` (``python`` or ``c++``) is the node's: it decides which keywords are refused. The node
+    speaks the protocol through ``iface_msgs`` (written beside it by ``iface.nodes.shared``).
     """
     pkg, diagnostics, run = lower_run(comp, check_msg_values, node_keywords(language), check_rosidl_names)
     result = Result(diagnostics=diagnostics)
     if pkg is None or result.has_errors:
         return result, None, None
-    spec, found = describe(comp, pkg, run, protocol.PACKAGE if shared_protocol else "")
+    spec, found = describe(comp, pkg, run)
     result.diagnostics.extend(found)
     result.diagnostics.extend(check_downgrades(spec))
     if result.has_errors:
@@ -75,9 +45,6 @@ def prepare(comp: Compilation, language: str,
             f"diagnostics: an interface package, so only {pkg.name}/ is written (no component package; wire a "
             "topic, service or action, or add parameters, for a node)", comp.interface.source,
             spec.ros.node_span))
-        return result, pkg, spec
-    if not shared_protocol:
-        add_protocol(pkg, comp)
     return result, pkg, spec
 
 
@@ -108,4 +75,4 @@ def launch_text(view: NodeView[Any], header: str, start_command: str, override: 
     return templates.render("launch.py.j2", **context)
 
 
-__all__ = ["add_protocol", "launch_text", "prepare", "protocol_refs", "read_user_file", "types_only"]
+__all__ = ["launch_text", "prepare", "read_user_file", "types_only"]

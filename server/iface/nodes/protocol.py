@@ -224,5 +224,5 @@ SERVICES: tuple[ProtocolService, ...] = (
                   "due, the switch came between transactions)"))),
 )
 SERVICE_TYPES = tuple(s.type_name for s in SERVICES)
-#: The services a component's own interface package held before iface_msgs (still written there for now).
+#: The services every component node serves whose types its generated code names (beside ``Describe``).
 COMPONENT_SERVICES = tuple(s for s in SERVICES if s.type_name in ("SaveState", "RestoreState", "ComponentControl"))

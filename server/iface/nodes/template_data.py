@@ -6,7 +6,21 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Generic, Protocol, TypeVar
 
-from .component import ComponentSpec, Member, RosRef
+from ..emit.text import one_line
+from .component import ComponentSpec, Member, ParamSpec, RosRef
+from .remap import ACTION_PARTS
+
+
+@dataclass
+class MemberView:
+    """A member as a node target's templates write it: its type's local name, its QoS and doc lines as the
+    language writes them, and what it is (``subscribes M on /x``), made safe for the language's comments."""
+
+    m: Member
+    type: str
+    qos: str
+    doc: list[str]
+    what: str
 
 
 class _MemberView(Protocol):
@@ -34,19 +48,23 @@ def type_aliases(spec: ComponentSpec, taken: Iterable[str],
     return out
 
 
-def remappings(spec: ComponentSpec) -> list[tuple[str, str]]:
-    """(name, launch argument) for each wired name that can be remapped."""
-    out: list[tuple[str, str]] = []
+#: The launch arguments every component launch file declares besides one per wired name.
+LAUNCH_ARGUMENTS = ("params_file", "namespace", "node_name")
+
+
+def remappings(spec: ComponentSpec) -> list[tuple[str, str, bool]]:
+    """(name, launch argument, whether it is an action) for each wired name that can be remapped."""
+    out: list[tuple[str, str, bool]] = []
     seen: set[str] = set()
     for m in spec.all_members():
         name = m.name
-        if name.startswith("~") or name in (n for n, _ in out):
+        if name.startswith("~") or name in (n for n, _, _ in out):
             continue
         arg = m.slug if m.slug not in seen else m.full_slug
-        while arg in seen or arg in ("params_file", "namespace", "node_name"):
+        while arg in seen or arg in LAUNCH_ARGUMENTS:
             arg += "_"
         seen.add(arg)
-        out.append((name, arg))
+        out.append((name, arg, m.kind in ("action_server", "action_client")))
     return out
 
 
@@ -89,9 +107,27 @@ class NodeView(Generic[V]):
     def of_kind(self, *kinds: str) -> list[V]:
         return [v for v in self.members if v.m.kind in kinds]
 
-    def remappings(self) -> list[tuple[str, str]]:
-        """(name, launch argument) for each wired name that can be remapped."""
+    def remappings(self) -> list[tuple[str, str, bool]]:
+        """(name, launch argument, whether it is an action) for each wired name that can be remapped."""
         return remappings(self.spec)
 
+    @property
+    def action_parts(self) -> tuple[str, ...]:
+        """The five names of an action relative to it, which a launch file remaps on every release."""
+        return ACTION_PARTS
 
-__all__ = ["NodeView", "remappings", "type_aliases"]
+    def comment(self, text: str) -> str:
+        """``text`` on one line, safe inside the language's comments and docstrings (the language's view says how)."""
+        return one_line(text)
+
+    def param_doc(self, p: ParamSpec) -> str:
+        """A parameter's description, its constraints and whether it is read-only, for its accessor's doc."""
+        parts = [p.description]
+        if p.constraints:
+            parts.append(f"({p.constraints})")
+        if p.read_only:
+            parts.append("Read-only.")
+        return self.comment(" ".join(parts))
+
+
+__all__ = ["MemberView", "NodeView", "remappings", "type_aliases"]

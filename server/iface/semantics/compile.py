@@ -6,10 +6,10 @@ import gc
 import math
 import os
 import re
-from operator import attrgetter
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass, field
+from operator import attrgetter
 from pathlib import Path
 from typing import Literal
 
@@ -18,7 +18,7 @@ from ..model.diagnostics import Diagnostic, Related, Severity, make
 from ..model.normalize import normalize_action, normalize_service
 from ..model.source import Source, Span
 from ..syntax.edits import Change, EditCache, parse_edited
-from ..syntax.parse import ParseResult, parse_text
+from ..syntax.parse import parse_text
 from .analysis import Analysis, analyse
 
 #: Files larger than this are refused with a message (interface files are small).
@@ -236,6 +236,11 @@ class Workspace:
         cached = self._cached(key, fresh)  # an editor buffer's text is its overlay: its stamp
         if cached is not None:
             return cached
+        with collector_paused():
+            return self._compile_chain(key, text, fresh)
+
+    def _compile_chain(self, key: str, text: str | None, fresh: set[str]) -> Compilation:
+        """``_compile``'s loop over the chain of files being compiled."""
         frames: list[tuple[str, object, CompileSteps]] = [(key, self._stamp(key), self._steps(key, text))]
         on_chain = {key}
         answer: Compilation | Refused | None = None
@@ -308,13 +313,33 @@ def compile_source(source: Source, problems: list[Diagnostic] | None = None, *,
     steps = compile_steps(source, problems, cache=cache, memo=memo,
                           find=includes.find_include if includes is not None else None)
     answer: Compilation | Refused | None = None
-    while True:
-        try:
-            wanted = steps.send(answer)
-        except StopIteration as done:
-            return done.value
-        assert includes is not None  # nothing is asked for without a way to find it
-        answer = includes.compile_path(wanted)
+    with collector_paused():
+        while True:
+            try:
+                wanted = steps.send(answer)
+            except StopIteration as done:
+                return done.value
+            assert includes is not None  # nothing is asked for without a way to find it
+            answer = includes.compile_path(wanted)
+
+
+class collector_paused:  # named as a function: `with collector_paused():`
+    """The cyclic garbage collector paused while a compile works (parsing, modelling and checking make many
+    objects and free none of them to it), then as it was. Its first young collection afterwards traverses what
+    the compile made, for the caller (a one-shot ``iface-lsp check`` has none: ``cli.ONE_SHOT``).
+
+    A class, not a generator: leaving it allocates nothing the collector tracks (a generator's end raises a
+    StopIteration, which would start that collection inside the compile)."""
+
+    __slots__ = ("enabled",)
+
+    def __enter__(self) -> None:
+        self.enabled = gc.isenabled()
+        gc.disable()
+
+    def __exit__(self, *exc: object) -> None:
+        if self.enabled:
+            gc.enable()
 
 
 def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
@@ -322,9 +347,10 @@ def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
                   memo: Analysis | None = None,
                   find: Callable[[str, str], str | None] | None = None) -> CompileSteps:
     """``compile_source`` as steps: yields each included file's path and is sent its compilation."""
+    # (its drivers, compile_source and Workspace, pause the cyclic collector over the whole chain: collector_paused)
     diagnostics: list[Diagnostic] = list(problems or [])
     diagnostics.extend(_surrogates(source))
-    parsed = _quietly(parse_text, source.text) if cache is None else _quietly(parse_edited, source.text, cache)
+    parsed = parse_text(source.text) if cache is None else parse_edited(source.text, cache)
     change = cache.change if cache is not None and memo is not None else None
     before = memo.iface if memo is not None else None
     if change is None or before is None or before.items is not change[3]:
@@ -333,21 +359,14 @@ def compile_steps(source: Source, problems: list[Diagnostic] | None = None, *,
     for p in parsed.problems:
         diagnostics.append(make(p.code, p.message, source, p.span, **p.data))
     included = yield from _include(iface, diagnostics, find)
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        diagnostics.extend(analyse(iface, memo, change))
-        broken = parsed.broken_ranges() if any(p.code == "syntax-error" for p in parsed.problems) else None
-        if broken:
-            diagnostics = [d for d in diagnostics if d.code == "syntax-error" or d.source is not source
-                           or not _inside(broken, d.span.start)]
-        if not iface.items and not diagnostics:
-            diagnostics.append(make("empty-file", "the file is empty: it defines no interface",
-                                    source, Span(0, 0)))
-        diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
-    finally:
-        if enabled:
-            gc.enable()
+    diagnostics.extend(analyse(iface, memo, change))
+    broken = parsed.broken_ranges() if any(p.code == "syntax-error" for p in parsed.problems) else None
+    if broken:
+        diagnostics = [d for d in diagnostics if d.code == "syntax-error" or d.source is not source
+                       or not _inside(broken, d.span.start)]
+    if not iface.items and not diagnostics:
+        diagnostics.append(make("empty-file", "the file is empty: it defines no interface", source, Span(0, 0)))
+    diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
     return Compilation(source, iface, diagnostics, included)
 
 
@@ -458,17 +477,6 @@ def _splice(iface: m.Interface, before: m.Interface, change: Change) -> bool:
             normalize_action(item)
     _name(iface)
     return True
-
-
-def _quietly(fn: Callable[..., ParseResult], *args: object) -> ParseResult:
-    """``fn(*args)`` with the garbage collector off (parsing makes many objects and frees none)."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        return fn(*args)
-    finally:
-        if enabled:
-            gc.enable()
 
 
 def _include(iface: m.Interface, diagnostics: list[Diagnostic],

@@ -5,25 +5,11 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Sequence
 
 from ..model import nodes as m
-from ..model.diagnostics import Diagnostic, Related, make
+from ..model.diagnostics import Diagnostic, make
 from ..model.walk import named_types, type_roots
 from .suggest import Suggester
 
 BUILTIN_NAMES = tuple(sorted(m.BASE_ALIASES))
-
-
-def build_symbols(iface: m.Interface) -> Iterator[Diagnostic]:
-    """Fill ``iface.symbols``; a second definition of a name is an error."""
-    symbols: dict[str, m.Definition] = {}
-    src = iface.source
-    for d in iface.definitions:
-        first = symbols.get(d.name)
-        if first is None:
-            symbols[d.name] = d
-            continue
-        yield make("duplicate-definition", f"'{d.name}' is already defined", src, d.name_span,
-                   related=[Related(src, first.name_span, f"first definition of '{d.name}'")])
-    iface.symbols = symbols
 
 
 def _candidates(iface: m.Interface) -> list[str]:
@@ -58,11 +44,6 @@ def resolve_named(iface: m.Interface, t: m.NamedType) -> bool:
 def suggester(iface: m.Interface) -> Suggester:
     """Did-you-mean over the type names in reach of ``iface`` and the builtin types."""
     return Suggester([*_candidates(iface), *BUILTIN_NAMES])
-
-
-def did_you_mean(iface: m.Interface, name: str) -> list[str]:
-    """Close names for an unknown type name (one question; ``resolve_references`` shares one Suggester)."""
-    return suggester(iface).suggest(name)
 
 
 def resolve_references(iface: m.Interface) -> Iterator[Diagnostic]:

@@ -350,8 +350,3 @@ def print_items(items: Iterable[m.Item], header: str | None = None) -> str:
     from .formatter import format_text  # the printed file is laid out as `iface-lsp fmt` lays it out
 
     return format_text("\n".join(out) + "\n")
-
-
-def print_interface(iface: m.Interface, header: str | None = None) -> str:
-    """The whole file of ``iface``, optionally under a ``//`` comment ``header``."""
-    return print_items(iface.items, header)

@@ -39,11 +39,6 @@ def known_units() -> dict[str, str]:
     return data["units"]
 
 
-def units_version() -> str:
-    """The ArduPilot commit the unit list was taken from."""
-    return str(json.loads(UNITS_FILE.read_text(encoding="utf-8"))["commit"])
-
-
 def suggest_unit(unit: str) -> str | None:
     """The ArduPilot unit name ``unit`` most likely means, if one is close."""
     units = known_units()

@@ -4,7 +4,9 @@
 ``DIR/<system>.launch.py``: each instance's package, executable, node name and parameter file, in
 the system's start order (``nodes.system``); the instances of a component container as the
 ``ComposableNode``s of one ``ComposableNodeContainer`` (iface_runtime_cpp's ``iface_container``),
-with intra-process communication where the instance has it. A file that declares no system is refused.
+with intra-process communication where the instance has it; and, with the launch argument
+``manager:=true``, the system's component manager in their place (``iface-lsp manager``, which starts
+the instances itself). A file that declares no system is refused.
 
 May import: what ``nodes`` may, and the other modules of ``nodes``.
 """
@@ -93,6 +95,12 @@ def start_order(system: SystemSpec) -> list[tuple[str, str]]:
     return order
 
 
+def down_timeout(instances: int) -> int:
+    """Seconds a manager started by launch has to take ``instances`` down (each: deactivate, snapshot, shutdown,
+    the process's end) before launch sends it SIGTERM; SIGKILL follows 10 s later and would leave them running."""
+    return 30 + 30 * instances
+
+
 def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     """``<system>.launch.py`` for a system file."""
     iface = comp.interface
@@ -110,8 +118,10 @@ def generate(comp: Compilation, options: dict[str, Any]) -> Result:
     containers = [launch_container(system, c, out) for c in system.containers]
     templates = TemplateSet(TEMPLATES, "launch", filters={"pystr": repr}, override=options.get("templates"))
     name = f"{system.name}.launch.py"
+    system_file = Path(os.path.relpath(os.path.abspath(comp.path), os.path.abspath(out))).as_posix()
     text = templates.render("system.launch.py.j2", system=system, instances=instances, containers=containers,
-                            order=start_order(system), file_name=name,
+                            order=start_order(system), file_name=name, system_file=system_file,
+                            down_timeout=down_timeout(len(system.instances)),
                             header=header_lines("#", Path(comp.path).name).rstrip("\n"))
     return Result(files=[GeneratedFile(name, text, (comp.source, iface.system.name_span))])
 
@@ -124,5 +134,5 @@ TARGET = Target(
     templates=str(TEMPLATES),
 )
 
-__all__ = ["TARGET", "LaunchComposable", "LaunchContainer", "LaunchInstance", "generate", "launch_container",
-           "launch_instance", "start_order"]
+__all__ = ["TARGET", "LaunchComposable", "LaunchContainer", "LaunchInstance", "down_timeout", "generate",
+           "launch_container", "launch_instance", "start_order"]

@@ -9,9 +9,9 @@ from typing import Any
 from ...emit.ros2.filenames import rosidl_snake
 from ...emit.ros2.package import RosPackage
 from ...emit.text import comment_lines, one_line
-from ..component import ComponentSpec, Member, ParamSpec, RosRef, schema_type
+from ..component import ComponentSpec, ParamSpec, RosRef, schema_type
 from ..qosmap import node_qos
-from ..template_data import NodeView, type_aliases
+from ..template_data import MemberView, NodeView, type_aliases
 
 #: Names the runtime defines in the base class's scope: a type alias must not take them.
 _TAKEN = frozenset({"ComponentNode", "Json", "Type", "ParamSpec", "Gate", "StateError", "Info"})
@@ -77,20 +77,6 @@ def qos_map(qos: dict[str, str]) -> str:
 
 
 @dataclass
-class MemberView:
-    """A member as the C++ templates write it."""
-
-    m: Member
-    type: str
-    qos: str
-    doc: list[str]
-
-    @property
-    def what(self) -> str:
-        return cpp_comment(self.m.what)
-
-
-@dataclass
 class StateMessage:
     """A message type of the state document: its C++ type and its fields (name, schema type)."""
 
@@ -112,6 +98,10 @@ class CppPackage(NodeView[MemberView]):
     unsupported: list[str] = field(default_factory=list)
 
     client_library = "rclcpp"
+
+    def comment(self, text: str) -> str:
+        """One line, safe inside a ``//`` or ``/* */`` comment."""
+        return cpp_comment(text)
 
     @property
     def plugin(self) -> str:
@@ -175,14 +165,6 @@ class CppPackage(NodeView[MemberView]):
                 "double_array": ("std::vector<double>", "as_double_array"),
                 "string_array": ("std::vector<std::string>", "as_string_array")}[p.kind]
 
-    def param_doc(self, p: ParamSpec) -> str:
-        parts = [p.description]
-        if p.constraints:
-            parts.append(f"({p.constraints})")
-        if p.read_only:
-            parts.append("Read-only.")
-        return cpp_comment(" ".join(parts))
-
     def executor_threads(self) -> str:
         return (f"4 + 2 * {len(self.of_kind('action_server'))} + "
                 f"{1 if self.of_kind('client', 'action_client') else 0}")
@@ -194,7 +176,7 @@ decltype default delete do double dynamic_cast else enum explicit export extern 
 inline int long mutable namespace new noexcept not not_eq nullptr operator or or_eq private protected public
 register reinterpret_cast requires return short signed sizeof static static_assert static_cast struct switch
 template this thread_local throw true try typedef typeid typename union unsigned using virtual void volatile
-wchar_t while xor xor_eq""".split())
+wchar_t while xor xor_eq""".split())  # noqa: SIM905 - the list as the standard prints it
 
 
 def _cpp_ident(name: str) -> str:
@@ -232,7 +214,7 @@ def _state_messages(spec: ComponentSpec) -> tuple[list[StateMessage], list[str]]
 def build(spec: ComponentSpec) -> CppPackage:
     """The view of ``spec`` the templates render."""
     view = CppPackage(spec, spec.source_name, type_aliases(spec, _TAKEN))
-    view.members = [MemberView(x, view.aliases[x.type], qos_map(x.qos), _doc("\n".join(x.doc)))
+    view.members = [MemberView(x, view.aliases[x.type], qos_map(x.qos), _doc("\n".join(x.doc)), view.comment(x.what))
                     for x in spec.all_members()]
     view.state_messages, view.unsupported = _state_messages(spec)
     return view

@@ -8,9 +8,10 @@ from dataclasses import dataclass
 from typing import Any
 
 from ...emit.text import comment_lines, one_line
-from ..component import ComponentSpec, Member, ParamSpec, RosRef
+from ..component import ComponentSpec, ParamSpec, RosRef
+from ..layout import WIDTH, wrap
 from ..qosmap import node_qos
-from ..template_data import NodeView, type_aliases
+from ..template_data import MemberView, NodeView, type_aliases
 
 #: Names the generated modules define, import or use themselves (the builtins their code raises or imports).
 _TAKEN = frozenset({"Any", "ComponentNode", "HandlerSpec", "ParamSpec", "DEFAULT_TIMEOUT_SEC", "annotations",
@@ -45,14 +46,23 @@ def doc(text: str | None) -> list[str]:
     return [doc_text(line) for line in comment_lines(text)]
 
 
-def docstring(lines: list[str], indent: int = 8) -> str:
-    """A docstring from escaped lines: the first on the opening line, the others as paragraphs below it."""
-    lines = [line for line in lines]
-    if len(lines) <= 1:
-        return f'"""{lines[0] if lines else ""}"""'
+def docstring(lines: list[str] | str, indent: int = 8, width: int = WIDTH) -> str:
+    """A docstring from escaped lines: the first on the opening line, the others as paragraphs below it; a line
+    longer than ``width`` allows wrapped."""
+    lines = [lines] if isinstance(lines, str) else list(lines)
     pad = " " * indent
-    body = "\n".join(f"{pad}{line}" if line else "" for line in lines[1:])
-    return f'"""{lines[0]}\n\n{body}\n{pad}"""'
+    head = wrap(lines[0] if lines else "", indent + 6, width=width)  # the quotes that open and close it
+    if len(lines) <= 1 and len(head) == 1:
+        return f'"""{head[0]}"""'
+    out = [head[0], *(pad + line for line in head[1:])]
+    if len(lines) > 1:
+        out.append("")
+        for line in lines[1:]:
+            if line:
+                out.extend(pad + part for part in wrap(line, indent, width=width))
+            else:
+                out.append("")
+    return '"""' + "\n".join(out) + f'\n{pad}"""'
 
 
 def qos_literal(qos: dict[str, str]) -> str:
@@ -61,24 +71,14 @@ def qos_literal(qos: dict[str, str]) -> str:
 
 
 @dataclass
-class MemberView:
-    """A member as the templates write it."""
-
-    m: Member
-    type: str
-    qos: str
-    doc: list[str]
-
-    @property
-    def what(self) -> str:
-        return doc_text(one_line(self.m.what))
-
-
-@dataclass
 class PyPackage(NodeView[MemberView]):
     """Everything the templates of the component package need."""
 
     client_library = "rclpy"
+
+    def comment(self, text: str) -> str:
+        """One line, safe inside a docstring."""
+        return doc_text(one_line(text))
 
     def imports(self, refs: list[RosRef]) -> list[str]:
         """``from pkg.kind import A, B as C`` lines for ``refs``, sorted."""
@@ -93,9 +93,6 @@ class PyPackage(NodeView[MemberView]):
                 line = f"from {module} import (\n" + "".join(f"    {n},\n" for n in sorted(names)) + ")"
             out.append(line)
         return out
-
-    def of_kind(self, *kinds: str) -> list[MemberView]:
-        return [v for v in self.members if v.m.kind in kinds]
 
     def user_refs(self) -> list[RosRef]:
         """The types the user module's handler signatures name."""
@@ -124,14 +121,6 @@ class PyPackage(NodeView[MemberView]):
         shown = ", ".join(f"{k}={py(v)}" for k, v in args if given(v) or k == "kind")
         return f"ParamSpec({py(p.name)}, {shown})"
 
-    def param_doc(self, p: ParamSpec) -> str:
-        parts = [p.description]
-        if p.constraints:
-            parts.append(f"({p.constraints})")
-        if p.read_only:
-            parts.append("Read-only.")
-        return doc_text(one_line(" ".join(parts)))
-
     def param_cast(self, p: ParamSpec) -> str:
         """The expression of a typed accessor."""
         value = f"self._node._parameter({py(p.name)})"
@@ -145,6 +134,6 @@ class PyPackage(NodeView[MemberView]):
 def build(spec: ComponentSpec) -> PyPackage:
     """The view of ``spec`` the templates render."""
     view = PyPackage(spec, spec.source_name, type_aliases(spec, _TAKEN, keyword.iskeyword))
-    view.members = [MemberView(x, view.aliases[x.type], qos_literal(x.qos), doc("\n".join(x.doc)))
+    view.members = [MemberView(x, view.aliases[x.type], qos_literal(x.qos), doc("\n".join(x.doc)), view.comment(x.what))
                     for x in spec.all_members()]
     return view

@@ -20,31 +20,31 @@ PACKAGE = 'counter'
 EXECUTABLE = 'counter'
 NODE = 'counter'
 PARAMS_FILE = 'counter.params.yaml'
-#: (name in counter_v2.iface, the launch argument that remaps it)
+#: (name in counter_v2.iface, the launch argument that remaps it, whether it is an action: then its services and
+#: topics are remapped one by one too, since Jazzy's rcl does not remap action names, ros2/rcl#1170)
 REMAPPINGS = (
-    ('/count', 'count'),
-    ('/parity', 'parity'),
-    ('/counter/reset', 'reset'),
+    ('/count', 'count', False),
+    ('/parity', 'parity', False),
+    ('/counter/reset', 'reset', False),
 )
+ACTION_PARTS = ('/_action/send_goal', '/_action/cancel_goal', '/_action/get_result',
+                '/_action/feedback', '/_action/status')
 
 
 def generate_launch_description() -> LaunchDescription:
     """The node, its parameter file and its remappings, each a launch argument."""
     params = os.path.join(get_package_share_directory(PACKAGE), "config", PARAMS_FILE)
-    arguments = [
-        DeclareLaunchArgument("params_file", default_value=params, description="the parameter file"),
-        DeclareLaunchArgument("namespace", default_value="", description="the node's namespace"),
-        DeclareLaunchArgument("node_name", default_value=NODE, description="the node's name"),
-    ]
-    arguments += [DeclareLaunchArgument(arg, default_value=name, description=f"remap {name}")
-                  for name, arg in REMAPPINGS]
+    arguments = [DeclareLaunchArgument(arg, default_value=value, description=text) for arg, value, text in (
+        ("params_file", params, "the parameter file"), ("namespace", "", "the node's namespace"),
+        ("node_name", NODE, "the node's name"), *((arg, name, f"remap {name}") for name, arg, _ in REMAPPINGS))]
     node = LifecycleNode(
         package=PACKAGE,
         executable=EXECUTABLE,
         name=LaunchConfiguration("node_name"),
         namespace=LaunchConfiguration("namespace"),
         parameters=[LaunchConfiguration("params_file")],
-        remappings=[(name, LaunchConfiguration(arg)) for name, arg in REMAPPINGS],
+        remappings=[(name + part, [LaunchConfiguration(arg), part]) for name, arg, action in REMAPPINGS
+                    for part in ("", *(ACTION_PARTS if action else ()))],
         output="screen",
     )
     return LaunchDescription([*arguments, node])

@@ -1,7 +1,7 @@
 // Written once by iface from counter_v2.iface: this file is yours to edit. `iface-lsp generate`
 // never overwrites it, not even with --force. When the interface changes, include/counter/base.hpp
-// is regenerated and this file stops compiling, saying why, until the handlers below match it:
-// a missing handler is a pure virtual function, and a handler whose `override` overrides nothing
+// is regenerated and this file stops compiling, saying why, until the handlers below match it: a
+// missing handler is a pure virtual function, and a handler whose `override` overrides nothing
 // handles a member the interface no longer has (`iface-lsp generate --check` reports both too).
 //
 // The behaviour of the counter component: what it does with its members.
@@ -10,7 +10,7 @@
 namespace counter
 {
 
-//! counter: keep `state` current; it is what ~/save_state saves and a replacement restores.
+//! counter: keep `state` current (what ~/save_state saves and a replacement restores).
 class Counter : public CounterBase
 {
 public:

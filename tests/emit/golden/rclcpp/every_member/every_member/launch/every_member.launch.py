@@ -20,38 +20,38 @@ PACKAGE = 'every_member'
 EXECUTABLE = 'every_member'
 NODE = 'every_member'
 PARAMS_FILE = 'every_member.params.yaml'
-#: (name in every_member.iface, the launch argument that remaps it)
+#: (name in every_member.iface, the launch argument that remaps it, whether it is an action: then its services and
+#: topics are remapped one by one too, since Jazzy's rcl does not remap action names, ros2/rcl#1170)
 REMAPPINGS = (
-    ('/station/command', 'command'),
-    ('heartbeat', 'heartbeat'),
-    ('/station/sample', 'sample'),
-    ('/station/events', 'events'),
-    ('/station/work', 'work'),
-    ('/station/limits/get_limit', 'get_limit'),
-    ('/station/limits/reset', 'reset'),
-    ('/peer/count', 'count'),
-    ('/station/travel', 'travel'),
-    ('/peer/travel', 'peer_travel'),
+    ('/station/command', 'command', False),
+    ('heartbeat', 'heartbeat', False),
+    ('/station/sample', 'sample', False),
+    ('/station/events', 'events', False),
+    ('/station/work', 'work', False),
+    ('/station/limits/get_limit', 'get_limit', False),
+    ('/station/limits/reset', 'reset', False),
+    ('/peer/count', 'count', False),
+    ('/station/travel', 'travel', True),
+    ('/peer/travel', 'peer_travel', True),
 )
+ACTION_PARTS = ('/_action/send_goal', '/_action/cancel_goal', '/_action/get_result',
+                '/_action/feedback', '/_action/status')
 
 
 def generate_launch_description() -> LaunchDescription:
     """The node, its parameter file and its remappings, each a launch argument."""
     params = os.path.join(get_package_share_directory(PACKAGE), "config", PARAMS_FILE)
-    arguments = [
-        DeclareLaunchArgument("params_file", default_value=params, description="the parameter file"),
-        DeclareLaunchArgument("namespace", default_value="", description="the node's namespace"),
-        DeclareLaunchArgument("node_name", default_value=NODE, description="the node's name"),
-    ]
-    arguments += [DeclareLaunchArgument(arg, default_value=name, description=f"remap {name}")
-                  for name, arg in REMAPPINGS]
+    arguments = [DeclareLaunchArgument(arg, default_value=value, description=text) for arg, value, text in (
+        ("params_file", params, "the parameter file"), ("namespace", "", "the node's namespace"),
+        ("node_name", NODE, "the node's name"), *((arg, name, f"remap {name}") for name, arg, _ in REMAPPINGS))]
     node = LifecycleNode(
         package=PACKAGE,
         executable=EXECUTABLE,
         name=LaunchConfiguration("node_name"),
         namespace=LaunchConfiguration("namespace"),
         parameters=[LaunchConfiguration("params_file")],
-        remappings=[(name, LaunchConfiguration(arg)) for name, arg in REMAPPINGS],
+        remappings=[(name + part, [LaunchConfiguration(arg), part]) for name, arg, action in REMAPPINGS
+                    for part in ("", *(ACTION_PARTS if action else ()))],
         output="screen",
     )
     return LaunchDescription([*arguments, node])

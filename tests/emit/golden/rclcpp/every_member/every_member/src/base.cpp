@@ -302,7 +302,19 @@ void EveryMemberBase::create_members()
   make_subscription<Heartbeat>(
     "heartbeat", [this](const Heartbeat & msg) {on_heartbeat(msg);},
     "heartbeat (on_heartbeat)", {});
-  pub_sample_ = make_publisher<Sample>("/station/sample", {{"deadline", "2.0"}, {"depth", "7"}, {"durability", "transient_local"}, {"history", "keep_last"}, {"lifespan", "10.0"}, {"liveliness", "automatic"}, {"liveliness_lease_duration", "3.0"}, {"reliability", "reliable"}});
+  pub_sample_ = make_publisher<Sample>(
+    "/station/sample",
+    {
+      {"deadline", "2.0"},
+      {"depth", "7"},
+      {"durability", "transient_local"},
+      {"history", "keep_last"},
+      {"lifespan", "10.0"},
+      {"liveliness", "automatic"},
+      {"liveliness_lease_duration", "3.0"},
+      {"reliability", "reliable"}
+    }
+  );
   pub_events_ = make_publisher<Event>("/station/events", {{"history", "keep_all"}, {"reliability", "best_effort"}});
   make_server<Work>(
     "/station/work",

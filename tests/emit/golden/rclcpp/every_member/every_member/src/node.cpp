@@ -1,8 +1,9 @@
 // Written once by iface from every_member.iface: this file is yours to edit. `iface-lsp generate`
-// never overwrites it, not even with --force. When the interface changes, include/every_member/base.hpp
-// is regenerated and this file stops compiling, saying why, until the handlers below match it:
-// a missing handler is a pure virtual function, and a handler whose `override` overrides nothing
-// handles a member the interface no longer has (`iface-lsp generate --check` reports both too).
+// never overwrites it, not even with --force. When the interface changes,
+// include/every_member/base.hpp is regenerated and this file stops compiling, saying why, until the
+// handlers below match it: a missing handler is a pure virtual function, and a handler whose
+// `override` overrides nothing handles a member the interface no longer has (`iface-lsp generate
+// --check` reports both too).
 //
 // The behaviour of the every_member component: what it does with its members.
 #include "every_member/base.hpp"
@@ -10,7 +11,7 @@
 namespace every_member
 {
 
-//! every_member: keep `state` current; it is what ~/save_state saves and a replacement restores.
+//! every_member: keep `state` current (what ~/save_state saves and a replacement restores).
 class EveryMember : public EveryMemberBase
 {
 public:
@@ -46,7 +47,10 @@ public:
   }
 
   //! provides Limits.get_limit on /station/limits/get_limit.
-  void handle_get_limit(const LimitsGetLimit::Request & request, LimitsGetLimit::Response & response) override
+  void handle_get_limit(
+    const LimitsGetLimit::Request & request,
+    LimitsGetLimit::Response & response
+  ) override
   {
     (void)request;
     (void)response;
@@ -68,7 +72,10 @@ public:
   }
 
   //! diagnostics diagnostics on ~/diagnostics.
-  void handle_diagnostics(const Diagnostics::Request & request, Diagnostics::Response & response) override
+  void handle_diagnostics(
+    const Diagnostics::Request & request,
+    Diagnostics::Response & response
+  ) override
   {
     (void)request;
     (void)response;

@@ -237,7 +237,20 @@ class EveryMemberBase(ComponentNode):
     def _create_members(self) -> None:
         self._subscription(Command, '/station/command', 'on_command', {'depth': 5, 'reliability': 'reliable'})
         self._subscription(Heartbeat, 'heartbeat', 'on_heartbeat', {})
-        self._pub_sample = self._publisher(Sample, '/station/sample', {'deadline': 2.0, 'depth': 7, 'durability': 'transient_local', 'history': 'keep_last', 'lifespan': 10.0, 'liveliness': 'automatic', 'liveliness_lease_duration': 3.0, 'reliability': 'reliable'})
+        self._pub_sample = self._publisher(
+            Sample,
+            '/station/sample',
+            {
+                'deadline': 2.0,
+                'depth': 7,
+                'durability': 'transient_local',
+                'history': 'keep_last',
+                'lifespan': 10.0,
+                'liveliness': 'automatic',
+                'liveliness_lease_duration': 3.0,
+                'reliability': 'reliable'
+            }
+        )
         self._pub_events = self._publisher(Event, '/station/events', {'history': 'keep_all', 'reliability': 'best_effort'})
         self._server(Work, '/station/work', 'handle_work', {})
         self._server(Count, '~/count', 'handle_count', {})

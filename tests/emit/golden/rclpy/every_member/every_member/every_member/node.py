@@ -1,6 +1,7 @@
-# Written once by iface from every_member.iface: this file is yours to edit. `iface-lsp generate` never
-# overwrites it, not even with --force. When the interface changes, base.py is regenerated and the
-# node refuses to start (as `iface-lsp generate --check` does) until the handlers below match it.
+# Written once by iface from every_member.iface: this file is yours to edit. `iface-lsp generate`
+# never overwrites it, not even with --force. When the interface changes, base.py is regenerated and
+# the node refuses to start (as `iface-lsp generate --check` does) until the handlers below match
+# it.
 """The behaviour of the every_member component: what it does with its members."""
 
 from __future__ import annotations
@@ -15,10 +16,12 @@ from .base import EveryMemberBase
 
 
 class EveryMember(EveryMemberBase):
-    """every_member: keep self.state current; it is what ~/save_state saves and a replacement restores."""
+    """every_member: keep self.state current (what ~/save_state saves and a replacement
+    restores).
+    """
 
     def setup(self) -> None:
-        """Called on configure, once the members exist (e.g. self.create_work_timer(0.1, self.tick))."""
+        """On configure, once the members exist: e.g. self.create_work_timer(0.1, self.tick)."""
 
     def on_command(self, msg: Command) -> None:
         """subscribes Command on /station/command."""
@@ -34,11 +37,19 @@ class EveryMember(EveryMemberBase):
         """provides Count on ~/count."""
         return response
 
-    def handle_get_limit(self, request: LimitsGetLimit.Request, response: LimitsGetLimit.Response) -> LimitsGetLimit.Response:
+    def handle_get_limit(
+        self,
+        request: LimitsGetLimit.Request,
+        response: LimitsGetLimit.Response
+    ) -> LimitsGetLimit.Response:
         """provides Limits.get_limit on /station/limits/get_limit."""
         return response
 
-    def handle_reset(self, request: LimitsReset.Request, response: LimitsReset.Response) -> LimitsReset.Response:
+    def handle_reset(
+        self,
+        request: LimitsReset.Request,
+        response: LimitsReset.Response
+    ) -> LimitsReset.Response:
         """provides Limits.reset on /station/limits/reset."""
         return response
 
@@ -46,6 +57,10 @@ class EveryMember(EveryMemberBase):
         """provides Travel on /station/travel: goal_handle.request is the goal."""
         return Travel.Result()
 
-    def handle_diagnostics(self, request: Diagnostics.Request, response: Diagnostics.Response) -> Diagnostics.Response:
+    def handle_diagnostics(
+        self,
+        request: Diagnostics.Request,
+        response: Diagnostics.Response
+    ) -> Diagnostics.Response:
         """diagnostics diagnostics on ~/diagnostics."""
         return response

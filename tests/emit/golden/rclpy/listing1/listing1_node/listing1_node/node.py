@@ -14,16 +14,24 @@ from .base import Listing1Base
 
 
 class Listing1(Listing1Base):
-    """listing1: keep self.state current; it is what ~/save_state saves and a replacement restores."""
+    """listing1: keep self.state current (what ~/save_state saves and a replacement restores)."""
 
     def setup(self) -> None:
-        """Called on configure, once the members exist (e.g. self.create_work_timer(0.1, self.tick))."""
+        """On configure, once the members exist: e.g. self.create_work_timer(0.1, self.tick)."""
 
-    def handle_service1(self, request: Service1.Request, response: Service1.Response) -> Service1.Response:
+    def handle_service1(
+        self,
+        request: Service1.Request,
+        response: Service1.Response
+    ) -> Service1.Response:
         """provides Service1 on Service1."""
         return response
 
-    def handle_service2(self, request: Service2.Request, response: Service2.Response) -> Service2.Response:
+    def handle_service2(
+        self,
+        request: Service2.Request,
+        response: Service2.Response
+    ) -> Service2.Response:
         """provides Service2 on Service2."""
         return response
 
@@ -35,6 +43,10 @@ class Listing1(Listing1Base):
         """provides Action2 on Action2: goal_handle.request is the goal."""
         return Action2.Result()
 
-    def handle_diagnostics(self, request: Diagnostics.Request, response: Diagnostics.Response) -> Diagnostics.Response:
+    def handle_diagnostics(
+        self,
+        request: Diagnostics.Request,
+        response: Diagnostics.Response
+    ) -> Diagnostics.Response:
         """diagnostics diagnostics on ~/diagnostics."""
         return response

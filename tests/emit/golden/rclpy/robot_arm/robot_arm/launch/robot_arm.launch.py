@@ -20,37 +20,37 @@ PACKAGE = 'robot_arm'
 EXECUTABLE = 'robot_arm'
 NODE = 'robot_arm'
 PARAMS_FILE = 'robot_arm.params.yaml'
-#: (name in robot_arm.iface, the launch argument that remaps it)
+#: (name in robot_arm.iface, the launch argument that remaps it, whether it is an action: then its services and
+#: topics are remapped one by one too, since Jazzy's rcl does not remap action names, ros2/rcl#1170)
 REMAPPINGS = (
-    ('/arm/joint_command', 'joint_command'),
-    ('/arm/joint_state', 'joint_state'),
-    ('/arm/move_to_pose', 'move_to_pose'),
-    ('/arm/joint_limits/get_limits', 'get_limits'),
-    ('/arm/joint_limits/set_limits', 'set_limits'),
-    ('/arm/joint_limits/clear_fault', 'clear_fault'),
-    ('/gripper/move_to_pose', 'gripper_move_to_pose'),
-    ('/arm/follow_trajectory', 'follow_trajectory'),
-    ('/arm/diagnostics', 'diagnostics'),
+    ('/arm/joint_command', 'joint_command', False),
+    ('/arm/joint_state', 'joint_state', False),
+    ('/arm/move_to_pose', 'move_to_pose', False),
+    ('/arm/joint_limits/get_limits', 'get_limits', False),
+    ('/arm/joint_limits/set_limits', 'set_limits', False),
+    ('/arm/joint_limits/clear_fault', 'clear_fault', False),
+    ('/gripper/move_to_pose', 'gripper_move_to_pose', False),
+    ('/arm/follow_trajectory', 'follow_trajectory', True),
+    ('/arm/diagnostics', 'diagnostics', False),
 )
+ACTION_PARTS = ('/_action/send_goal', '/_action/cancel_goal', '/_action/get_result',
+                '/_action/feedback', '/_action/status')
 
 
 def generate_launch_description() -> LaunchDescription:
     """The node, its parameter file and its remappings, each a launch argument."""
     params = os.path.join(get_package_share_directory(PACKAGE), "config", PARAMS_FILE)
-    arguments = [
-        DeclareLaunchArgument("params_file", default_value=params, description="the parameter file"),
-        DeclareLaunchArgument("namespace", default_value="", description="the node's namespace"),
-        DeclareLaunchArgument("node_name", default_value=NODE, description="the node's name"),
-    ]
-    arguments += [DeclareLaunchArgument(arg, default_value=name, description=f"remap {name}")
-                  for name, arg in REMAPPINGS]
+    arguments = [DeclareLaunchArgument(arg, default_value=value, description=text) for arg, value, text in (
+        ("params_file", params, "the parameter file"), ("namespace", "", "the node's namespace"),
+        ("node_name", NODE, "the node's name"), *((arg, name, f"remap {name}") for name, arg, _ in REMAPPINGS))]
     node = LifecycleNode(
         package=PACKAGE,
         executable=EXECUTABLE,
         name=LaunchConfiguration("node_name"),
         namespace=LaunchConfiguration("namespace"),
         parameters=[LaunchConfiguration("params_file")],
-        remappings=[(name, LaunchConfiguration(arg)) for name, arg in REMAPPINGS],
+        remappings=[(name + part, [LaunchConfiguration(arg), part]) for name, arg, action in REMAPPINGS
+                    for part in ("", *(ACTION_PARTS if action else ()))],
         output="screen",
     )
     return LaunchDescription([*arguments, node])

@@ -21,27 +21,43 @@ from .base import RobotArmBase
 
 
 class RobotArm(RobotArmBase):
-    """robot_arm: keep self.state current; it is what ~/save_state saves and a replacement restores."""
+    """robot_arm: keep self.state current (what ~/save_state saves and a replacement restores)."""
 
     def setup(self) -> None:
-        """Called on configure, once the members exist (e.g. self.create_work_timer(0.1, self.tick))."""
+        """On configure, once the members exist: e.g. self.create_work_timer(0.1, self.tick)."""
 
     def on_joint_command(self, msg: JointCommand) -> None:
         """subscribes JointCommand on /arm/joint_command."""
 
-    def handle_move_to_pose(self, request: MoveToPose.Request, response: MoveToPose.Response) -> MoveToPose.Response:
+    def handle_move_to_pose(
+        self,
+        request: MoveToPose.Request,
+        response: MoveToPose.Response
+    ) -> MoveToPose.Response:
         """provides MoveToPose on /arm/move_to_pose."""
         return response
 
-    def handle_get_limits(self, request: JointLimitsServiceGetLimits.Request, response: JointLimitsServiceGetLimits.Response) -> JointLimitsServiceGetLimits.Response:
+    def handle_get_limits(
+        self,
+        request: JointLimitsServiceGetLimits.Request,
+        response: JointLimitsServiceGetLimits.Response
+    ) -> JointLimitsServiceGetLimits.Response:
         """provides JointLimitsService.get_limits on /arm/joint_limits/get_limits."""
         return response
 
-    def handle_set_limits(self, request: JointLimitsServiceSetLimits.Request, response: JointLimitsServiceSetLimits.Response) -> JointLimitsServiceSetLimits.Response:
+    def handle_set_limits(
+        self,
+        request: JointLimitsServiceSetLimits.Request,
+        response: JointLimitsServiceSetLimits.Response
+    ) -> JointLimitsServiceSetLimits.Response:
         """provides JointLimitsService.set_limits on /arm/joint_limits/set_limits."""
         return response
 
-    def handle_clear_fault(self, request: JointLimitsServiceClearFault.Request, response: JointLimitsServiceClearFault.Response) -> JointLimitsServiceClearFault.Response:
+    def handle_clear_fault(
+        self,
+        request: JointLimitsServiceClearFault.Request,
+        response: JointLimitsServiceClearFault.Response
+    ) -> JointLimitsServiceClearFault.Response:
         """provides JointLimitsService.clear_fault on /arm/joint_limits/clear_fault."""
         return response
 
@@ -49,6 +65,10 @@ class RobotArm(RobotArmBase):
         """provides FollowTrajectory on /arm/follow_trajectory: goal_handle.request is the goal."""
         return FollowTrajectory.Result()
 
-    def handle_diagnostics(self, request: ArmDiagnostics.Request, response: ArmDiagnostics.Response) -> ArmDiagnostics.Response:
+    def handle_diagnostics(
+        self,
+        request: ArmDiagnostics.Request,
+        response: ArmDiagnostics.Response
+    ) -> ArmDiagnostics.Response:
         """diagnostics ArmDiagnostics on /arm/diagnostics."""
         return response

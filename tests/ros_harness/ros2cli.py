@@ -1,0 +1,204 @@
+"""The ``ros2`` command as the tests run it, and the processes ``ros2 launch`` and ``ros2 run`` start.
+
+A graph query runs with ``--no-daemon`` (the ros2 daemon is a detached process that would outlive the
+test, with no handle of ours to stop it, and answers from a graph it cached) and ``--spin-time 2``:
+without the daemon each command discovers the graph itself during its spin time, and the default
+0.5 s missed running nodes on this machine under load (../shared/ros2-runtime/README.md). A query
+that does not see its node yet (``Node not found``, ``Unable to find node``) is asked again, within a
+bound. ``Launched`` starts ``ros2 launch``/``ros2 run`` from Python with a handle of its own (a shell's
+``&`` would start it with SIGINT ignored), knows the processes under it, and stops it with one SIGINT.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+HARNESS = Path(__file__).parent
+#: Seconds a ros2 graph query looks at the graph.
+SPIN_TIME = 2.0
+#: Releases whose ``ros2 service call`` the runtime cannot run (Kilted's ros2service on Jazzy's rclpy).
+NO_SERVICE_CALL = ("jazzy",)
+#: What a query says about a node it has not discovered (yet).
+NOT_SEEN = ("Node not found", "Unable to find node")
+
+
+@dataclass(frozen=True)
+class Answer:
+    """What one ``ros2`` command printed, its exit status and how many times it was asked."""
+
+    argv: tuple[str, ...]
+    code: int | None
+    out: str
+    err: str
+    tries: int
+
+    def __str__(self) -> str:
+        return f"$ {' '.join(self.argv)}\nexit {self.code} after {self.tries} tries\n{self.out}{self.err}"
+
+
+def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 60.0, within: float = 40.0,
+         until: str | None = None) -> Answer:
+    """``ros2 ARGS`` (with ``--no-daemon --spin-time 2`` when ``graph``), asked again while it does not see its
+    node, or (with ``until``) while its output lacks ``until``, for at most ``within`` seconds."""
+    argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{SPIN_TIME:g}") if graph else ()))
+    end = time.monotonic() + within
+    tries = 0
+    while True:
+        tries += 1
+        try:
+            done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=timeout, check=False,
+                                  stdin=subprocess.DEVNULL)
+            answer = Answer(argv, done.returncode, done.stdout, done.stderr, tries)
+        except subprocess.TimeoutExpired as e:
+            answer = Answer(argv, None, _text(e.stdout), _text(e.stderr) + f"\n(no answer within {timeout:g} s)",
+                            tries)
+        unseen = any(s in answer.out + answer.err for s in NOT_SEEN)
+        missing = until is not None and until not in answer.out
+        if not (unseen or missing or answer.code is None) or time.monotonic() >= end:
+            return answer
+        time.sleep(0.5)
+
+
+def service_call(env: dict[str, str], release: str, service: str, srv_type: str, request: str = "{}",
+                 timeout: float = 60.0) -> Answer:
+    """``ros2 service call SERVICE TYPE REQUEST``; on a release whose runtime cannot run it, the same call from
+    ``call_service.py`` with the runtime's Python (``ROS2_RUNTIME_VENV``)."""
+    if release not in NO_SERVICE_CALL:
+        return ros2(env, "service", "call", service, srv_type, request, graph=False, timeout=timeout, within=0)
+    python = str(Path(env["ROS2_RUNTIME_VENV"]) / "bin" / "python")
+    argv = (python, str(HARNESS / "call_service.py"), service, srv_type, request, "--timeout", f"{timeout / 2:g}")
+    try:
+        done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=timeout, check=False,
+                              stdin=subprocess.DEVNULL)
+        return Answer(argv, done.returncode, done.stdout, done.stderr, 1)
+    except subprocess.TimeoutExpired as e:
+        return Answer(argv, None, _text(e.stdout), _text(e.stderr), 1)
+
+
+def iface_lsp_on_path(folder: Path, root: Path, python: str) -> str:
+    """A folder holding ``iface-lsp`` of the checkout ``root`` (run by ``python``), whatever is installed; for PATH."""
+    folder.mkdir(parents=True, exist_ok=True)
+    wrapper = folder / "iface-lsp"
+    wrapper.write_text(f'#!/bin/sh\nPYTHONPATH="{root / "server"}${{PYTHONPATH:+:$PYTHONPATH}}" exec "{python}" -m iface "$@"\n')
+    wrapper.chmod(0o755)
+    return str(folder)
+
+
+def _text(data: bytes | str | None) -> str:
+    if data is None:
+        return ""
+    return data if isinstance(data, str) else data.decode(errors="replace")
+
+
+def proc_start(pid: int) -> int | None:
+    """The start time (clock ticks) of a running process; None when it is gone or a zombie."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    fields = text[text.rindex(")") + 2:].split()
+    return None if fields[0] in ("Z", "X") else int(fields[19])
+
+
+def descendants(pid: int) -> dict[int, int]:
+    """Every running process below ``pid`` (children, theirs…), by pid, with its start time."""
+    children: dict[int, list[int]] = {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            text = Path(f"/proc/{entry}/stat").read_text()
+        except OSError:
+            continue
+        fields = text[text.rindex(")") + 2:].split()
+        children.setdefault(int(fields[1]), []).append(int(entry))
+    found: dict[int, int] = {}
+    todo = list(children.get(pid, []))
+    while todo:
+        child = todo.pop()
+        start = proc_start(child)
+        if start is not None:
+            found[child] = start
+        todo += children.get(child, [])
+    return found
+
+
+def cmdline(pid: int) -> list[str]:
+    """A process's command line ([] when it is gone)."""
+    try:
+        return [p.decode(errors="replace") for p in Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0") if p]
+    except OSError:
+        return []
+
+
+def still_running(seen: dict[int, int]) -> list[int]:
+    """The pids of ``seen`` that still run (the same process: same start time)."""
+    return [pid for pid, start in seen.items() if proc_start(pid) == start]
+
+
+class Launched:
+    """``ros2 launch …`` or ``ros2 run …`` started in a session of its own, output to a log."""
+
+    def __init__(self, argv: list[str], env: dict[str, str], log: Path, cwd: Path | None = None) -> None:
+        self.argv = argv
+        self.log_path = log
+        log.parent.mkdir(parents=True, exist_ok=True)
+        with open(log, "w") as out:
+            self.proc = subprocess.Popen(argv, env=env, cwd=cwd, stdin=subprocess.DEVNULL, stdout=out,
+                                         stderr=subprocess.STDOUT, start_new_session=True)
+        #: Every process seen below it so far (``watch``), by pid, with its start time.
+        self.seen: dict[int, int] = {}
+
+    def log(self) -> str:
+        """What it printed so far."""
+        return self.log_path.read_text(errors="replace")
+
+    def watch(self) -> dict[int, int]:
+        """The processes below it now (and remember them)."""
+        now = descendants(self.proc.pid)
+        self.seen.update(now)
+        return now
+
+    def interrupt(self, timeout: float = 60.0) -> int | None:
+        """One SIGINT to its pid (as Ctrl-C to ``ros2 launch``); its exit status, None when it did not end in time."""
+        self.watch()
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+        try:
+            return self.proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return None
+
+    def left_running(self, within: float = 10.0) -> list[int]:
+        """The processes seen below it that still run after ``within`` seconds."""
+        end = time.monotonic() + within
+        while True:
+            left = still_running(self.seen)
+            if not left or time.monotonic() >= end:
+                return left
+            time.sleep(0.2)
+
+    def stop(self) -> None:
+        """Stop it and whatever it started that still runs (SIGINT, then SIGTERM, then SIGKILL): a test's cleanup."""
+        if self.proc.poll() is None:
+            self.watch()
+            self.proc.send_signal(signal.SIGINT)
+            try:
+                self.proc.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.proc.pid, signal.SIGTERM)
+                try:
+                    self.proc.wait(timeout=10)
+                except subprocess.TimeoutExpired:
+                    os.killpg(self.proc.pid, signal.SIGKILL)
+                    self.proc.wait(timeout=10)
+        for pid in still_running(self.seen):
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
