@@ -72,3 +72,35 @@ def keep_only(gen: Path, *keep: str) -> None:
     for package in gen.iterdir():
         if package.is_dir() and package.name not in keep:
             shutil.rmtree(package)
+
+
+def ticker_workspaces(venv: Path, env: dict[str, str], root: Path) -> tuple[dict[str, Path], str]:
+    """The workspaces of the container tests and bench/container_bench.py, built under ``root`` (reused when built
+    there before): ``ws`` holds iface_msgs, iface_runtime_cpp, ticker 1.0, its ticker_msgs and the tally
+    (tests/runtime/data, with their user files); ``ws_v1_1`` ticker 1.1 alone on top of it (its ticker_msgs is
+    1.0's: NEW can share OLD's container). On failure: no workspaces, why."""
+    from .ros import DATA, generate
+
+    out = {"ws": root / "ws", "ws_v1_1": root / "ws_v1_1"}
+    plan = {"ws": (("ticker", "ticker"), ("tally", "tally")), "ws_v1_1": (("ticker_v1_1", "ticker"),)}
+    for key, components in plan.items():
+        ws = out[key]
+        if all((ws / "install" / package).is_dir() for _, package in components):
+            continue
+        gen = root / f"gen_{key}"
+        shutil.rmtree(gen, ignore_errors=True)
+        for iface, package in components:
+            done = generate(DATA / f"{iface}.iface", gen, "--target", "rclcpp")
+            if done.returncode != 0:
+                return {}, f"generate {iface}: {done.stderr}"
+            shutil.copyfile(DATA / f"{package}_node.cpp", gen / package / "src" / "node.cpp")
+        build_env = env
+        if key == "ws_v1_1":
+            keep_only(gen, "ticker")
+            build_env = overlay(env, out["ws"], "setup.bash")
+        shutil.rmtree(ws, ignore_errors=True)
+        ws.mkdir(parents=True)
+        ok, tail, _ = build_cpp(venv, build_env, gen, ws, reuse=False)
+        if not ok:
+            return {}, f"{key} did not build (log {ws}/colcon.log):\n{tail}"
+    return out, ""

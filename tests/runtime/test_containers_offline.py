@@ -21,7 +21,9 @@ from iface.operate.containers import (
     sharing_problem,
     why_not,
 )
+from iface.operate.in_container import ContainerCalls
 from iface.operate.trust import keygen, sign
+from tests.conftest import run_cli
 
 PNG = Path("/usr/lib/x86_64-linux-gnu/libpng16.so.16")
 
@@ -106,3 +108,36 @@ def test_the_reason_names_the_runtime_or_the_interface_package(tmp_path: Path) -
         "per process")
     said = why_not("libticker_msgs__rosidl_typesupport_cpp.so", "/n/lib/x.so", "/o/lib/x.so")
     assert said.startswith("another ticker_msgs (an interface package): ") and "one interface package per process" in said
+
+
+class _NoCalls:
+    """A protocol client that fails the test when anything is sent."""
+
+    def call(self, service: str, fill: dict[str, object], timeout: float, idempotent: bool = True) -> object:
+        raise AssertionError(f"{service} was called")
+
+
+def test_an_untrusted_component_is_refused_before_the_container_is_asked(tmp_path: Path) -> None:
+    store = tmp_path / "store"
+    store.mkdir()
+    pub, _ = keygen(tmp_path / "key")
+    shutil.copy(pub, store)
+    component = component_in(_package(tmp_path / "pkg"), "ticker", "ticker::Ticker")
+    box = ContainerCalls(_NoCalls(), "box")
+    with pytest.raises(ContainerError, match=r"ticker \(.*pkg\) is not trusted, not loaded: .*is not signed"):
+        box.load(component, "ticker", activate=True, trust_store=store)
+    sign(component.prefix, tmp_path / "key")
+    component.library.write_bytes(b"\x7fELF changed")
+    with pytest.raises(ContainerError, match="libticker_component.so: changed since it was signed"):
+        box.load(component, "ticker", trust_store=store)
+
+
+def test_the_manager_refuses_a_system_with_containers_it_cannot_run_yet(tmp_path: Path) -> None:
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    shutil.copy(examples / "counter.iface", tmp_path)
+    (tmp_path / "plant.iface").write_text('system plant version "1.0.0"\ninclude "counter.iface"\n'
+                                          'instance one : counter (container = "box")\n', encoding="utf-8")
+    done = run_cli("manager", str(tmp_path / "plant.iface"), "--state-dir", str(tmp_path / "state"))
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert "puts instances into component containers (box): the manager does not run containers yet" in done.stderr
+    assert "Traceback" not in done.stderr and not (tmp_path / "state").exists()
