@@ -25,6 +25,7 @@ from ..ros_harness.ros2cli import Launched, cmdline, iface_lsp_on_path, ros2
 from .conftest import Workspace
 
 SECTION = "## From the interface to a running node"
+TUTORIAL = ROOT / "docs" / "tutorial.md"
 DEFAULT_ENV = "~/.cache/ros2-runtime/ros2-env.sh"
 
 #: Drives /robot_arm (started without --activate) through configure and activate, printing what exists when.
@@ -84,8 +85,8 @@ LIFECYCLE = textwrap.dedent("""
 
 def readme_blocks() -> list[list[str]]:
     """The shell lines of each ```sh block of the README's section, comments dropped."""
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    assert SECTION in text, f"README.md has no '{SECTION}'"
+    text = TUTORIAL.read_text(encoding="utf-8")
+    assert SECTION in text, f"{TUTORIAL.name} has no '{SECTION}'"
     section = text[text.index(SECTION):]
     section = section[:section.find("\n#", len(SECTION))]
     blocks = re.findall(r"```sh\n(.*?)```", section, re.DOTALL)
