@@ -190,3 +190,61 @@ def test_default_package_and_executable_are_those_the_rclpy_target_writes(tmp_pa
         setup = (tmp_path / inst.package / "setup.py").read_text(encoding="utf-8")
         assert f"'{inst.executable} = {inst.package}.__main__:main'" in setup
         assert f'<name>{inst.package}</name>' in (tmp_path / inst.package / "package.xml").read_text(encoding="utf-8")
+
+
+CONTAINED = '''system plant
+include "counter.iface"
+include "room_sensor.iface"
+
+instance sensor : room_sensor
+instance one : counter (container = "box")
+instance two : counter (container = "box", node = "counter_two", intra_process = "false", after = "one")
+instance lone : counter (runtime = "rclcpp")
+instance third : counter (container = "other", plugin = "counter::Counter", package = "counter")
+'''
+
+
+def _contained(tmp_path: Path, text: str = CONTAINED) -> Path:
+    for name in ("counter.iface", "room_sensor.iface"):
+        (tmp_path / name).write_text((EXAMPLES / name).read_text(encoding="utf-8"), encoding="utf-8")
+    path = tmp_path / "plant.iface"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_system_spec_gives_an_instance_in_a_container_its_container_and_class(tmp_path: Path) -> None:
+    spec = system_spec(_contained(tmp_path))
+    got = {i.name: (i.container, i.runtime, i.plugin, i.intra_process) for i in spec.instances}
+    assert got == {"sensor": (None, "rclpy", None, False),
+                   "one": ("box", "rclcpp", "counter::Counter", True),
+                   "two": ("box", "rclcpp", "counter::Counter", False),
+                   "lone": (None, "rclcpp", "counter::Counter", False),
+                   "third": ("other", "rclcpp", "counter::Counter", True)}
+    assert spec.containers == ("box", "other")
+    assert [i.name for i in spec.in_container("box")] == ["one", "two"]
+    assert spec.in_container("nothing") == ()
+
+
+def test_check_says_what_an_instance_in_a_container_does_not_use(tmp_path: Path) -> None:
+    text = CONTAINED + ('instance stray : counter (plugin = "counter::Counter", intra_process = "true")\n'
+                        'instance runner : counter (container = "box", executable = "counter")\n')
+    comp = Workspace().compile_path(str(_contained(tmp_path, text)))
+    found = sorted((d.location()[0], d.code, d.severity.name) for d in comp.diagnostics
+                   if d.code == "invalid-instance-annotation")
+    assert found == [(10, "invalid-instance-annotation", "WARNING"), (10, "invalid-instance-annotation", "WARNING"),
+                     (11, "invalid-instance-annotation", "WARNING")]
+    messages = " ".join(d.message for d in comp.diagnostics)
+    assert "'plugin' is for an instance in a container" in messages
+    assert "'executable' is not used for an instance in a container" in messages
+    assert not [d for d in comp.diagnostics if d.severity.name == "ERROR"]
+
+
+def test_a_container_named_as_a_node_is_refused_with_the_node_as_related(tmp_path: Path) -> None:
+    text = CONTAINED.replace('container = "other"', 'container = "counter_two"')
+    comp = Workspace().compile_path(str(_contained(tmp_path, text)))
+    (clash,) = [d for d in comp.diagnostics if d.code == "container-name-clash"]
+    assert clash.location()[0] == 9 and "instance 'two'" in clash.message
+    (related,) = clash.related
+    assert related.source.text[related.span.start:related.span.end] == '"counter_two"'
+    r = run_main("check", str(tmp_path / "plant.iface"))
+    assert r.returncode == 1 and "error[container-name-clash]" in r.stdout

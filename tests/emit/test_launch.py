@@ -7,7 +7,10 @@ SIGINT) is tested under the real ``ros2 launch``: tests/runtime/test_launch.py.
 from __future__ import annotations
 
 import ast
+import sys
+import types
 from pathlib import Path
+from typing import Any, ClassVar
 
 import pytest
 
@@ -75,3 +78,86 @@ def test_a_binary_or_broken_file_gets_its_own_error_before_the_targets_kind(tmp_
         assert f"{path.name}:" in done.stderr + done.stdout and code in done.stderr + done.stdout, done.stderr
         assert "declares no system" not in done.stderr
         assert not (tmp_path / "out").exists()
+
+
+class _Recorded:
+    """A stand-in for a launch action: keeps what it was made with."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self.args, self.kwargs = args, kwargs
+
+
+class _Configuration(_Recorded):
+    values: ClassVar[dict[str, str]] = {}
+
+    def perform(self, context: object) -> str:
+        return self.values[self.args[0]]
+
+
+def _stand_ins() -> dict[str, types.ModuleType]:
+    """launch and launch_ros as far as a container's launch file uses them (the real ``ros2 launch`` runs the
+    launch files of systems without containers: tests/runtime/test_launch.py)."""
+    modules = {name: types.ModuleType(name) for name in ("launch", "launch.actions", "launch.substitutions",
+                                                         "launch_ros", "launch_ros.actions", "launch_ros.descriptions")}
+    modules["launch"].LaunchDescription = _Recorded  # type: ignore[attr-defined]
+    for action in ("DeclareLaunchArgument", "ExecuteProcess", "OpaqueFunction"):
+        setattr(modules["launch.actions"], action, _Recorded)
+    modules["launch.substitutions"].LaunchConfiguration = _Configuration  # type: ignore[attr-defined]
+    modules["launch_ros.actions"].LifecycleNode = _Recorded  # type: ignore[attr-defined]
+    modules["launch_ros.actions"].ComposableNodeContainer = type("Container", (_Recorded,), {})  # type: ignore[attr-defined]
+    modules["launch_ros.descriptions"].ComposableNode = _Recorded  # type: ignore[attr-defined]
+    return modules
+
+
+CONTAINED = """system plant version "1.0.0"
+include "room_sensor.iface"
+include "counter.iface"
+instance sensor : room_sensor
+instance one : counter (container = "box", parameters = "kitchen.yaml")
+instance late : room_sensor (after = "two")
+instance two : counter (container = "box", node = "counter_two", intra_process = "false")
+"""
+
+
+@pytest.fixture(scope="module")
+def contained(home: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    (home.parent / "counter.iface").write_text((ROOT / "examples" / "counter.iface").read_text(encoding="utf-8"),
+                                               encoding="utf-8")
+    (home.parent / "plant.iface").write_text(CONTAINED, encoding="utf-8")
+    out = tmp_path_factory.mktemp("contained")
+    r = run_main("generate", str(home.parent / "plant.iface"), "--target", "launch", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    return out / "plant.launch.py"
+
+
+@pytest.mark.parametrize("activate", ["true", "false"])
+def test_a_containers_instances_are_its_composable_nodes_in_start_order(contained: Path, home: Path, activate: str,
+                                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The container starts where its first instance starts; each instance is a ComposableNode of iface_container with
+    its plugin, node name, parameter file, intra-process communication and the activate argument."""
+    for name, module in _stand_ins().items():
+        monkeypatch.setitem(sys.modules, name, module)
+    namespace: dict[str, Any] = {"__file__": str(contained), "__name__": "plant_launch"}
+    exec(compile(contained.read_text(encoding="utf-8"), str(contained), "exec"), namespace)  # noqa: S102
+    _Configuration.values = {"activate": activate, "manager": "false", "namespace": ""}
+    opaque = namespace["generate_launch_description"]().args[0][-1]
+    started = opaque.kwargs["function"](object())
+    assert [type(n).__name__ for n in started] == ["_Recorded", "Container", "_Recorded"]
+    assert [started[0].kwargs["name"], started[2].kwargs["name"]] == ["sensor", "late"]
+    box = started[1].kwargs
+    assert (box["name"], box["package"], box["executable"]) == ("box", "iface_runtime_cpp", "iface_container")
+    assert "respawn" not in box  # launch would bring the container back empty
+    loaded = [(n.kwargs["package"], n.kwargs["plugin"], n.kwargs["name"], [Path(p).resolve() for p in
+                                                                           n.kwargs["parameters"]],
+               n.kwargs["extra_arguments"]) for n in box["composable_node_descriptions"]]
+    on = activate == "true"
+    assert loaded == [
+        ("counter", "counter::Counter", "one", [(home.parent / "kitchen.yaml").resolve()],
+         [{"use_intra_process_comms": True}, {"activate": on}]),
+        ("counter", "counter::Counter", "counter_two", [], [{"use_intra_process_comms": False}, {"activate": on}]),
+    ]
+
+
+def test_a_system_without_containers_imports_no_composition(generated: Path) -> None:
+    text = generated.read_text(encoding="utf-8")
+    assert "Composable" not in text and "CONTAINERS" not in text and "ORDER" not in text

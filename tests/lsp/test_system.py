@@ -133,6 +133,26 @@ async def test_completion_of_components_annotations_and_values(client: Client, p
     assert {"system", "instance"} <= await complete(client, uri, HEAD + "|")
 
 
+async def test_completion_and_hover_of_a_container(client: Client, plant: str) -> None:
+    """The container keys and their values: the runtimes, true/false, and the containers the file already names."""
+    uri = client.open("system/boxes.iface", HEAD)
+    await client.wait_diagnostics(uri, 1)
+    boxed = HEAD + 'instance back : display (container = "box")\n'
+    keys = await complete(client, uri, boxed + "instance more : display (|)")
+    assert {"container", "runtime", "plugin", "intra_process"} <= keys
+    assert '"box"' in await complete(client, uri, boxed + 'instance more : display (container = "|")')
+    assert {'"rclpy"', '"rclcpp"'} <= await complete(client, uri, boxed + 'instance more : display (runtime = "|")')
+    assert {'"true"', '"false"'} <= await complete(client, uri, boxed + 'instance more : display (intra_process = "|")')
+    client.replace(uri, boxed)
+    client.texts[uri] = boxed
+    await client.wait_diagnostics(uri, client.versions[uri])
+    shown = await hover(client, uri, "back", 1)
+    assert "- container: `box` (shares its process; intra-process where the QoS allows)" in shown
+    assert "- runtime: `rclcpp`" in shown
+    key = await hover(client, uri, "container", 1)
+    assert "**instance annotation** `container`" in key and "share its process" in key
+
+
 async def test_outline_and_semantic_tokens(client: Client, plant: str) -> None:
     found = await client.text_document_document_symbol_async(lsp.DocumentSymbolParams(client.doc(plant)))
     assert found

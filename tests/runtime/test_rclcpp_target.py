@@ -123,9 +123,13 @@ def test_the_machinery_is_one_shared_package_the_components_link() -> None:
     xml = catkin_package(shared["iface_runtime_cpp/package.xml"])
     assert xml.get_build_type() == "ament_cmake" and {d.name for d in xml.build_depends} >= {"iface_msgs", "rclcpp"}
     cmake = shared["iface_runtime_cpp/CMakeLists.txt"]
+    container = "src/container.cpp"  # iface_container's main: an executable of the package, not the library
     sources = sorted(p.split("/", 1)[1] for p in shared if p.startswith("iface_runtime_cpp/src/"))
-    assert re.search(r"add_library\(\$\{PROJECT_NAME\} SHARED\n" + "".join(f"  {s}\n" for s in sources) + r"\)",
-                     cmake), cmake
+    assert container in sources
+    assert re.search(r"add_library\(\$\{PROJECT_NAME\} SHARED\n" + "".join(f"  {s}\n" for s in sources
+                                                                    if s != container) + r"\)", cmake), cmake
+    assert f"add_executable(iface_container {container})" in cmake
+    assert "install(TARGETS iface_container DESTINATION lib/${PROJECT_NAME})" in cmake
     assert "ament_export_targets(export_${PROJECT_NAME} HAS_LIBRARY_TARGET)" in cmake
     served = shared["iface_runtime_cpp/src/node.cpp"]
     for srv in ("SaveState", "RestoreState", "ComponentControl", "Describe"):

@@ -49,6 +49,12 @@ def run(args: argparse.Namespace) -> int:
     except SystemFileError as e:
         print(f"iface-lsp manager: {e}", file=sys.stderr)
         return 2
+    if spec.containers:
+        print(f"iface-lsp manager: {spec.name} puts instances into component containers "
+              f"({', '.join(spec.containers)}): the manager does not run containers yet (docs/system.md, Containers); "
+              "start the system with `generate --target launch` and `ros2 launch`, or without `container`",
+              file=sys.stderr)
+        return 2
     try:
         import iface_msgs.srv  # noqa: F401
         import rclpy  # noqa: F401

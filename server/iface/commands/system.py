@@ -1,7 +1,8 @@
 """``iface-lsp system status|replace|snapshot SYSTEM …``: clients of a running component manager (docs/system.md).
 
 - ``system status SYSTEM [--format text|json|html]``: each instance's node, component, state, pid,
-  restarts, interface hash and last snapshot, and the findings; exit 0 when every instance is active, else 1.
+  restarts, interface hash, last snapshot and container, each container's instances, and the findings; exit 0
+  when every instance is active, else 1.
 - ``system replace SYSTEM INSTANCE --new NEW.iface --package DIR [--timeout S]``: one JSON record as
   ``handover`` prints; exit 0 replaced, 1 refused or rolled back.
 - ``system snapshot SYSTEM [INSTANCE]``: save now; exit 0 when every chosen instance was saved, else 1.
@@ -118,6 +119,15 @@ def run(args: argparse.Namespace) -> int:
         client.close()
 
 
+def containers(instances: list[dict[str, Any]]) -> dict[str, list[dict[str, Any]]]:
+    """The instances of each container (by its current name), containers in the order of their first instance."""
+    out: dict[str, list[dict[str, Any]]] = {}
+    for i in instances:
+        if i.get("container"):
+            out.setdefault(i["container"], []).append(i)
+    return out
+
+
 def _status(spec: Any, data: dict[str, Any], fmt: str) -> int:
     data = {"instances": data["instances"], "findings": data["findings"]}
     code = 0 if all(i["state"] == "active" for i in data["instances"]) else 1
@@ -131,8 +141,14 @@ def _status(spec: Any, data: dict[str, Any], fmt: str) -> int:
         print(f"{spec.name}: {sum(i['state'] == 'active' for i in data['instances'])} of "
               f"{len(data['instances'])} instances active")
         for i in data["instances"]:
+            box = i.get("container")
             print(f"  {i['name']:<16} {i['state']:<9} {i['node']:<24} pid {i['pid']:<7} restarts {i['restarts']}  "
-                  f"{i['component']} {i['interface_hash'][:19]}  last snapshot {i['last_snapshot'] or '-'}")
+                  f"{i['component']} {i['interface_hash'][:19]}  last snapshot {i['last_snapshot'] or '-'}"
+                  + (f"  in container {box}" if box else ""))
+        for box, members in containers(data["instances"]).items():
+            pids = sorted({m["pid"] for m in members if m["pid"]})
+            print(f"container {box}: {', '.join(m['name'] for m in members)}; "
+                  + (f"pid {', '.join(str(p) for p in pids)}" if pids else "not running"))
         for f in data["findings"]:
             print(f"{f['instance']}: {f['message']}")
     return code

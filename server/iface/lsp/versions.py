@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from ..semantics.systems import containers
 from .convert import LineIndex
 from .documents import DocState, Edit, map_back, map_forward
 
@@ -51,14 +52,17 @@ class CompiledVersion:
 
     @property
     def system_names(self) -> tuple[Name, ...]:
-        """For a system file: the components its includes declare (kind ``component``) and its instances
-        (kind ``instance``); empty for any other file."""
+        """For a system file: the components its includes declare (kind ``component``), its instances
+        (kind ``instance``) and the containers they name (kind ``container``, its instances as members);
+        empty for any other file."""
         iface = self.iface
         if iface is None or (iface.system is None and not iface.instances):
             return ()
         out = [Name(inc.name, "component", inc.component.doc or "" if inc.component is not None else "")
                for inc in {i.name: i for i in iface.included.values()}.values()]
         out += [Name(i.name, "instance", i.doc or "", (i.component,)) for i in iface.instances]
+        for box in containers(iface.instances):
+            out.append(Name(box, "container", "", tuple(i.name for i in iface.instances if i.value("container") == box)))
         return tuple(out)
 
     @property

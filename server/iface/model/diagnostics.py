@@ -96,9 +96,14 @@ CODES: dict[str, tuple[Severity, str]] = {
     "duplicate-node-name": (Severity.ERROR, "Two instances that would run under one node name."),
     "unknown-instance-annotation": (Severity.ERROR, "An instance annotation iface does not know."),
     "invalid-instance-annotation": (Severity.ERROR, "An instance annotation with a value iface cannot use "
-                                    "(restart, snapshot, node, package, executable, parameters)."),
+                                    "(restart, snapshot, node, package, executable, parameters, container, runtime, plugin, "
+                                    "intra_process)."),
     "unknown-instance": (Severity.ERROR, "An `after` that names no instance of the system."),
     "instance-cycle": (Severity.ERROR, "Instances that start after each other."),
+    "container-needs-rclcpp": (Severity.ERROR, "An instance in a container that runs its rclpy package: a container "
+                               "loads rclcpp components."),
+    "container-name-clash": (Severity.ERROR, "A container whose name is the node name of an instance or of the "
+                             "component manager."),
 }
 
 

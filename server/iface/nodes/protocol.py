@@ -57,6 +57,8 @@ SAVE_STATE = "~/save_state"
 RESTORE_STATE = "~/restore_state"
 CONTROL = "~/control"
 DESCRIBE = "~/describe"
+#: Served by a component container (iface_runtime_cpp's iface_container), not by a component.
+HAND_OVER = "~/handover"
 #: Where every component publishes diagnostic_msgs/DiagnosticArray.
 DIAGNOSTICS_TOPIC = "/diagnostics"
 #: Diagnostics rate when the file gives none (diagnostic_updater's default).
@@ -131,7 +133,9 @@ MESSAGES: tuple[ProtocolMessage, ...] = (
          SrvField("uint32", "restarts", "restarts by the manager since it started"),
          SrvField("string", "interface_hash", "the interface hash of what runs (sha256:…)"),
          SrvField("string", "last_snapshot", "time of its last snapshot, ISO 8601 UTC (empty: none)"),
-         SrvField("string[]", "findings", "what went wrong, oldest first"))),
+         SrvField("string[]", "findings", "what went wrong, oldest first"),
+         SrvField("string", "container", "the component container it is loaded into (empty: a process of its own; "
+                  "pid is the container's)"))),
 )
 
 #: The services of ``iface_msgs``; the first three are the ones every component served before ``Describe``.
@@ -202,6 +206,23 @@ SERVICES: tuple[ProtocolService, ...] = (
         (SrvField("bool", "success", "NEW took over"),
          SrvField("string", "result", "replaced, refused or rolled_back"),
          SrvField("string", "record", "the hand-over record (JSON, as `iface-lsp handover` prints)"))),
+    ProtocolService(
+        "HandOver", HAND_OVER,
+        ("Hand over inside a component container (iface_runtime_cpp's iface_container), from one component node it",
+         "holds (OLD, active) to another (NEW, configured), with no DDS round trip in the critical section: right",
+         "after a tick of OLD's work timer (when one is due within the alignment time), OLD pauses, its state",
+         "document is restored into NEW, NEW is activated on OLD's schedule, OLD is deactivated and resumed."),
+        (SrvField("string", "old_node", "OLD's fully qualified node name"),
+         SrvField("string", "new_node", "NEW's fully qualified node name"), _TIMEOUT),
+        (SrvField("bool", "success", "NEW took over; otherwise OLD is as it was (active, not paused)"),
+         SrvField("string", "message", "why it failed, or what was done"),
+         SrvField("string", "state", "OLD's state document at the pause (what NEW restored)"),
+         SrvField("string[]", "restored", "variables NEW set from the document"),
+         SrvField("string[]", "kept", "variables of NEW the document does not have"),
+         SrvField("float64", "pause_ms", "from the request to OLD paused: its next tick and its work in progress"),
+         SrvField("float64", "critical_ms", "from OLD paused to NEW active"),
+         SrvField("string", "after_tick", "the work timer of OLD whose tick the switch followed (empty: none was "
+                  "due, the switch came between transactions)"))),
 )
 SERVICE_TYPES = tuple(s.type_name for s in SERVICES)
 #: The services every component node serves whose types its generated code names (beside ``Describe``).

@@ -3,7 +3,9 @@
 ``system_spec(path)`` compiles a system file (docs/language.md, Systems) and gives each instance
 what starting it needs: the ROS 2 package and executable (by default those ``generate --target
 rclpy`` writes for its component), its node name, restart policy, snapshot period, the instances
-it starts after, its parameter file and its component's interface hash. A file with errors, or one
+it starts after, its parameter file and its component's interface hash; for an instance in a
+component container, the container, its runtime (rclcpp) and the component class the container
+loads, and whether it uses intra-process communication. A file with errors, or one
 that declares no system, raises ``SystemFileError`` naming the first error as ``file:line:col``.
 """
 
@@ -18,7 +20,7 @@ from ..compat.systemfile import instance_compilations, system_findings
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Severity
 from ..semantics.compile import Compilation, Workspace
-from ..semantics.systems import DEFAULT_RESTART, period, start_order
+from ..semantics.systems import DEFAULT_RESTART, intra_process, period, runtime, start_order
 from .component import ComponentSpec, node_spec
 
 
@@ -43,6 +45,14 @@ class InstanceSpec:
     parameters: Path | None
     #: The 1-based line of the instance in its system file.
     line: int
+    #: The component container it is loaded into (its node name), or None: a process of its own.
+    container: str | None = None
+    #: "rclpy" or "rclcpp": the component package it runs (rclcpp in a container).
+    runtime: str = "rclpy"
+    #: The rclcpp component class a container loads (``counter::Counter``); for rclpy, None.
+    plugin: str | None = None
+    #: In a container: its publishers and subscriptions use intra-process communication where the QoS allows it.
+    intra_process: bool = False
 
 
 @dataclass(frozen=True)
@@ -58,6 +68,15 @@ class SystemSpec:
     def instance(self, name: str) -> InstanceSpec | None:
         """The instance called ``name``, if any."""
         return next((i for i in self.instances if i.name == name), None)
+
+    @property
+    def containers(self) -> tuple[str, ...]:
+        """The component containers the instances name, in the order of their first instance to start."""
+        return tuple(dict.fromkeys(i.container for i in self.instances if i.container))
+
+    def in_container(self, container: str) -> tuple[InstanceSpec, ...]:
+        """The instances loaded into ``container``, in start order."""
+        return tuple(i for i in self.instances if i.container == container)
 
 
 def system_spec(path: str | os.PathLike[str], include_paths: tuple[str, ...] = ()) -> SystemSpec:
@@ -103,6 +122,8 @@ def _instance(system: Compilation, inst: m.Instance, comp: Compilation,
     snapshot = inst.value("snapshot")
     parameters = inst.value("parameters")
     line = system.source.position(inst.span.start)[0] + 1
+    run = runtime(inst)
+    plugin = (inst.value("plugin") or f"{package}::{spec.class_name}") if run == "rclcpp" else None
     return InstanceSpec(
         name=inst.name, node=inst.node, component=inst.component, iface_file=Path(comp.path),
         interface_hash=hashed, package=package,
@@ -110,7 +131,8 @@ def _instance(system: Compilation, inst: m.Instance, comp: Compilation,
         restart=inst.value("restart") or DEFAULT_RESTART,
         snapshot_period=period(snapshot) if snapshot is not None else None,
         after=tuple(dict.fromkeys(a.text for a in inst.after)),
-        parameters=(base / parameters).resolve() if parameters else None, line=line)
+        parameters=(base / parameters).resolve() if parameters else None, line=line,
+        container=inst.value("container"), runtime=run, plugin=plugin, intra_process=intra_process(inst))
 
 
 def _at(comp: Compilation, inst: m.Instance) -> str:

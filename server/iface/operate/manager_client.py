@@ -58,6 +58,7 @@ def status_data(answer: Any) -> dict[str, Any]:
     for i in answer.instances:
         instances.append({"name": i.name, "node": i.node, "component": i.component, "state": i.state,
                           "pid": int(i.pid), "restarts": int(i.restarts), "interface_hash": i.interface_hash,
-                          "last_snapshot": i.last_snapshot or None})
+                          "last_snapshot": i.last_snapshot or None,
+                          "container": getattr(i, "container", "") or None})
         findings.extend({"instance": i.name, "message": f} for f in i.findings)
     return {"system": answer.system, "instances": instances, "findings": findings}

@@ -29,13 +29,31 @@ ANNOTATIONS: dict[str, str] = {
                 "(default: only on deactivate and on request)",
     "after": "an instance this one starts after (default: declaration order); may be given more than once",
     "parameters": "a YAML parameter file, relative to the system file",
+    "container": "the component container (an rclcpp process, named by its node name) the instance is loaded "
+                 "into; instances naming one container share its process and fail together (default: a process "
+                 "of its own)",
+    "runtime": 'which of its component\'s generated packages the instance runs: "rclpy" (`generate --target '
+               'rclpy`) or "rclcpp" (`--target rclcpp`); default "rclcpp" in a container, else "rclpy"',
+    "plugin": "the rclcpp component class a container loads (default: `<package>::<Class>`, the class "
+              "`generate --target rclcpp` registers)",
+    "intra_process": 'in a container: "true" (default) or "false", whether its publishers and subscriptions '
+                     "reach the container's other instances in-process where their QoS allows it (volatile, "
+                     "keep_last)",
 }
 RESTART = ("never", "on-failure", "always")
 DEFAULT_RESTART = "on-failure"
+RUNTIMES = ("rclpy", "rclcpp")
+BOOLEANS = ("true", "false")
+#: The component manager's own node: no instance or container may take its name.
+MANAGER_NODE = "iface_manager"
+#: Annotations that only an instance in a container uses, and one it does not.
+CONTAINER_ONLY = ("plugin", "intra_process")
+NOT_IN_CONTAINER = ("executable",)
 _PERIOD = re.compile(r"^\s*([0-9]+(?:\.[0-9]*)?|\.[0-9]+)\s*(ms|s|min)\s*$")
 _UNITS = {"ms": 1e-3, "s": 1.0, "min": 60.0}
 _NODE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _NAMES = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$")
+_PLUGIN = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(::[A-Za-z_][A-Za-z0-9_]*)+$")
 
 
 def period(text: str) -> float | None:
@@ -50,6 +68,24 @@ def period(text: str) -> float | None:
 def is_node_name(text: str) -> bool:
     """True for a name ROS 2 takes as a node name (letters, digits and underscores, not a digit first)."""
     return _NODE.match(text) is not None
+
+
+def runtime(inst: m.Instance) -> str:
+    """The instance's runtime: its ``runtime`` annotation, else rclcpp in a container and rclpy outside one."""
+    given = inst.value("runtime")
+    if given in RUNTIMES:
+        return given
+    return "rclcpp" if inst.value("container") else "rclpy"
+
+
+def intra_process(inst: m.Instance) -> bool:
+    """Whether an instance in a container uses intra-process communication (the default), per ``intra_process``."""
+    return inst.value("container") is not None and inst.value("intra_process") != "false"
+
+
+def containers(instances: list[m.Instance]) -> list[str]:
+    """The containers the instances name, in the order of their first instance."""
+    return list(dict.fromkeys(c for c in (i.value("container") for i in instances) if c))
 
 
 def components(iface: m.Interface) -> dict[str, m.Interface]:
@@ -162,6 +198,7 @@ def system_file(iface: m.Interface) -> Iterator[Diagnostic]:
                            related=[Related(src, annotation_span(nodes[node], "node"), "the other node")])
             else:
                 nodes[node] = inst
+    yield from _containers(iface, nodes)
     loop = cycle(iface)
     if loop:
         chain = " → ".join(i.name for i in [*loop, loop[0]])
@@ -169,6 +206,42 @@ def system_file(iface: m.Interface) -> Iterator[Diagnostic]:
             a = next(a for a in inst.after if a.text != inst.name and a.text in table and table[a.text] in loop)
             yield make("instance-cycle", f"instances start after each other: {chain}", src,
                        a.value.span if a.value is not None else a.span)
+
+
+def _containers(iface: m.Interface, nodes: dict[str, m.Instance]) -> Iterator[Diagnostic]:
+    """A container holds rclcpp components only, and its node name is no instance's (nor the manager's)."""
+    src = iface.source
+    for inst in iface.instances:
+        name = inst.value("container")
+        if name is None:
+            for key in CONTAINER_ONLY:
+                if inst.value(key) is not None:
+                    yield make("invalid-instance-annotation", f"'{key}' is for an instance in a container: add "
+                               f"container = \"…\" or leave it out", src, annotation_span(inst, key),
+                               severity=Severity.WARNING)
+            continue
+        if not is_node_name(name):
+            continue  # invalid-instance-annotation says so
+        if inst.value("runtime") == "rclpy":
+            yield make("container-needs-rclcpp", f"instance '{inst.name}' runs its rclpy package (runtime = "
+                       f"\"rclpy\"), but container '{name}' loads rclcpp components: generate the component with "
+                       "--target rclcpp and leave runtime out (or say \"rclcpp\"), or run it in a process of its own",
+                       src, annotation_span(inst, "container"),
+                       related=[Related(src, annotation_span(inst, "runtime"), "the runtime")])
+        for key in NOT_IN_CONTAINER:
+            if inst.value(key) is not None:
+                yield make("invalid-instance-annotation", f"'{key}' is not used for an instance in a container: "
+                           "the container loads its component library, no executable runs", src,
+                           annotation_span(inst, key), severity=Severity.WARNING)
+        other = nodes.get(name)
+        if other is not None:
+            yield make("container-name-clash", f"container '{name}' would run as node '/{name}', the node of "
+                       f"instance '{other.name}': give the container another name", src,
+                       annotation_span(inst, "container"),
+                       related=[Related(src, annotation_span(other, "node"), f"instance '{other.name}'s node")])
+        elif name == MANAGER_NODE:
+            yield make("container-name-clash", f"container '{name}' would run as node '/{name}', the component "
+                       "manager's node: give the container another name", src, annotation_span(inst, "container"))
 
 
 def annotation_span(inst: m.Instance, key: str) -> Span:
@@ -216,6 +289,15 @@ def _value_problem(iface: m.Interface, inst: m.Instance, key: str, text: str,
         return bad, f"'{text}' is no ROS 2 node name: letters, digits and underscores, not a digit first"
     if key in ("package", "executable") and not is_node_name(text):
         return bad, f"'{text}' is no ROS 2 {key} name: letters, digits and underscores, not a digit first"
+    if key == "container" and not is_node_name(text):
+        return bad, (f"'{text}' is no container name: a container runs as a ROS 2 node, its name letters, digits "
+                     "and underscores, not a digit first")
+    if key == "runtime" and text not in RUNTIMES:
+        return bad, f"runtime must be one of {', '.join(repr(r) for r in RUNTIMES)}, not '{text}'"
+    if key == "intra_process" and text not in BOOLEANS:
+        return bad, f"intra_process must be \"true\" or \"false\", not '{text}'"
+    if key == "plugin" and not _PLUGIN.match(text):
+        return bad, f"'{text}' is no C++ class name with its namespace, like \"counter::Counter\""
     if key == "after":
         if text == inst.name:
             return "instance-cycle", f"instance '{inst.name}' cannot start after itself"

@@ -209,7 +209,7 @@ def offer(ctx: Context, names: tuple[Name, ...], topics: list[tuple[str, str, st
 
 def offer_system(ctx: Context, names: tuple[Name, ...], items: Items) -> None:
     """In a system file: the components an instance can be, its annotations, and their values."""
-    from ...semantics.systems import ANNOTATIONS, RESTART
+    from ...semantics.systems import ANNOTATIONS, BOOLEANS, RESTART, RUNTIMES
 
     if ctx.where == "instance-component":
         for n in names:
@@ -227,6 +227,12 @@ def offer_system(ctx: Context, names: tuple[Name, ...], items: Items) -> None:
             values = [(n.name, f"instance of {n.members[0]}") for n in names if n.kind == "instance"]
         elif ctx.key == "snapshot":
             values = [("1s", "period"), ("500ms", "period")]
+        elif ctx.key == "runtime":
+            values = [(r, "runtime") for r in RUNTIMES]
+        elif ctx.key == "intra_process":
+            values = [(b, "intra-process communication") for b in BOOLEANS]
+        elif ctx.key == "container":
+            values = [(n.name, f"container of {', '.join(n.members)}") for n in names if n.kind == "container"]
         items.prefix = ""  # the quote is part of the label; the client filters
         for value, detail in values:
             items.add(f'"{value}"', "value", detail, sort="1", replace_from=ctx.string_start if inside else None)

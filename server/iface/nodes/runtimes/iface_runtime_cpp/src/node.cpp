@@ -6,6 +6,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -115,7 +117,47 @@ void declare_all(rclcpp_lifecycle::LifecycleNode & node, const std::vector<Param
   }
 }
 
+//! The component nodes of this process by their node's base interface (leaked: nodes may outlive static teardown).
+std::mutex & registry_mutex()
+{
+  static auto * m = new std::mutex;
+  return *m;
+}
+std::map<const rclcpp::node_interfaces::NodeBaseInterface *, ComponentNode *> & registry()
+{
+  static auto * r = new std::map<const rclcpp::node_interfaces::NodeBaseInterface *, ComponentNode *>;
+  return *r;
+}
+
 }  // namespace
+
+rclcpp::IntraProcessSetting intra_process(const rclcpp::QoS & profile)
+{
+  const bool allowed = profile.durability() == rclcpp::DurabilityPolicy::Volatile &&
+    profile.history() == rclcpp::HistoryPolicy::KeepLast && profile.depth() > 0;
+  return allowed ? rclcpp::IntraProcessSetting::NodeDefault : rclcpp::IntraProcessSetting::Disable;
+}
+
+rclcpp::IntraProcessSetting ComponentNode::intra_process_for(
+  const std::string & what, const std::string & topic, const rclcpp::QoS & profile)
+{
+  const auto setting = intra_process(profile);
+  if (get_node_options().use_intra_process_comms()) {
+    std::lock_guard<std::mutex> lock(lock_);
+    (setting == rclcpp::IntraProcessSetting::Disable ? over_dds_ : in_process_).push_back(what + " " + topic);
+  }
+  return setting;
+}
+
+std::shared_ptr<ComponentNode> ComponentNode::of(const rclcpp::node_interfaces::NodeBaseInterface * base)
+{
+  std::lock_guard<std::mutex> lock(registry_mutex());
+  const auto found = registry().find(base);
+  if (found == registry().end()) {
+    return nullptr;
+  }
+  return std::static_pointer_cast<ComponentNode>(found->second->weak_from_this().lock());
+}
 
 ComponentNode::ComponentNode(Info info, std::vector<ParamSpec> params, const rclcpp::NodeOptions & options)
 : rclcpp_lifecycle::LifecycleNode(info.node_name, options), info_(std::move(info)), params_(std::move(params))
@@ -134,6 +176,8 @@ ComponentNode::ComponentNode(Info info, std::vector<ParamSpec> params, const rcl
     std::chrono::duration<double>(1.0 / info_.diagnostics_rate), [this] {publish_diagnostics();},
     diagnostics_group);
   serve_protocol();
+  std::lock_guard<std::mutex> lock(registry_mutex());
+  registry()[get_node_base_interface().get()] = this;
 }
 
 void ComponentNode::serve_protocol()
@@ -202,6 +246,10 @@ void ComponentNode::serve_protocol()
 
 ComponentNode::~ComponentNode()
 {
+  {
+    std::lock_guard<std::mutex> lock(registry_mutex());
+    registry().erase(get_node_base_interface().get());
+  }
   join_goals();
 }
 
@@ -298,12 +346,123 @@ rclcpp::TimerBase::SharedPtr ComponentNode::create_work_timer(
 void ComponentNode::tick(WorkTimer & t)
 {
   if (work(t.callback, "timer " + t.name)) {
+    std::function<void(const std::string &)> then;
     {
       std::lock_guard<std::mutex> lock(tick_mutex_);
       t.last_ns = wall_now_ns();
+      then.swap(after_tick_);
     }
     ticked_.notify_all();
+    if (then) {
+      then(t.name);
+    }
   }
+}
+
+HandOverAnswer ComponentNode::hand_over_to(ComponentNode & next, double timeout_sec)
+{
+  const auto asked = std::chrono::steady_clock::now();
+  HandOverAnswer refused;
+  const auto next_state = next.get_current_state();
+  if (&next == this) {
+    refused.message = "OLD and NEW are one node";
+  } else if (!active_) {
+    refused.message = std::string("OLD ") + get_fully_qualified_name() + " is " + lifecycle_label() + ", not active";
+  } else if (gate_.paused()) {
+    refused.message = std::string("OLD ") + get_fully_qualified_name() + " is paused";
+  } else if (next_state.id() != lifecycle_msgs::msg::State::PRIMARY_STATE_INACTIVE) {
+    refused.message = std::string("NEW ") + next.get_fully_qualified_name() + " is " + next_state.label() +
+      ", not inactive (configure it first)";
+  }
+  if (!refused.message.empty()) {
+    return refused;
+  }
+  // The work timer due soonest: the switch follows its tick when that is due within ALIGN_SEC.
+  double wait = std::numeric_limits<double>::infinity();
+  double period = 0.0;
+  for (const auto & entry : work_timers_) {
+    for (const auto & timer : {entry->timer, entry->first}) {
+      if (timer && !timer->is_canceled()) {
+        const double left = std::max(0.0, std::chrono::duration<double>(timer->time_until_trigger()).count());
+        if (left < wait) {
+          wait = left;
+          period = entry->period;
+        }
+      }
+    }
+  }
+  auto done = std::make_shared<std::promise<HandOverAnswer>>();
+  auto answer = done->get_future();
+  std::function<void(const std::string &)> critical = [this, &next, timeout_sec, asked, done](const std::string & after) {
+      done->set_value(switch_to(next, timeout_sec, asked, after));
+    };
+  if (wait <= std::min(ALIGN_SEC, timeout_sec)) {
+    {
+      std::lock_guard<std::mutex> lock(tick_mutex_);
+      after_tick_ = critical;
+    }
+    const auto bound = std::chrono::duration<double>(wait + std::max(period, ALIGN_SEC) + 0.5);
+    if (answer.wait_for(bound) != std::future_status::ready) {
+      std::function<void(const std::string &)> mine;  // no tick came: take it back (unless a tick took it)
+      {
+        std::lock_guard<std::mutex> lock(tick_mutex_);
+        mine.swap(after_tick_);
+      }
+      if (mine) {
+        mine("");
+      }
+    }
+    return answer.get();
+  }
+  critical("");
+  return answer.get();
+}
+
+HandOverAnswer ComponentNode::switch_to(
+  ComponentNode & next, double timeout_sec, std::chrono::steady_clock::time_point asked, const std::string & after)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::duration d) {return std::chrono::duration<double, std::milli>(d).count();};
+  HandOverAnswer answer;
+  answer.after_tick = after;
+  const auto start = Clock::now();
+  answer.pause_ms = ms(start - asked);
+  const auto [paused, why] = gate_.pause(timeout_sec);
+  if (!paused) {
+    answer.message = std::string("OLD did not pause: ") + why;
+    return answer;
+  }
+  std::string step = "save OLD's state";
+  try {
+    answer.state = save_state(timeout_sec);
+    step = "restore the state into NEW";
+    const Restored restored = next.restore_state(answer.state, timeout_sec);
+    answer.restored = restored.restored;
+    answer.kept = restored.kept;
+    step = "activate NEW";
+    if (next.activate().id() != lifecycle_msgs::msg::State::PRIMARY_STATE_ACTIVE) {
+      throw std::runtime_error(std::string(next.get_fully_qualified_name()) + " did not become active");
+    }
+  } catch (const std::exception & e) {
+    gate_.resume();
+    answer.message = "could not " + step + ": " + e.what() + "; OLD goes on";
+    RCLCPP_WARN(get_logger(), "hand-over to %s: %s", next.get_fully_qualified_name(), answer.message.c_str());
+    return answer;
+  }
+  answer.critical_ms = ms(Clock::now() - start);
+  try {
+    deactivate();
+  } catch (const std::exception & e) {
+    failed("deactivate after the hand-over", e.what());
+  }
+  gate_.resume();
+  answer.success = true;
+  char text[200];
+  std::snprintf(text, sizeof text, "NEW %s active %.3f ms after OLD paused%s%s", next.get_fully_qualified_name(),
+    answer.critical_ms, after.empty() ? "" : ", right after a tick of ", after.c_str());
+  answer.message = text;
+  RCLCPP_INFO(get_logger(), "handed over: %s", text);
+  return answer;
 }
 
 void ComponentNode::await_tick(double timeout_sec)
@@ -494,6 +653,11 @@ ComponentNode::CallbackReturn ComponentNode::on_configure(const rclcpp_lifecycle
   if (check_configure() != CallbackReturn::SUCCESS) {
     return CallbackReturn::FAILURE;
   }
+  {
+    std::lock_guard<std::mutex> lock(lock_);
+    in_process_.clear();
+    over_dds_.clear();
+  }
   try {
     create_members();
     setup();
@@ -501,6 +665,18 @@ ComponentNode::CallbackReturn ComponentNode::on_configure(const rclcpp_lifecycle
     failed("configure", e.what());
     destroy_members();
     return CallbackReturn::FAILURE;
+  }
+  if (get_node_options().use_intra_process_comms()) {
+    const auto join = [](const std::vector<std::string> & items) {
+        std::string out;
+        for (const auto & item : items) {
+          out += (out.empty() ? "" : ", ") + item;
+        }
+        return out.empty() ? std::string("none") : out;
+      };
+    std::lock_guard<std::mutex> lock(lock_);
+    RCLCPP_INFO(get_logger(), "intra-process communication: %s; over DDS only (transient_local or keep_all): %s",
+      join(in_process_).c_str(), join(over_dds_).c_str());
   }
   return CallbackReturn::SUCCESS;
 }

@@ -4,6 +4,7 @@
 #define IFACE_RUNTIME_CPP__NODE_HPP_
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -98,6 +99,26 @@ struct ControlAnswer
   std::vector<uint32_t> publisher_matched;
 };
 
+//! What a hand-over inside a process did (ComponentNode::hand_over_to; a container's ~/handover answers it).
+struct HandOverAnswer
+{
+  bool success = false;
+  std::string message;
+  //! OLD's state document at the pause (what NEW restored).
+  std::string state;
+  std::vector<std::string> restored;
+  std::vector<std::string> kept;
+  //! From the request to OLD paused (its next tick and its work in progress), and from OLD paused to NEW active.
+  double pause_ms = 0.0;
+  double critical_ms = 0.0;
+  //! The work timer of OLD whose tick the switch followed ("" when none was due within ALIGN_SEC).
+  std::string after_tick;
+};
+
+//! Whether intra-process communication may carry a topic of this QoS: volatile durability, keep_last history,
+//! a depth. A publisher or subscription whose QoS does not allow it asks for none, whatever its node says.
+rclcpp::IntraProcessSetting intra_process(const rclcpp::QoS & profile);
+
 //! A managed node built from an interface; subclassed by the generated base class.
 class ComponentNode : public rclcpp_lifecycle::LifecycleNode
 {
@@ -112,6 +133,17 @@ public:
   //! node's callbacks): no callback of it starts any more, the running ones end (at most timeout_sec
   //! s), its goals' threads join. The component factory (COMPONENT(Class) in base.hpp) calls it.
   void quiesce(double timeout_sec = 5.0);
+
+  //! The component node of this process whose node is base; nullptr when there is none (a node that is not an
+  //! iface component, or one being deleted). One iface_runtime_cpp per process: every component registers here.
+  static std::shared_ptr<ComponentNode> of(const rclcpp::node_interfaces::NodeBaseInterface * base);
+
+  //! Hand over from this node (OLD, active) to next (NEW, configured) in this process, without a service call:
+  //! right after the next tick of a work timer of OLD when one is due within ALIGN_SEC (on the tick's thread,
+  //! once its work transaction has ended), else at once between transactions: OLD pauses, its state document
+  //! is restored into NEW, NEW is activated (its work timers continue OLD's schedule), OLD is deactivated and
+  //! its gate opened again. On a failure OLD is left as it was: active, not paused.
+  HandOverAnswer hand_over_to(ComponentNode & next, double timeout_sec);
 
   // ---- what the user may call or override
   //! Called on configure, once the members exist: create work timers here. Throw to fail.
@@ -177,7 +209,10 @@ protected:
   std::shared_ptr<rclcpp_lifecycle::LifecyclePublisher<MsgT>> make_publisher(
     const std::string & name, const std::map<std::string, std::string> & settings)
   {
-    auto pub = this->create_publisher<MsgT>(name, qos(settings));
+    const auto profile = qos(settings);
+    rclcpp::PublisherOptions options;
+    options.use_intra_process_comm = intra_process_for("publisher", name, profile);
+    auto pub = this->create_publisher<MsgT>(name, profile, options);
     keep(pub);
     {
       std::lock_guard<std::mutex> lock(lock_);
@@ -191,10 +226,12 @@ protected:
     const std::string & name, std::function<void(const MsgT &)> handler, const std::string & what,
     const std::map<std::string, std::string> & settings)
   {
+    const auto profile = qos(settings);
     rclcpp::SubscriptionOptions options;
     options.callback_group = main_group;
+    options.use_intra_process_comm = intra_process_for("subscription", name, profile);
     auto sub = this->create_subscription<MsgT>(
-      name, qos(settings),
+      name, profile,
       [this, handler, what](const MsgT & msg) {work([&] {handler(msg);}, what);}, options);
     keep(sub);
   }
@@ -350,6 +387,10 @@ protected:
 
   //! The current value of a parameter.
   rclcpp::Parameter parameter(const std::string & name) const {return this->get_parameter(name);}
+  //! The intra-process setting of a publisher or subscription of this QoS (intra_process), noted for the log of
+  //! configure when the node uses intra-process communication.
+  rclcpp::IntraProcessSetting intra_process_for(
+    const std::string & what, const std::string & topic, const rclcpp::QoS & profile);
   //! Keep a Δ service (served from construction to the end).
   void keep_service(rclcpp::ServiceBase::SharedPtr service) {services_.push_back(std::move(service));}
 
@@ -364,8 +405,11 @@ private:
     rclcpp::TimerBase::SharedPtr timer;
     rclcpp::TimerBase::SharedPtr first;
   };
-  //! One tick of a work timer, as a work transaction; notes the time it ran.
+  //! One tick of a work timer, as a work transaction; notes the time it ran; then runs what waits for a tick.
   void tick(WorkTimer & t);
+  //! The critical section of hand_over_to.
+  HandOverAnswer switch_to(
+    ComponentNode & next, double timeout_sec, std::chrono::steady_clock::time_point asked, const std::string & after);
   //! Before a pause: wait for the next tick of the work timer due soonest, when it is due within ALIGN_SEC, so
   //! that a hand-over's silence on its topic holds the critical section only, not also part of a period.
   void await_tick(double timeout_sec);
@@ -430,6 +474,11 @@ private:
   std::vector<std::weak_ptr<rclcpp::PublisherBase>> publishers_;
   std::mutex tick_mutex_;
   std::condition_variable ticked_;
+  //! Run once by the next tick of any work timer, on its thread, after its work transaction (a hand-over).
+  std::function<void(const std::string &)> after_tick_;
+  //! With intra-process communication: the members that use it, and those whose QoS keeps them on DDS.
+  std::vector<std::string> in_process_;
+  std::vector<std::string> over_dds_;
   //! The restored document's schedule, until the next activation continues from it.
   std::map<std::string, int64_t> restored_schedule_;
   std::vector<rclcpp::ServiceBase::SharedPtr> services_;

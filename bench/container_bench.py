@@ -1,0 +1,257 @@
+"""Components in one process, measured on loopback (docs/system.md, "Containers: figures"; issue 37's goals):
+
+    python bench/container_bench.py [--runs 20] [--seconds 5] [--keep DIR]
+
+1. the silence on a 1 kHz topic, and on a 100 Hz one, across a replacement inside the container: an
+   ``iface_container`` holds ticker 1.0 and the tally (tests/runtime/data); each run loads ticker 1.1
+   beside the active ticker (configured, its publisher matched), calls the container's ``~/handover``
+   (between two of OLD's ticks, no DDS round trip in the critical section) and unloads OLD, through
+   ``iface.operate.in_container`` (the calls the component manager makes). Median and p95 over ``--runs``
+   (goals <= 2 / 3 ms at 1 kHz, <= 11 / 12 ms at 100 Hz) from the publish times (``source_timestamp``) of
+   OLD's last count and NEW's first; the arrival times too, the container's critical section and pause, and
+   counts lost or repeated (0 expected, at the bench's subscriber over DDS and at the tally in the process);
+2. messages per second from the ticker (1 kHz, 50 a tick) to the tally: in one container with intra-process
+   communication, in one container without it, and as two processes; the ratios.
+
+A container's ``kill -9`` until its instances are back is the component manager's to measure (it restarts
+them); this bench says so rather than time a restart it would do itself.
+
+Builds the ticker (1.0 and 1.1) and the tally (rclcpp) once (``--keep DIR`` builds there, or reuses the build
+found there: tests/ros_harness/cpp.py ``ticker_workspaces``), then runs itself in the ROS 2 environment. The
+machine's load average is printed with the figures: measure on a quiet machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+RATES = {"1khz": 1000.0, "100hz": 100.0}
+FLOOD = {"rate_hz": 1000.0, "burst": 50}
+
+
+def percentile(values: list[float], q: float) -> float:
+    """The ``q`` quantile (nearest rank) of ``values``."""
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, max(0, round(q * len(ordered) + 0.5) - 1))]
+
+
+def load() -> str:
+    return "load average " + " ".join(Path("/proc/loadavg").read_text().split()[:3])
+
+
+def build(root: Path) -> tuple[dict[str, Path], dict[str, str], str]:
+    """The workspaces of the tickers and the tally (built now unless built there before), their run environment;
+    or why not."""
+    from tests.ros_harness.cpp import missing_tools, overlay, rclcpp_env, ticker_workspaces
+    from tests.ros_harness.ros import environment, runtime_venv
+
+    venv, why = runtime_venv()
+    if venv is None:
+        return {}, {}, why
+    env = rclcpp_env(venv)
+    if env is None:
+        return {}, {}, f"rclcpp is not built in {venv}/cpp: run bash ../shared/ros2-runtime/build-cpp.sh {venv}"
+    if missing_tools(env):
+        return {}, {}, f"no {', '.join(missing_tools(env))} to build C++"
+    start = time.monotonic()
+    ws, why = ticker_workspaces(venv, env, root)
+    if why:
+        return {}, {}, why
+    print(f"workspaces ready in {time.monotonic() - start:.0f} s ({root})", flush=True)
+    return ws, overlay(environment(venv, ws["ws"], root / "ros-log"), ws["ws"], "setup.bash"), ""
+
+
+def prepare(args: argparse.Namespace) -> int:
+    root = args.keep.resolve() if args.keep else Path(tempfile.mkdtemp(prefix="container-bench-"))
+    root.mkdir(parents=True, exist_ok=True)
+    sys.path[:0] = [str(ROOT), str(ROOT / "server")]
+    ws, env, why = build(root)
+    if why:
+        print(f"container_bench: {why}", file=sys.stderr)
+        return 2
+    for name, rate in RATES.items():
+        (root / f"{name}.yaml").write_text(f"/**:\n  ros__parameters:\n    rate_hz: {rate}\n", encoding="utf-8")
+    (root / "flood.yaml").write_text("/**:\n  ros__parameters:\n" + "".join(f"    {k}: {v}\n" for k, v in
+                                                                         FLOOD.items()), encoding="utf-8")
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "server"), env.get("PYTHONPATH", "")])
+    cfg = {"root": str(root), "ws": str(ws["ws"]), "ws_v1_1": str(ws["ws_v1_1"]), "runs": args.runs,
+           "seconds": args.seconds}
+    (root / "config.json").write_text(json.dumps(cfg))
+    print(f"{load()} (before); commit {commit()}; logs in {root}", flush=True)
+    try:
+        done = subprocess.run([sys.executable, __file__, "--inner", str(root / "config.json")], env=env,
+                              timeout=3600, check=False)
+    finally:
+        print(f"{load()} (after)", flush=True)
+        if not args.keep:
+            shutil.rmtree(root, ignore_errors=True)
+    return done.returncode
+
+
+def commit() -> str:
+    """The checkout's commit (with "+changes" when the work tree differs from it)."""
+    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                          check=False).stdout.strip()
+    dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
+                           capture_output=True, text=True, check=False).stdout.strip()
+    return (head or "unknown") + ("+changes" if dirty else "")
+
+
+class Ticks:
+    """Every /tick the bench receives: (count, publish time, arrival time) in ms, on the probe's executor."""
+
+    def __init__(self, node: Any) -> None:
+        from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+        from ticker_msgs.msg import Tick
+
+        self.seen: list[tuple[int, float, float]] = []
+        qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
+        node.create_subscription(Tick, "/tick", self._got, qos)
+
+    def _got(self, msg: Any, info: dict[str, int]) -> None:
+        self.seen.append((msg.value, info["source_timestamp"] / 1e6, info["received_timestamp"] / 1e6))
+
+
+def inner(config: Path) -> int:
+    from iface.nodes import protocol
+    from iface.operate.containers import component_in
+    from iface.operate.in_container import ContainerCalls
+    from iface.live.link import Link
+    from tests.ros_harness.probe import Component, Probe, Protocol
+
+    cfg = json.loads(config.read_text())
+    root, runs = Path(cfg["root"]), int(cfg["runs"])
+    logs = root / "logs"
+    logs.mkdir(exist_ok=True)
+    probe = Probe()
+    calls = Protocol(probe)
+    ticks = Ticks(probe.node)
+    box = ContainerCalls(Link(probe.node), "box")
+    ws = Path(cfg["ws"])
+    v1_0 = component_in(ws / "install" / "ticker", "ticker", "ticker::Ticker")
+    v1_1 = component_in(Path(cfg["ws_v1_1"]) / "install" / "ticker", "ticker", "ticker::Ticker")
+    tally = component_in(ws / "install" / "tally", "tally", "tally::Tally")
+    container_exe = ws / "install" / "iface_runtime_cpp" / "lib" / "iface_runtime_cpp" / "iface_container"
+
+    def container() -> Component:
+        c = Component("box", logs, [str(container_exe)])
+        probe.wait_until(lambda: "/box/_container/load_node" in probe.services_of("box"), 30, "the container")
+        return c
+
+    def matched(node: str, at_least: int) -> None:
+        probe.wait_until(lambda: min(calls.control(node, protocol.STATUS).publisher_matched or [0]) >= at_least, 10,
+                         f"{node}'s /tick matched by {at_least} subscriptions")
+
+    # ---- 1. silence across a replacement inside the container
+    for name, rate in RATES.items():
+        params = (root / f"{name}.yaml",)
+        box_proc = container()
+        try:
+            box.load(v1_0, "ticker_0", params_files=params, activate=True)
+            box.load(tally, "tally", activate=True)
+            matched("ticker_0", 2)
+            time.sleep(1.0)
+            silences, arrivals, critical, pauses = [], [], [], []
+            first = len(ticks.seen)
+            before = calls.save("tally")["values"]
+            for run in range(1, runs + 1):
+                old, new = f"/ticker_{run - 1}", f"ticker_{run}"
+                box.load(v1_1, new, params_files=params, configure=True)
+                matched(new, 2)
+                done = box.hand_over(old, "/" + new, 10.0)
+                if not done.success:
+                    print(f"container_bench: ~/handover {old} -> {new}: {done.message}", file=sys.stderr)
+                    return 1
+                box.unload(box.nodes()[old])
+                last = int(done.state["values"]["count"])
+                probe.wait_until(lambda: bool(ticks.seen) and ticks.seen[-1][0] > last + 2,  # noqa: B023 - now
+                                 10, "NEW's counts")
+                at = {v: (s, r) for v, s, r in ticks.seen}
+                silences.append(at[last + 1][0] - at[last][0])
+                arrivals.append(at[last + 1][1] - at[last][1])
+                critical.append(done.critical_ms)
+                pauses.append(done.pause_ms)
+                time.sleep(0.2)
+            values = [v for v, _, _ in ticks.seen[first:]]
+            lost = sum(max(0, b - a - 1) for a, b in itertools.pairwise(values))
+            repeated = sum(1 for a, b in itertools.pairwise(values) if b <= a)
+            tallied = calls.save("tally")["values"]
+            twice = (tallied["received"] - before["received"]) - (tallied["last"] - before["last"] - tallied["missed"]
+                                                                  + before["missed"])
+            print(f"{rate:g} Hz: silence across a replacement inside the container (publish times): median "
+                  f"{statistics.median(silences):.2f} ms, p95 {percentile(silences, 0.95):.2f} ms, max "
+                  f"{max(silences):.2f} over {len(silences)}; arrival times: median {statistics.median(arrivals):.2f} "
+                  f"ms, p95 {percentile(arrivals, 0.95):.2f} ms; critical section median "
+                  f"{statistics.median(critical):.3f} ms, p95 {percentile(critical, 0.95):.3f} ms; pause median "
+                  f"{statistics.median(pauses):.2f} ms; lost {lost}, repeated {repeated} (bench, over DDS), missed "
+                  f"{tallied['missed'] - before['missed']}, received twice {twice} (the tally, in the process); {load()}", flush=True)
+        finally:
+            box_proc.stop()
+    print("container kill -9 -> instances back: not measured here (the component manager restarts a container's "
+          "instances: bench/manager_bench.py when it runs containers)", flush=True)
+
+    # ---- 2. messages per second
+    flood = (root / "flood.yaml",)
+    rates: dict[str, float] = {}
+    for setup in ("one container, intra-process", "one container, over DDS", "two processes"):
+        started: list[Component] = []
+        try:
+            if setup == "two processes":
+                for package in ("ticker", "tally"):
+                    exe = ws / "install" / package / "lib" / package / package
+                    extra = ("--params-file", str(flood[0])) if package == "ticker" else ()
+                    started.append(Component(package, logs, [str(exe), "--activate"], ros_args=extra))
+                for package in ("ticker", "tally"):
+                    probe.wait_until(lambda: calls.control(package, protocol.STATUS).lifecycle_state == 3,  # noqa: B023
+                                     30, f"{package} active")
+            else:
+                started.append(container())
+                ipc = setup.endswith("intra-process")
+                box.load(v1_0, "ticker", params_files=flood, activate=True, intra_process=ipc)
+                box.load(tally, "tally", activate=True, intra_process=ipc)
+            time.sleep(2.0)
+            r0, t0 = calls.save("tally")["values"], time.monotonic()
+            time.sleep(float(cfg["seconds"]))
+            r1, t1 = calls.save("tally")["values"], time.monotonic()
+            rates[setup] = (r1["received"] - r0["received"]) / (t1 - t0)
+            offered = FLOOD["rate_hz"] * FLOOD["burst"]
+            print(f"{setup}: {rates[setup]:,.0f} messages/s received by the tally (offered {offered:,.0f}/s), "
+                  f"{r1['missed'] - r0['missed']} missed; {load()}", flush=True)
+        finally:
+            for p in reversed(started):
+                p.stop()
+    print(f"messages/s, one container with intra-process communication vs two processes: "
+          f"{rates['one container, intra-process'] / rates['two processes']:.2f}x; one container over DDS vs two "
+          f"processes: {rates['one container, over DDS'] / rates['two processes']:.2f}x", flush=True)
+    probe.close()
+    return 0
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--runs", type=int, default=20)
+    ap.add_argument("--seconds", type=float, default=5.0, help="how long each throughput is measured")
+    ap.add_argument("--keep", type=Path, help="build into this folder, or reuse the build found there")
+    ap.add_argument("--inner", type=Path, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.inner is not None:
+        code = inner(args.inner)
+        sys.stdout.flush()
+        os._exit(code)  # rclpy's threads may abort the interpreter's own teardown
+    return prepare(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
