@@ -2,8 +2,9 @@
 
 rclcpp has no wheel: ``../shared/ros2-runtime/build-cpp.sh VENV`` builds it into ``VENV/cpp`` and writes
 ``cpp-env.sh``. ``rclcpp_env`` is the environment of ``ros2-env.sh`` and ``cpp-env.sh`` (None without
-them); ``build_cpp`` runs colcon on a folder of generated packages as docs/targets.md says, the
-interface packages coming from the workspaces ``ros.reused_underlays`` builds once per process.
+them); ``build_cpp`` runs colcon on a folder of generated packages as docs/targets.md says, every package
+built there (a workspace of its own, as a user's: the container loads its libraries from it, and the trust
+tests sign and change its install folder, which the test cache's read-only entries must never see).
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ import subprocess
 import time
 from pathlib import Path
 
-from .ros import own_packages, reused_underlays, sourced
 
 
 def rclcpp_env(venv: Path) -> dict[str, str] | None:
@@ -40,22 +40,10 @@ def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> 
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
 
 
-def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path,
-              reuse: bool = True) -> tuple[bool, str, float]:
-    """colcon build of every package under ``generated`` into ``ws``: (ok, last lines, seconds).
-
-    With ``reuse``, its interface packages come from the workspaces built before in this process
-    (``ros.reused_underlays``); without, every package is built here (a workspace of its own, as a user's).
-    """
+def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path) -> tuple[bool, str, float]:
+    """colcon build of every package under ``generated`` into ``ws``: (ok, last lines, seconds)."""
     start = time.monotonic()
-    underlays: list[Path] = []
-    taken: set[str] = set()
-    if reuse:
-        underlays, taken, why = reused_underlays(venv, generated, ws)
-        if why:
-            return False, why, time.monotonic() - start
-    shutil.copytree(own_packages(generated, ws, taken) if taken else generated, ws / "src")
-    env = sourced(env, underlays)
+    shutil.copytree(generated, ws / "src")
     cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
            "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
            f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF",
@@ -100,7 +88,7 @@ def ticker_workspaces(venv: Path, env: dict[str, str], root: Path) -> tuple[dict
             build_env = overlay(env, out["ws"], "setup.bash")
         shutil.rmtree(ws, ignore_errors=True)
         ws.mkdir(parents=True)
-        ok, tail, _ = build_cpp(venv, build_env, gen, ws, reuse=False)
+        ok, tail, _ = build_cpp(venv, build_env, gen, ws)
         if not ok:
             return {}, f"{key} did not build (log {ws}/colcon.log):\n{tail}"
     return out, ""

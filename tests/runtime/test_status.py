@@ -26,7 +26,8 @@ instance two : counter (container = "box", node = "counter_two")
 
 def _data() -> dict[str, Any]:
     def inst(name: str, node: str, state: str, pid: int, container: str | None) -> dict[str, Any]:
-        return {"name": name, "node": node, "state": state, "pid": pid, "restarts": 1 if container else 0,
+        component = "room_sensor" if name == "sensor" else "counter"
+        return {"name": name, "node": node, "component": component, "state": state, "pid": pid, "restarts": 1 if container else 0,
                 "interface_hash": "sha256:" + "ab" * 32, "last_snapshot": None, "container": container}
 
     return {"system": "plant", "instances": [inst("sensor", "/sensor", "active", 101, None),
@@ -72,4 +73,4 @@ def test_html_draws_each_container_around_its_instances(spec: Any, capsys: pytes
     assert 'id="instance-one"' in inside and 'id="instance-two"' in inside and "pid 202" in inside
     assert 'id="instance-sensor"' not in inside and 'id="instance-sensor"' in page
     assert "one [active] in box" in page and "sensor [active]" in page  # the graph's labels
-    assert "<td>box</td>" in page and "<script" not in page
+    assert "<td>box</td>" in page and "<td>counter</td>" in page and "<script" not in page
