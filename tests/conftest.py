@@ -22,6 +22,16 @@ if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
+def _stopped(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+# A run stopped by SIGTERM (`timeout`, a cancelled CI job) ends as on Ctrl-C: the fixtures tear down, and so
+# stop every process they started (ROS nodes, launch, managers) instead of leaving them to run on.
+if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+    signal.signal(signal.SIGTERM, _stopped)
+
+
 def run_cli(*args: str, cwd: Path | None = None, stdin: str | None = None,
             hash_seed: str | None = None) -> subprocess.CompletedProcess[str]:
     """Run ``python -m iface ARGS`` and capture its output (with ``hash_seed``: under that ``PYTHONHASHSEED``)."""

@@ -75,6 +75,11 @@ def setup(ros_workspace: Workspace, ros_release: str, tmp_path: Path) -> Iterato
     env = environment(ros_workspace.venv, ros_workspace.path, tmp_path / "ros-log")
     env["PATH"] = iface_lsp_on_path(tmp_path / "bin", ROOT, sys.executable) + os.pathsep + env["PATH"]
     yield Setup(env, ros_release, ros_workspace, tmp_path)
+    # `ros2 action list` takes no --no-daemon: it starts the ros2 daemon of this domain, a detached process
+    # that would outlive the test; stopped by its own command
+    stopped = ros2(env, "daemon", "stop", graph=False, within=0)
+    assert stopped.code == 0, stopped
+    assert "not running" in ros2(env, "daemon", "status", graph=False, within=0).out
 
 
 @pytest.fixture
