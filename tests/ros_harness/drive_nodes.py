@@ -27,6 +27,10 @@ from iface.nodes import remap  # noqa: E402 - this checkout's (the environment p
 from tests.ros_harness.probe import (Component, Probe, Protocol, Report, check, entry_point,  # noqa: E402
                                  incompatible)
 
+#: Seconds between a publisher seeing its subscriber and publishing: DDS matches the two ends one after the
+#: other, and a reliable volatile sample sent before the subscriber has matched the publisher is not delivered.
+MATCH_SETTLE = 1.0
+
 
 def robot_arm(report: Report, logs: Path) -> None:
     from geometry_msgs.msg import Pose  # noqa: F401 - the message package must load
@@ -114,11 +118,12 @@ def robot_arm(report: Report, logs: Path) -> None:
         def topics() -> str:
             probe.wait_until(lambda: command_pub.get_subscription_count() > 0, 10, "robot_arm subscribing")
             probe.wait_until(lambda: states, 10, "a JointState")
+            time.sleep(MATCH_SETTLE)
             before = states[-1].position[0]
             for _ in range(3):
                 command_pub.publish(JointCommand(timestamp=1, velocity=[0.1, 0.2, 0.3, 0.4, 0.5, 0.6], enable=True))
                 time.sleep(0.1)
-            probe.wait_until(lambda: states[-1].position[0] >= before + 3, 10, "three commands counted in JointState")
+            probe.wait_until(lambda: states[-1].position[0] >= before + 3, 30, "three commands counted in JointState")
             last = states[-1]
             check(abs(last.velocity[5] - 0.6) < 1e-6, f"velocity {list(last.velocity)}")
             return f"JointState position[0] {before} -> {last.position[0]}, velocity echoed, mode {last.mode}"
@@ -399,12 +404,13 @@ def every_member(report: Report, logs: Path) -> None:
         def topics() -> str:
             probe.wait_until(lambda: command_pub.get_subscription_count() > 0, 10, "every_member subscribing")
             probe.wait_until(lambda: beat_pub.get_subscription_count() > 0, 10, "a subscription on heartbeat")
+            time.sleep(MATCH_SETTLE)
             before = counter()
             for _ in range(3):
                 command_pub.publish(Command(step=2))
                 beat_pub.publish(Heartbeat(beat=1))
-            probe.wait_until(lambda: counter() == before + 6, 10, "three commands")
-            probe.wait_until(lambda: any(e.text == f"counter {before + 6}" for e in events), 10, "the event")
+            probe.wait_until(lambda: counter() == before + 6, 30, "three commands")
+            probe.wait_until(lambda: any(e.text == f"counter {before + 6}" for e in events), 30, "the event")
             return f"counter {before} -> {before + 6}; event published; heartbeat on the relative name"
 
         report.step("topic: subscriptions and publishers", topics)

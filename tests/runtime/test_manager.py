@@ -69,7 +69,9 @@ def _other(ros_venv: Path, sysdir: Path, root: Path, key: Path, component: str, 
     ws.mkdir()
     ok, tail, _ = build(ros_venv, gen, ws)
     assert ok, f"{component} did not build:\n{tail}"
-    package = ws / "install" / component
+    signed = root / f"signed_{component}" / "install"
+    shutil.copytree(ws / "install", signed)  # a copy: the cached packages are read-only
+    package = signed / component
     sign(package, key)
     return {"iface": str(iface), "package": str(package), "component": component, "hash": _hash(iface),
             "exe": str(package / "lib" / component / component)}
