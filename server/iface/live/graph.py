@@ -73,6 +73,9 @@ def _value(value: Any) -> bool | int | float | str | tuple[bool | int | float | 
 #: Fast DDS's participant announcement period (3 s), so a node whose first announcements were lost
 #: (a loaded machine) is heard once more before it is called missing.
 GRACE_SEC = 4.0
+#: The shortest the whole graph must stay the same before it is read whole: other participants (nodes no file
+#: declares, on the declared names) are discovered in bursts, and a gap of 0.3 s came before one on Jazzy.
+WHOLE_QUIET_SEC = 1.0
 
 
 class Graph:
@@ -125,7 +128,7 @@ class Graph:
         the nodes have must stay the same for ``grace`` (not ``settle``) before it counts as absent,
         since endpoints of a node are discovered one by one, with pauses under load. With ``whole``, the
         whole graph's nodes, topics and services (and their types) must also have stopped changing, for as
-        long as the named nodes took to come (at least ``settle``, at most ``grace``): the other nodes on the
+        long as the named nodes took to come (at least ``WHOLE_QUIET_SEC``, at most ``grace``): the other nodes on the
         names a file declares are discovered on the same schedule, and a loaded machine delays them all.
         """
         start = time.monotonic()
@@ -145,7 +148,7 @@ class Graph:
             time.sleep(0.05)
         if len(missing) == len(names):
             return missing
-        quiet = max(settle, min(time.monotonic() - start, grace)) if whole else settle
+        quiet = max(settle, WHOLE_QUIET_SEC, min(time.monotonic() - start, grace)) if whole else settle
         names = [n for n in names if n not in missing]
         wanted = {n: (expect or {}).get(n, set()) for n in names}
 
