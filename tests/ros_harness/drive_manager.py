@@ -24,7 +24,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: te
 from tests.ros_harness.probe import Probe, Report, check, import_interface
 
 SYSTEM_KEYS = {"instances", "findings"}
-INSTANCE_KEYS = {"name", "node", "component", "state", "pid", "restarts", "interface_hash", "last_snapshot"}
+INSTANCE_KEYS = {"name", "node", "component", "state", "pid", "restarts", "interface_hash", "last_snapshot",
+                 "container"}
 
 
 class Manager:
@@ -181,6 +182,7 @@ def main() -> int:
             data = json.loads(out)
             check(set(data) == SYSTEM_KEYS, f"keys {sorted(data)}")
             check(all(set(i) == INSTANCE_KEYS for i in data["instances"]), f"instance keys {data['instances']}")
+            check(all(i["container"] is None for i in data["instances"]), "an instance in a container: none has one")
             check([i["name"] for i in data["instances"]] == ["sensor", "thermostat", "spare"], "order")
             code, page, err = cli("status", cfg["system"], "--format", "html")
             check(code == 0 and "<svg" in page and "thermostat [active]" in page and "<script" not in page,
