@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import threading
+import time
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
@@ -213,3 +214,27 @@ def test_the_manager_restarts_an_instance_when_its_process_ends_not_at_its_next_
         m.process.stop(5.0)
         manager.watcher.close()
     assert not loop.is_alive()
+
+
+def test_a_node_of_the_same_name_in_another_ros_domain_is_not_found(tmp_path: Path) -> None:
+    """A manager without a record of an instance looks for its node's process by name; one in another ROS
+    domain is another system's (a test run beside it had its instance adopted, found silent, and stopped)."""
+    script = "import time; time.sleep(60)"
+    mine = subprocess.Popen([sys.executable, "-c", script, "--ros-args", "-r", "__node:=twin"],
+                            env={**os.environ, "ROS_DOMAIN_ID": "41"})
+    theirs = subprocess.Popen([sys.executable, "-c", script, "--ros-args", "-r", "__node:=twin"],
+                              env={**os.environ, "ROS_DOMAIN_ID": "42"})
+    unset = {k: v for k, v in os.environ.items() if k != "ROS_DOMAIN_ID"}
+    default = subprocess.Popen([sys.executable, "-c", script, "--ros-args", "-r", "__node:=twin"], env=unset)
+    try:
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and len(processes.find_by_node("twin", "41")) < 1:
+            time.sleep(0.05)
+        assert [r.pid for r in processes.find_by_node("twin", "41")] == [mine.pid]
+        assert [r.pid for r in processes.find_by_node("twin", "42")] == [theirs.pid]
+        assert [r.pid for r in processes.find_by_node("twin", "0")] == [default.pid]
+        assert processes.ros_domain({"ROS_DOMAIN_ID": " "}) == "0" and processes.ros_domain({}) == "0"
+    finally:
+        for p in (mine, theirs, default):
+            p.kill()
+            p.wait(timeout=10)

@@ -266,7 +266,7 @@ class Manager:
             record = None
         if record is None:
             # not recorded (a manager killed right after a start): the graph and /proc still know it
-            found = processes.find_by_node(m.node)
+            found = processes.find_by_node(m.node, processes.ros_domain(self.env))
             if len(found) != 1:
                 return False
             i = m.impl

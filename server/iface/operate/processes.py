@@ -26,7 +26,7 @@ import signal
 import subprocess
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -323,8 +323,10 @@ def _settled_cmdline(child: subprocess.Popen[bytes], argv: tuple[str, ...]) -> t
         time.sleep(0.005)
 
 
-def find_by_node(node: str) -> list[ProcessRecord]:
-    """Running processes started for the node ``node`` (``__node:=node`` on their command line)."""
+def find_by_node(node: str, domain: str) -> list[ProcessRecord]:
+    """Running processes started for the node ``node`` (``__node:=node`` on their command line) in the ROS
+    domain ``domain`` (their ``ROS_DOMAIN_ID``, ``0`` when unset): a node of that name in another domain is
+    another system's, which this manager must neither adopt nor stop."""
     wanted = f"__node:={node}"
     found = []
     for entry in os.listdir("/proc"):
@@ -332,9 +334,24 @@ def find_by_node(node: str) -> list[ProcessRecord]:
             continue
         cmdline = proc_cmdline(int(entry))
         stat = proc_stat(int(entry))
-        if cmdline and stat and wanted in cmdline and stat[0] not in ("Z", "X"):
+        if cmdline and stat and wanted in cmdline and stat[0] not in ("Z", "X") and proc_domain(int(entry)) == domain:
             found.append(ProcessRecord("", node, int(entry), stat[1], cmdline, "", "", "", 1))
     return found
+
+
+def ros_domain(env: Mapping[str, str]) -> str:
+    """The ROS domain an environment puts its nodes in (``ROS_DOMAIN_ID``; 0 when unset or empty)."""
+    return env.get("ROS_DOMAIN_ID", "").strip() or "0"
+
+
+def proc_domain(pid: int) -> str | None:
+    """The ROS domain of a running process (its environment's ``ROS_DOMAIN_ID``), None when it cannot be read."""
+    try:
+        raw = Path(f"/proc/{pid}/environ").read_bytes()
+    except OSError:
+        return None
+    env = dict(item.split("=", 1) for item in raw.decode(errors="replace").split("\0") if "=" in item)
+    return ros_domain(env)
 
 
 class Records:
