@@ -269,7 +269,18 @@ def test_a_node_not_declared_with_another_type_on_declared_names_is_found(live: 
     proc = _start([sys.executable, str(LIVE / "intruder.py")], live["env"], live["root"] / "intruder.log")
     try:
         _wait_line(live["root"] / "intruder.log", "ready", proc, STEP)
-        done = iface(live, "verify", str(talker), "--format", "json", "--timeout", "60")
+
+        def verify(*fmt: str) -> Any:
+            """verify in a fresh process, again (3 times at most) while it has not discovered all of /intruder:
+            a process discovers another participant within Fast DDS's announcement period (3 s), which a loaded
+            machine can exceed; what it reports of what it saw is what this test checks."""
+            for _ in range(3):
+                done = iface(live, "verify", str(talker), *fmt, "--timeout", "60")
+                if all(f"/intruder {what} " in done.stdout for what in ("publishes", "serves", "calls")):
+                    break
+            return done
+
+        done = verify("--format", "json")
         assert done.returncode == 1, done.stderr
         report = json.loads(done.stdout)
         found = sorted((f["line"], f["message"]) for f in report["findings"] if f["node"] == "/intruder")
@@ -284,12 +295,12 @@ def test_a_node_not_declared_with_another_type_on_declared_names_is_found(live: 
         ]), json.dumps(report, indent=1) + (live["root"] / "intruder.log").read_text(errors="replace")[-2000:]
         assert all(f["code"] == "live-type-mismatch" and f["path"].endswith("talker.iface")
                    for f in report["findings"] if f["node"] == "/intruder")
-        text = iface(live, "verify", str(talker), "--timeout", "60")
+        text = verify()
         assert text.returncode == 1, text.stderr
         assert any(line.endswith("error[live-type-mismatch]: '/chatter': declared std_msgs/String, /intruder "
                                  "publishes std_msgs/Int32 [/intruder]") for line in text.stdout.splitlines()), \
             text.stdout
-        sarif = iface(live, "verify", str(talker), "--format", "sarif", "--timeout", "60")
+        sarif = verify("--format", "sarif")
         results = json.loads(sarif.stdout)["runs"][0]["results"]
         assert sum(r["message"]["text"].endswith("[/intruder]") for r in results) == 3, sarif.stdout
     finally:
