@@ -9,23 +9,17 @@ tests sign and change its install folder, which the test cache's read-only entri
 
 from __future__ import annotations
 
-import os
 import shutil
 import subprocess
 import time
 from pathlib import Path
 
+from .workspaces import cpp_environment
 
 
 def rclcpp_env(venv: Path) -> dict[str, str] | None:
     """The environment of ros2-env.sh and cpp-env.sh (rclcpp built by build-cpp.sh); None without rclcpp."""
-    cpp_env = venv / "cpp" / "cpp-env.sh"
-    if not cpp_env.is_file():
-        return None
-    script = f'set +u; . "{venv}/ros2-env.sh" >/dev/null && . "{cpp_env}" >/dev/null && env -0'
-    base = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    dump = subprocess.run(["bash", "-c", script], capture_output=True, timeout=60, check=True, env=base).stdout
-    return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
+    return cpp_environment(venv)
 
 
 def missing_tools(env: dict[str, str]) -> list[str]:
