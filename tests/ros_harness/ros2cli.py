@@ -64,6 +64,30 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 6
         time.sleep(0.5)
 
 
+#: The state each lifecycle transition ends in.
+TRANSITION_TARGET = {"configure": "inactive", "activate": "active", "deactivate": "inactive",
+                     "cleanup": "unconfigured", "shutdown": "finalized"}
+#: What ``ros2 lifecycle set`` prints when the node took the transition.
+TRANSITION_DONE = "Transitioning successful"
+
+
+def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0, within: float = 40.0) -> Answer:
+    """``ros2 lifecycle set NODE LABEL``, asked again only while it does not see the node (for at most
+    ``within`` seconds): a transition is not idempotent (asked again after it was taken, it is refused). The
+    command has been seen to hang at its own exit after printing its answer (rclpy/Fast DDS tearing its node
+    down, 1 run of ~40 on a loaded machine): killed at ``timeout``, an answer that printed ``Transitioning
+    successful`` still counts; the caller checks the state the node reached."""
+    end = time.monotonic() + within
+    while True:
+        answer = ros2(env, "lifecycle", "set", node, label, timeout=timeout, within=0)
+        if not any(s in answer.out + answer.err for s in NOT_SEEN) or time.monotonic() >= end:
+            break
+        time.sleep(0.5)
+    if answer.code is None and TRANSITION_DONE in answer.out:
+        return Answer(answer.argv, 0, answer.out, answer.err + " (answered, then hung at exit: killed)", answer.tries)
+    return answer
+
+
 def service_call(env: dict[str, str], release: str, service: str, srv_type: str, request: str = "{}",
                  timeout: float = 60.0) -> Answer:
     """``ros2 service call SERVICE TYPE REQUEST``; on a release whose runtime cannot run it, the same call from

@@ -33,7 +33,16 @@ from pathlib import Path
 import pytest
 
 from ..ros_harness.ros import ROOT, environment
-from ..ros_harness.ros2cli import Launched, cmdline, iface_lsp_on_path, ros2, service_call
+from ..ros_harness.ros2cli import (
+    TRANSITION_DONE,
+    TRANSITION_TARGET,
+    Launched,
+    cmdline,
+    iface_lsp_on_path,
+    ros2,
+    service_call,
+    transition,
+)
 from .conftest import Workspace
 
 #: Run once per ROS 2 release (tests/runtime/conftest.py).
@@ -109,6 +118,12 @@ def _state(setup: Setup, node: str, expected: str) -> None:
     _ok(ros2(setup.env, "lifecycle", "get", node, until=f"{expected} [", within=UP), f"{expected} [")
 
 
+def _transition(setup: Setup, node: str, label: str) -> None:
+    """``ros2 lifecycle set NODE LABEL`` succeeds and the node is then in the transition's target state."""
+    _ok(transition(setup.env, node, label), TRANSITION_DONE)
+    _state(setup, node, TRANSITION_TARGET[label])
+
+
 def _param(setup: Setup, node: str, name: str) -> str:
     answer = ros2(setup.env, "param", "get", node, name)
     return _ok(answer).strip()
@@ -137,7 +152,7 @@ def test_the_component_launch_file_starts_its_node_with_namespace_name_and_param
         _state(setup, "/lab/arm2", "unconfigured")
         assert _param(setup, "/lab/arm2", "max_speed") == "Double value is: 2.5"  # the launch's file
         assert _param(setup, "/lab/arm2", "rate_hz") == "Double value is: 250.0"  # the installed file's
-        _ok(ros2(setup.env, "lifecycle", "set", "/lab/arm2", "configure"), "Transitioning successful")
+        _transition(setup, "/lab/arm2", "configure")
         info = _ok(ros2(setup.env, "node", "info", "/lab/arm2", until="/lab/js"), "/lab/js: robot_arm_msgs/msg/JointState")
         assert "/arm/joint_state" not in info, info
         _interrupted(launched)
@@ -151,8 +166,8 @@ def test_an_action_remapped_by_the_component_launch_file_takes_goals_at_its_new_
                             "work:=/far/work", log="every_member")
     try:
         _state(setup, "/peer", "unconfigured")
-        for transition in ("configure", "activate"):
-            _ok(ros2(setup.env, "lifecycle", "set", "/peer", transition), "Transitioning successful")
+        for label in ("configure", "activate"):
+            _transition(setup, "/peer", label)
         # `ros2 action list` takes neither --no-daemon nor --spin-time (it looks for 0.5 s): asked again instead
         actions = _ok(ros2(setup.env, "action", "list", graph=False, until="/far/travel"), "/far/travel")
         assert "/station/travel" not in actions, actions

@@ -1,0 +1,70 @@
+"""The tests' ``ros2`` runner (tests/ros_harness/ros2cli.py) against a stand-in ``ros2`` on PATH: no ROS needed.
+
+``transition`` asks ``ros2 lifecycle set`` again while the node is not seen, never after the node answered
+(a transition is not idempotent), and counts an answer printed before the command hung at its own exit
+(seen once in CI: ``Transitioning successful``, then no exit within 60 s).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from ..ros_harness.ros2cli import NOT_SEEN, TRANSITION_DONE, ros2, transition
+
+#: A stand-in ``ros2``: its behaviour per call comes from SCRIPT (one line per call, the last one repeated),
+#: each call counted in CALLS.
+STAND_IN = """#!{python}
+import pathlib, sys, time
+folder = pathlib.Path(__file__).parent
+calls = folder / "CALLS"
+n = int(calls.read_text()) if calls.exists() else 0
+calls.write_text(str(n + 1))
+lines = (folder / "SCRIPT").read_text().splitlines()
+what = lines[min(n, len(lines) - 1)]
+if what == "unseen":
+    print("{unseen}", file=sys.stderr)
+    sys.exit(1)
+print("{done}", flush=True)
+if what == "hang":
+    time.sleep(600)
+"""
+
+
+def _env(tmp_path: Path, *script: str) -> dict[str, str]:
+    folder = tmp_path / "bin"
+    folder.mkdir()
+    ros2_path = folder / "ros2"
+    ros2_path.write_text(STAND_IN.format(python=sys.executable, unseen=NOT_SEEN[0], done=TRANSITION_DONE))
+    ros2_path.chmod(0o755)
+    (folder / "SCRIPT").write_text("\n".join(script) + "\n")
+    return {**os.environ, "PATH": f"{folder}{os.pathsep}{os.environ['PATH']}"}
+
+
+def _calls(tmp_path: Path) -> int:
+    return int((tmp_path / "bin" / "CALLS").read_text())
+
+
+def test_an_answer_printed_before_a_hang_at_exit_counts_and_is_not_asked_again(tmp_path: Path) -> None:
+    answer = transition(_env(tmp_path, "hang"), "/n", "configure", timeout=2, within=20)
+    assert answer.code == 0 and TRANSITION_DONE in answer.out and "hung at exit" in answer.err, answer
+    assert _calls(tmp_path) == 1
+
+
+def test_a_node_not_seen_yet_is_asked_again_until_it_answers(tmp_path: Path) -> None:
+    answer = transition(_env(tmp_path, "unseen", "unseen", "ok"), "/n", "configure", within=20)
+    assert answer.code == 0 and TRANSITION_DONE in answer.out, answer
+    assert _calls(tmp_path) == 3
+
+
+def test_a_hang_with_no_answer_is_a_failure(tmp_path: Path) -> None:
+    env = _env(tmp_path, "hang")
+    (tmp_path / "bin" / "ros2").write_text(f"#!{sys.executable}\nimport time\ntime.sleep(600)\n")
+    answer = transition(env, "/n", "configure", timeout=2, within=0)
+    assert answer.code is None, answer
+
+
+def test_a_query_is_asked_again_while_its_output_lacks_what_it_waits_for(tmp_path: Path) -> None:
+    answer = ros2(_env(tmp_path, "unseen", "ok"), "node", "list", until=TRANSITION_DONE, within=20)
+    assert answer.code == 0 and answer.tries == 2, answer
