@@ -41,10 +41,12 @@ class Answer:
         return f"$ {' '.join(self.argv)}\nexit {self.code} after {self.tries} tries\n{self.out}{self.err}"
 
 
-def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 60.0, within: float = 40.0,
+def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 25.0, within: float = 60.0,
          until: str | None = None) -> Answer:
     """``ros2 ARGS`` (with ``--no-daemon --spin-time 2`` when ``graph``), asked again while it does not see its
-    node, or (with ``until``) while its output lacks ``until``, for at most ``within`` seconds."""
+    node, or (with ``until``) while its output lacks ``until``, or it gave no answer within ``timeout`` (a
+    ``ros2`` command can hang at its own exit), for at most ``within`` seconds. A command that is not a query
+    (a transition, a goal, a service call) is asked once: ``within=0``, or ``transition``."""
     argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{SPIN_TIME:g}") if graph else ()))
     end = time.monotonic() + within
     tries = 0
