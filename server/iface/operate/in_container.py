@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -23,7 +24,8 @@ from .containers import Component, ContainerError
 class Caller(Protocol):
     """The protocol client the calls go through."""
 
-    def call(self, service: str, fill: dict[str, Any], timeout: float, idempotent: bool = True) -> Any: ...
+    def call(self, service: str, fill: dict[str, Any], timeout: float, idempotent: bool = True,
+             alive: Callable[[], bool] | None = None, resend: float | None = None) -> Any: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,6 +118,13 @@ class ContainerCalls:
                                 idempotent=False)
         if not answer.success:
             raise ContainerError(f"{self.name} did not unload node {unique_id}: {answer.error_message}")
+
+    def ready(self, timeout: float, alive: Callable[[], bool] | None = None, resend: float = 0.05) -> dict[str, int]:
+        """Wait until the container answers ``list_nodes`` (asked every ``resend`` s: an answer comes from a process
+        that runs, never from one that just ended); its nodes."""
+        self._know()
+        answer = self.link.call(f"{self.name}/_container/list_nodes", {}, timeout, alive=alive, resend=resend)
+        return dict(zip((str(n) for n in answer.full_node_names), (int(i) for i in answer.unique_ids), strict=True))
 
     def nodes(self, timeout: float = 10.0) -> dict[str, int]:
         """The nodes the container holds: fully qualified name → id."""
