@@ -236,7 +236,36 @@ def main() -> int:
                     f"{window[0]}..{window[-1]} none lost or repeated at the subscriber, none missed at the tally; "
                     "/ticker unloaded, /ticker_2 (1.1.0) in box")
 
-        report.step("replace inside the container at 1 kHz: the count carried, none lost", in_container)
+        if not report.step("replace inside the container at 1 kHz: the count carried, none lost", in_container):
+            return 1
+
+        def second() -> str:
+            s = status()
+            box_pid = s["tally"].pid
+            mark = len(ticks)
+            code, record = replace(cfg["v2_iface"], cfg["package_v2"])
+            check(code == 0 and record["result"] == "replaced", f"exit {code}: {json.dumps(record)[:1500]}")
+            steps = {x["step"]: x["detail"] for x in record["steps"]}
+            why = steps.get("second container", "")
+            check("another ticker_msgs (an interface package)" in why and "box_3" in why, f"steps {steps}")
+            check("switch in container" not in steps and "activate NEW" in steps, f"steps {list(steps)}")
+            carried = int(record["state_before"]["count"])
+            probe.wait_until(lambda: ticks[-1] >= carried + 500, 15, f"counts past {carried + 500}")
+            window = ticks[mark:]
+            check(not gaps(window), f"counts lost or repeated across the replacement: {gaps(window)[:5]}")
+            after = status()
+            t = after["ticker"]
+            check(t.node == "/ticker_3" and t.container == "box_3" and t.state == "active"
+                  and t.pid not in (0, box_pid), f"status {t}")
+            check(after["tally"].container == "box" and after["tally"].pid == box_pid, f"tally {after['tally']}")
+            check(set(box.nodes()) == {"/tally"}, f"box holds {box.nodes()}")
+            check(set(ContainerCalls(Link(probe.node), "box_3").nodes()) == {"/ticker_3"}, "box_3 does not hold NEW")
+            tally = Protocol(probe).save("tally")["values"]
+            return (f"{why[:400]}; count {carried} carried, {len(window)} counts none lost or repeated at the "
+                    f"subscriber; /ticker_3 (2.0.0) in box_3 (pid {t.pid}), the tally in box (pid {box_pid}, "
+                    f"{tally['missed']} missed since its start, over DDS now)")
+
+        report.step("replace by a NEW that cannot share the process: a second container, the reason recorded", second)
 
         def down() -> str:
             manager.send_signal(signal.SIGTERM)
@@ -246,7 +275,7 @@ def main() -> int:
             at = [log.find(f"{n}: down") for n in ("tally", "ticker", "sensor")]
             check(-1 not in at and at == sorted(at), f"not down in reverse order: {at}")
             check(log.find("container box: stopped") > at[1], "the container stopped before its instances were down")
-            left = {n: own_processes(cfg["own"], n) for n in ("box", "sensor", "ticker", "tally")}
+            left = {n: own_processes(cfg["own"], n) for n in ("box", "box_3", "sensor", "ticker", "tally")}
             check(not any(left.values()), f"still running: {left}")
             return f"down in reverse order (log offsets {at}), the container stopped; manager exit 0; nothing left"
 
@@ -255,7 +284,7 @@ def main() -> int:
         if manager.poll() is None:
             os.killpg(manager.pid, signal.SIGKILL)
             manager.wait(timeout=30)
-        for node in ("box", "sensor", "ticker", "ticker_2", "tally"):
+        for node in ("box", "box_3", "sensor", "ticker", "tally"):
             for pid in own_processes(cfg["own"], node):
                 os.kill(pid, signal.SIGKILL)
         log_file.close()

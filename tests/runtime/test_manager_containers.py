@@ -7,7 +7,8 @@ C++ install prefix signed by a key of the trust store; a copy of ticker 1.1's wh
 was signed is the untrusted NEW. drive_manager_containers.py runs the scenario (each test below is one of
 its steps): up in order; the untrusted library refused before the container loads it; the container killed
 with SIGKILL and both instances active again with their snapshots, each restart counted; ticker 1.0
-replaced by 1.1 inside the container, the count carried and none lost; down in reverse order with nothing
+replaced by 1.1 inside the container, the count carried and none lost; then by 2.0, which has
+another ticker_msgs and so goes into a second container, with the reason in the record; down in reverse order with nothing
 left running. C++ components are Kilted only; without rclcpp built in the runtime these tests skip, saying
 so.
 """
@@ -22,8 +23,8 @@ from typing import Any
 
 import pytest
 
-from ..ros_harness.cpp import missing_tools, overlay, rclcpp_env, ticker_workspaces
-from ..ros_harness.ros import DATA, HARNESS, ROOT, environment, run_bounded
+from ..ros_harness.cpp import build_cpp, keep_only, missing_tools, overlay, rclcpp_env, ticker_workspaces
+from ..ros_harness.ros import DATA, HARNESS, ROOT, environment, generate, run_bounded
 from .test_containers import sign_prefixes
 
 DRIVER = HARNESS / "drive_manager_containers.py"
@@ -32,6 +33,7 @@ STEPS = [
     "untrusted: a changed library is refused before the container loads it",
     "kill -9 of the container: both instances active again with their snapshots",
     "replace inside the container at 1 kHz: the count carried, none lost",
+    "replace by a NEW that cannot share the process: a second container, the reason recorded",
     "down: reverse order, the container stopped, nothing left running",
 ]
 SYSTEM = """/** The container tests' system: a Python sensor, and two C++ components in one container. */
@@ -46,6 +48,20 @@ instance tally : tally (container = "box", after = "ticker")
 """
 
 
+def ticker_v2_workspace(venv: Path, env: dict[str, str], root: Path, ws: Path) -> Path:
+    """Ticker 2.0 (tests/runtime/data/ticker_v2.iface: a new message, so another ticker_msgs) with its own
+    ticker_msgs, built on top of ``ws``: a NEW that cannot share a container that has 1.0's ticker_msgs loaded."""
+    gen, out = root / "gen_ws_v2", root / "ws_v2"
+    done = generate(DATA / "ticker_v2.iface", gen, "--target", "rclcpp")
+    assert done.returncode == 0, done.stderr
+    shutil.copyfile(DATA / "ticker_node.cpp", gen / "ticker" / "src" / "node.cpp")
+    keep_only(gen, "ticker", "ticker_msgs")
+    out.mkdir()
+    ok, tail, _ = build_cpp(venv, overlay(env, ws, "setup.bash"), gen, out)
+    assert ok, f"ticker 2.0 did not build (log {out}/colcon.log):\n{tail}"
+    return out
+
+
 @pytest.fixture(scope="module")
 def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     ros_venv = ros_workspace.venv
@@ -58,12 +74,13 @@ def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[st
     root = tmp_path_factory.mktemp("manager_containers")
     ws, why = ticker_workspaces(ros_venv, env, root)
     assert not why, why
+    ws_v2 = ticker_v2_workspace(ros_venv, env, root, ws["ws"])
     store, tampered = sign_prefixes([ws["ws"] / "install" / "ticker", ws["ws"] / "install" / "tally",
-                                     ws["ws_v1_1"] / "install" / "ticker"], root)
+                                     ws_v2 / "install" / "ticker", ws["ws_v1_1"] / "install" / "ticker"], root)
     sysdir = root / "system"
     sysdir.mkdir()
     shutil.copy(ROOT / "examples" / "room_sensor.iface", sysdir)
-    for name in ("ticker", "tally", "ticker_v1_1"):
+    for name in ("ticker", "tally", "ticker_v1_1", "ticker_v2"):
         shutil.copy(DATA / f"{name}.iface", sysdir)
     (sysdir / "ticker.params.yaml").write_text("/**:\n  ros__parameters:\n    rate_hz: 1000.0\n", encoding="utf-8")
     (sysdir / "plant.iface").write_text(SYSTEM, encoding="utf-8")
@@ -71,7 +88,8 @@ def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[st
     run_env = overlay(environment(ros_venv, ros_workspace.path, root / "ros-log"), ws["ws"], "setup.bash")
     config = {"python": sys.executable, "system": str(sysdir / "plant.iface"), "state": str(root / "state"),
               "store": str(store), "tampered": str(tampered), "new_iface": str(sysdir / "ticker_v1_1.iface"),
-              "package_v1_1": str(ws["ws_v1_1"] / "install" / "ticker"), "own": str(root), "env": run_env}
+              "package_v1_1": str(ws["ws_v1_1"] / "install" / "ticker"),
+              "v2_iface": str(sysdir / "ticker_v2.iface"), "package_v2": str(ws_v2 / "install" / "ticker"), "own": str(root), "env": run_env}
     (root / "config.json").write_text(json.dumps(config))
     out, log = root / "result.json", root / "driver.log"
     code = run_bounded([str(ros_venv / "bin" / "python"), str(DRIVER), str(root / "config.json"), "--out", str(out),

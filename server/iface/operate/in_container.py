@@ -81,6 +81,10 @@ class ContainerCalls:
         for service, srv in (("_container/load_node", LoadNode), ("_container/unload_node", UnloadNode),
                              ("_container/list_nodes", ListNodes), (protocol.HAND_OVER[2:], HandOver)):
             self.link.know(f"{self.name}/{service}", srv)
+            if hasattr(self.link, "client"):
+                # made now, before the container (re)starts: its endpoints are matched with the others of the
+                # process as it is discovered, so a load sent once it answers list_nodes is heard by it
+                self.link.client(f"{self.name}/{service}", srv)
         self._known = True
 
     def load(self, component: Component, node_name: str, *, params_files: tuple[Path, ...] = (),

@@ -491,8 +491,7 @@ class Manager:
         host.process = self._watched(proc)
         host.restarts += int(restart)
         self.container_records.save(proc.record)
-        self.link.forget("/" + host.name)
-        host.calls = ContainerCalls(self.link, host.name)
+        host.calls = ContainerCalls(self.link, host.name)  # its clients kept from a previous start (see ready)
         self.log(f"container {host.name}: started pid {proc.pid} ({exe})")
         try:
             host.calls.ready(self.options.start_timeout, alive=proc.alive, resend=FIRST_ANSWER_RESEND)
