@@ -181,8 +181,8 @@ def main() -> int:
             os.kill(pid, signal.SIGKILL)
             killed = time.monotonic()
             back = settle(lambda x: all_active(x) and x["ticker"].pid not in (0, pid)
-                          and x["ticker"].restarts == restarts[0] + 1 and x["tally"].restarts == restarts[1] + 1,
-                          60, "both instances active again in a new container")
+                          and x["ticker"].restarts > restarts[0] and x["tally"].restarts > restarts[1],
+                          90, "both instances active again in a new container, each restart counted")
             took = time.monotonic() - killed
             check(back["sensor"].restarts == restarts[2] and back["sensor"].pid == s["sensor"].pid,
                   "the Python instance was touched")

@@ -67,9 +67,11 @@ def test_a_containers_instances_in_start_order_and_down_in_reverse() -> None:
 def test_a_dead_container_restarts_each_instance_in_it_counted_in_its_own_restarts(tmp_path: Path) -> None:
     mgr = _manager(tmp_path, [_spec("ticker", "box"), _spec("sensor", None), _spec("tally", "box")], max_restarts=1)
     ticker, sensor, tally = mgr.instances
-    mgr.hosts["box"] = Host("box", {}, process=_Dead())  # type: ignore[arg-type]
+    dead = _Dead()
+    mgr.hosts["box"] = Host("box", {}, process=dead)  # type: ignore[arg-type]
     for m in mgr.instances:
         m.state = "active"
+    ticker.process = tally.process = dead  # type: ignore[assignment]
     started: list[tuple[str, str]] = []
 
     def start_or_fail(m: Any, why: str) -> None:
@@ -87,6 +89,7 @@ def test_a_dead_container_restarts_each_instance_in_it_counted_in_its_own_restar
     # the limit is each instance's: the ticker failed once more on its own, so the next container end leaves it down
     ticker.intensity.times.append(ticker.intensity.times[-1])
     tally.intensity.times.clear()
+    ticker.process = tally.process = dead  # type: ignore[assignment]
     started.clear()
     mgr._watch_containers()
     assert started == [("tally", "restart")]
@@ -104,6 +107,30 @@ def test_an_instance_with_restart_never_stays_down_when_its_container_ends(tmp_p
     mgr._watch_containers()
     assert started == ["tally"]
     assert mgr.instances[0].state == "stopped" and mgr.instances[0].restarts == 0
+
+
+class _Alive:
+    """A container process that runs (one started again after the one before it ended)."""
+
+    pid = 4343
+
+    def alive(self) -> bool:
+        return True
+
+
+def test_instances_left_in_a_containers_previous_process_are_restarted(tmp_path: Path) -> None:
+    """The container was started again for one instance (its process stopped when a load got no answer): the
+    others, loaded into the process that ended, are restarted too, and those already in the new one are not."""
+    mgr = _manager(tmp_path, [_spec("ticker", "box"), _spec("tally", "box")])
+    ticker, tally = mgr.instances
+    mgr.hosts["box"] = Host("box", {}, process=_Alive())  # type: ignore[arg-type]
+    ticker.state, ticker.process = "active", mgr.hosts["box"].process
+    tally.state, tally.process = "active", _Dead()  # type: ignore[assignment]
+    started: list[str] = []
+    mgr._start_or_fail = lambda m, why: started.append(m.name)  # type: ignore[method-assign]
+    mgr._watch_containers()
+    assert started == ["tally"] and (ticker.restarts, tally.restarts) == (0, 1)
+    assert "container box (pid 4242) ended" in tally.findings[-1]
 
 
 def test_status_names_each_instances_container(tmp_path: Path) -> None:

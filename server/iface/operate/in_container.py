@@ -124,10 +124,21 @@ class ContainerCalls:
             raise ContainerError(f"{self.name} did not unload node {unique_id}: {answer.error_message}")
 
     def ready(self, timeout: float, alive: Callable[[], bool] | None = None, resend: float = 0.05) -> dict[str, int]:
-        """Wait until the container answers ``list_nodes`` (asked every ``resend`` s: an answer comes from a process
-        that runs, never from one that just ended); its nodes."""
+        """Wait until the container answers ``list_nodes``, then ``load_node`` (each asked every ``resend`` s: an
+        answer comes from a process that runs, never from one that just ended); its nodes.
+
+        ``load_node`` is asked for a package no index has (``NO_PACKAGE``), which every container refuses at
+        once and loads nothing for: a real load is sent once (a second one would load a second node), so it
+        must not go out before the service's request and answer both reach this process's client; after a
+        container restart the graph may still show the dead process's server, and ``list_nodes`` answering
+        does not say that ``load_node``'s endpoints are matched yet.
+        """
         self._know()
+        deadline = time.monotonic() + timeout
         answer = self.link.call(f"{self.name}/_container/list_nodes", {}, timeout, alive=alive, resend=resend)
+        self.link.call(f"{self.name}/_container/load_node", {"package_name": NO_PACKAGE, "plugin_name": NO_PACKAGE,
+                                                             "node_name": NO_PACKAGE},
+                       max(1.0, deadline - time.monotonic()), alive=alive, resend=resend)
         return dict(zip((str(n) for n in answer.full_node_names), (int(i) for i in answer.unique_ids), strict=True))
 
     def nodes(self, timeout: float = 10.0) -> dict[str, int]:
@@ -149,5 +160,7 @@ class ContainerCalls:
                         str(answer.after_tick))
 
 
+#: The package of ``ready``'s LoadNode: none has this name, so the container refuses it and loads nothing.
+NO_PACKAGE = "iface_no_such_package"
 #: Seconds beyond the hand-over's own timeout its answer may take (the wait for OLD's next tick, the call itself).
 ALIGN_WAIT = protocol.ALIGN_SEC + 5.0

@@ -522,10 +522,20 @@ class Manager:
         self.link.forget(m.path)
         component = component_of(m.impl, m.spec.plugin, m.impl.component == m.spec.component, env)
         latest = m.store.latest()
-        m.loaded = host.calls.load(component, m.node.lstrip("/"), params_files=parameter_files(m.spec.parameters),
-                                   intra_process=bool(m.spec.intra_process), activate=True,
-                                   state=latest.document if latest is not None else "",
-                                   trust_store=self.options.trust_store, timeout=self.options.start_timeout)
+        try:
+            m.loaded = host.calls.load(component, m.node.lstrip("/"),
+                                       params_files=parameter_files(m.spec.parameters),
+                                       intra_process=bool(m.spec.intra_process), activate=True,
+                                       state=latest.document if latest is not None else "",
+                                       trust_store=self.options.trust_store, timeout=self.options.call_timeout)
+        except LinkError as e:
+            if host.alive() and host.process is not None:
+                # a container that does not answer a load is not trusted with the others either: its end
+                # restarts every instance in it (_watch_containers), this one first (_start_or_fail)
+                self.log(f"container {host.name}: no answer to the load of {m.name} ({e}): stopping pid "
+                         f"{host.process.pid}")
+                host.process.stop(2.0)
+            raise
         m.state = "active"
         m.heartbeat, m.heartbeat_ok = None, time.monotonic()
         m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
@@ -536,7 +546,8 @@ class Manager:
     def _unload(self, m: Managed) -> None:
         """Unload ``m`` from its container when it is loaded there and the container runs."""
         host = self.hosts.get(m.container or "")
-        if m.loaded is not None and host is not None and host.alive() and host.calls is not None:
+        if (m.loaded is not None and host is not None and host.alive() and host.calls is not None
+                and m.process is host.process):  # an id of a process that ended may be another node's now
             try:
                 host.calls.unload(m.loaded.unique_id, self.options.call_timeout)
             except (ContainerError, LinkError) as e:
@@ -566,14 +577,15 @@ class Manager:
         """A container whose process ended: every instance in it failed, and restarted (in order, with its snapshot)
         per its own policy and intensity."""
         for host in list(self.hosts.values()):
-            if host.process is None or host.alive():
-                continue
-            hit = reload_order(self.instances, host.name)
+            # those loaded into a process of the container that ended (the current one, or one before it)
+            hit = [m for m in reload_order(self.instances, host.name) if m.process is None or not m.process.alive()]
             if not hit:
-                if not members(self.instances, host.name):
+                if host.process is not None and not host.alive() and not members(self.instances, host.name):
                     self._stop_host(host)
                 continue
-            reason = container_ended(host.name, host.process.pid, host.process.exit_code())
+            ended = next((m.process for m in hit if m.process is not None), host.process)
+            reason = container_ended(host.name, ended.pid if ended is not None else 0,
+                                     ended.exit_code() if ended is not None else None)
             self.log(reason)
             for m in hit:
                 m.loaded = None  # gone with the process
