@@ -642,7 +642,7 @@ class Manager:
             h.check_nodes()
             h.prepare()
             if target is host:
-                self._switch_in(host, h, timeout)
+                h.switch_in(host.calls, host.name)
             else:
                 h.switch()
             failure = self._grace(new_node, target.process)
@@ -666,33 +666,6 @@ class Manager:
             h.note("rollback", f"{m.path} could not be made active again with its state", ok=False)
             m.note(f"rollback failed: {[s.detail for s in h.steps if not s.ok][-1:]}")
         return _record(h, report, m, "rolled_back")
-
-    def _switch_in(self, host: Host, h: HandOver, timeout: float) -> None:
-        """The critical section inside the container (its ``~/handover``), noted on ``h`` as ``HandOver.switch``
-        notes its own; Refused when the container did not switch (OLD as it was, unless it did not answer)."""
-        assert host.calls is not None
-        h.touched_old = True  # no answer: OLD may be paused or switched; a rollback looks
-        try:
-            done = host.calls.hand_over(h.old, h.new, timeout)
-        except LinkError as e:
-            h.paused = True
-            raise Refused(f"container {host.name}'s hand-over did not answer: {e}") from e
-        if not done.success:
-            h.touched_old = False  # the container leaves OLD active and resumed
-            raise Refused(f"container {host.name} did not switch: {done.message}")
-        h.paused = False
-        h.deactivated = h.switched = True
-        h.state_before = done.state
-        h.pause_ms, h.critical_ms = done.pause_ms, done.critical_ms
-        h.note("switch in container", f"{host.name} switched {h.old} to {h.new} in its process"
-               + (f" after a tick of '{done.after_tick}'" if done.after_tick else "")
-               + f": pause {done.pause_ms:.2f} ms, OLD paused to NEW active {done.critical_ms:.3f} ms; restored "
-               + (", ".join(done.restored) or "nothing") + (f"; kept {', '.join(done.kept)}" if done.kept else ""))
-        try:
-            after = self.link.save(h.new, timeout, wait=timeout + 5)
-            h.state_after = json.loads(after.state)
-        except LinkError:
-            h.state_after = None
 
     def _commit_loaded(self, m: Managed, h: HandOver, report: Any, target: Host, loaded: Loaded,
                        impl: Implementation, new_node: str, generation: int) -> dict[str, Any]:
