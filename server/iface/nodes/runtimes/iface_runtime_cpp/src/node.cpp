@@ -513,6 +513,8 @@ void ComponentNode::continue_schedule()
     const double due = last + entry->period;
     entry->timer->cancel();
     std::weak_ptr<WorkTimer> weak = entry;
+    // Made stopped and started once held in `first`: a first tick already due fires at once, on another thread
+    // of a multi-threaded executor (a container's), and must find `first` set.
     entry->first = create_wall_timer(
       std::chrono::duration<double>(std::max(0.0, due - static_cast<double>(now) / 1e9)), [this, weak] {
         if (auto t = weak.lock()) {
@@ -520,7 +522,8 @@ void ComponentNode::continue_schedule()
           t->timer->reset();
           tick(*t);
         }
-      }, main_group);
+      }, main_group, false);
+    entry->first->reset();
     RCLCPP_INFO(get_logger(), "schedule: timer '%s' continues the restored state's '%s': last tick at %.6f, the "
       "first tick due at %.6f (period %.6f s, in %.6f s)", entry->name.c_str(), found->first.c_str(), last, due,
       entry->period, due - static_cast<double>(now) / 1e9);
