@@ -9,6 +9,10 @@ from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
+import pytest
+
+from iface.live.link import LinkError
+from iface.operate import manager as manager_module
 from iface.operate.container_host import (
     Host,
     container_argv,
@@ -147,3 +151,38 @@ def test_the_record_says_why_new_goes_into_a_second_container() -> None:
     assert said.startswith("NEW cannot share the process of container box: another iface_runtime_cpp")
     assert said.endswith("loaded into a second container box_2 and handed over between the two processes")
 
+
+
+class _Hung:
+    """A container process that runs but does not answer; ``stop`` ends it."""
+
+    pid = 4444
+
+    def __init__(self) -> None:
+        self.stopped = False
+
+    def alive(self) -> bool:
+        return not self.stopped
+
+    def stop(self, grace: float) -> None:
+        self.stopped = True
+
+
+class _NoAnswer:
+    """Container calls whose load gets no answer."""
+
+    def load(self, *args: Any, **kwargs: Any) -> Any:
+        raise LinkError("/box/_container/load_node does not answer within 10 s")
+
+
+def test_a_container_that_does_not_answer_a_load_is_stopped(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Its end then restarts every instance in it (the one being loaded first, by _start_or_fail)."""
+    mgr = _manager(tmp_path, [_spec("ticker", "box")])
+    ticker = mgr.instances[0]
+    hung = _Hung()
+    mgr.hosts["box"] = Host("box", {}, process=hung, calls=_NoAnswer())  # type: ignore[arg-type]
+    monkeypatch.setattr(manager_module, "component_of", lambda *a: SimpleNamespace(plugin="ticker::Ticker",
+                                                                                    prefix=Path("/p")))
+    with pytest.raises(LinkError, match="does not answer"):
+        mgr._load(ticker)
+    assert hung.stopped and ticker.loaded is None and ticker.state == "starting"
