@@ -78,16 +78,21 @@ def main() -> int:
     ticks: list[int] = []
     qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
     probe.node.create_subscription(Tick, "/tick", lambda m: ticks.append(int(m.value)), qos)
-    log_path = a.logs / "manager.log"
-    log_file = open(log_path, "w")  # noqa: SIM115 - closed below
     argv = [cfg["python"], "-m", "iface", "manager", cfg["system"], "--state-dir", cfg["state"], "--trust-store",
             cfg["store"], "--max-restarts", "3", "--heartbeat-timeout", "10", "--grace", "2"]
-    manager = subprocess.Popen(argv, env=cfg["env"], stdout=log_file, stderr=subprocess.STDOUT,
-                               start_new_session=True)
+    managers: list[tuple[subprocess.Popen[bytes], Path]] = []
+
+    def start_manager() -> subprocess.Popen[bytes]:
+        path = a.logs / f"manager{len(managers) + 1}.log"
+        with open(path, "w") as out:
+            proc = subprocess.Popen(argv, env=cfg["env"], stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
+        managers.append((proc, path))
+        return proc
 
     def manager_log() -> str:
-        log_file.flush()
-        return log_path.read_text(errors="replace")
+        return managers[-1][1].read_text(errors="replace")
+
+    start_manager()
 
     def status() -> dict[str, Any]:
         answer = probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
@@ -265,9 +270,48 @@ def main() -> int:
                     f"subscriber; /ticker_3 (2.0.0) in box_3 (pid {t.pid}), the tally in box (pid {box_pid}, "
                     f"{tally['missed']} missed since its start, over DDS now)")
 
-        report.step("replace by a NEW that cannot share the process: a second container, the reason recorded", second)
+        if not report.step("replace by a NEW that cannot share the process: a second container, the reason recorded",
+                           second):
+            return 1
+
+        def manager_killed() -> str:
+            code, out, err = cli("snapshot", cfg["system"])
+            check(code == 0, f"snapshot exit {code}: {err}")
+            saved = json.loads(Path(next(f for f in json.loads(out)["files"] if Path(f).parent.name == "ticker"))
+                               .read_text())["values"]["count"]
+            s = status()
+            before = {n: i.pid for n, i in s.items()}
+            probe.wait_until(lambda: ticks[-1] > saved + 300, 10, "300 ticks past the snapshot")
+            mark = len(ticks)
+            os.kill(managers[-1][0].pid, signal.SIGKILL)
+            managers[-1][0].wait(timeout=30)
+            start_manager()
+            after = settle(lambda x: all_active(x) and x["ticker"].pid not in (0, before["ticker"])
+                           and x["tally"].pid not in (0, before["tally"]), 120, "a new manager: every instance active")
+            t = after["ticker"]
+            check(t.node == "/ticker_3" and t.container == "box_3" and after["tally"].container == "box",
+                  f"ticker {t.node} in {t.container}, tally in {after['tally'].container}")
+            check(after["sensor"].pid == before["sensor"], "the Python instance was not adopted")
+            gone = [p for p in (before["ticker"], before["tally"]) if Path(f"/proc/{p}").exists()
+                    and "Z" not in Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()[:1]]
+            check(not gone, f"the previous manager's containers still run: {gone}")
+            last = ticks[mark - 1]
+            probe.wait_until(lambda: sum(1 for v in ticks[mark:] if v < last - 100) > 100, 30,
+                             "100 counts from the ticker loaded again")
+            resumed = [v for v in ticks[mark:] if v < last - 100]
+            check(resumed[0] > saved, f"the ticker began at {resumed[0]}, not after its snapshot's {saved}")
+            log = manager_log()
+            check("a previous manager's pid" in log, "the new manager did not say it stopped the previous containers")
+            return (f"the manager killed; a new one stopped the previous containers (pids {before['ticker']}, "
+                    f"{before['tally']}), adopted the sensor (pid {before['sensor']}), loaded /ticker_3 into box_3 "
+                    f"(pid {t.pid}) and the tally into box (pid {after['tally'].pid}); ticker resumed at {resumed[0]} "
+                    f"(snapshot {saved})")
+
+        report.step("kill -9 of the manager: a new one loads every instance again, NEW in its own container",
+                    manager_killed)
 
         def down() -> str:
+            manager = managers[-1][0]
             manager.send_signal(signal.SIGTERM)
             code = manager.wait(timeout=120)
             check(code == 0, f"the manager exited {code}")
@@ -281,13 +325,13 @@ def main() -> int:
 
         report.step("down: reverse order, the container stopped, nothing left running", down)
     finally:
-        if manager.poll() is None:
-            os.killpg(manager.pid, signal.SIGKILL)
-            manager.wait(timeout=30)
+        for manager, _ in managers:
+            if manager.poll() is None:
+                os.killpg(manager.pid, signal.SIGKILL)
+                manager.wait(timeout=30)
         for node in ("box", "box_3", "sensor", "ticker", "tally"):
             for pid in own_processes(cfg["own"], node):
                 os.kill(pid, signal.SIGKILL)
-        log_file.close()
         probe.close()
     return 0 if all(s["ok"] for s in report.steps.values()) else 1
 

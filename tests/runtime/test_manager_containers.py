@@ -8,7 +8,9 @@ was signed is the untrusted NEW. drive_manager_containers.py runs the scenario (
 its steps): up in order; the untrusted library refused before the container loads it; the container killed
 with SIGKILL and both instances active again with their snapshots, each restart counted; ticker 1.0
 replaced by 1.1 inside the container, the count carried and none lost; then by 2.0, which has
-another ticker_msgs and so goes into a second container, with the reason in the record; down in reverse order with nothing
+another ticker_msgs and so goes into a second container, with the reason in the record; the manager
+killed and a new one taking the system back (the previous containers stopped, every instance loaded again
+with its snapshot, NEW in its second container); down in reverse order with nothing
 left running. C++ components are Kilted only; without rclcpp built in the runtime these tests skip, saying
 so.
 """
@@ -34,6 +36,7 @@ STEPS = [
     "kill -9 of the container: both instances active again with their snapshots",
     "replace inside the container at 1 kHz: the count carried, none lost",
     "replace by a NEW that cannot share the process: a second container, the reason recorded",
+    "kill -9 of the manager: a new one loads every instance again, NEW in its own container",
     "down: reverse order, the container stopped, nothing left running",
 ]
 SYSTEM = """/** The container tests' system: a Python sensor, and two C++ components in one container. */

@@ -158,6 +158,8 @@ class Manager:
         replaced = self.replacements.load(spec.name)
         if replaced is not None and replaced.holds_for(spec):
             m.node, m.generation, m.impl = replaced.node, replaced.generation, replaced.implementation
+            if m.container is not None and replaced.container:
+                m.container = replaced.container  # a second container, NEW could not share the first one
         elif replaced is not None:
             m.note(f"the system file names {spec.component} ({spec.interface_hash[:19]}) for {spec.name}, not what "
                    f"{replaced.implementation.component} replaced: {replaced.implementation.component} no longer runs "
@@ -676,7 +678,7 @@ class Manager:
         m.container, m.process = target.name, target.process
         m.heartbeat, m.heartbeat_ok = None, time.monotonic()
         self.replacements.save(Replacement(m.name, new_node, generation, impl, m.spec.component,
-                                           m.spec.interface_hash))
+                                           m.spec.interface_hash, target.name))
         if old_loaded is not None and old_host.calls is not None:
             try:
                 old_host.calls.unload(old_loaded.unique_id, self.options.call_timeout)
