@@ -125,6 +125,18 @@ def main() -> int:
             f.write(f"$ {' '.join(cmd)}\nexit {done.returncode}\n{done.stdout}\n{done.stderr}\n")
         return done.returncode, done.stdout, done.stderr
 
+    def counts_after_restart(saved: int, what: str) -> list[int]:
+        """Counts of the ticker once it runs again (restarted from its snapshot ``saved``): the counts that arrive
+        1 s after it is active (the dead process's last ones are in by then), 100 of them."""
+        time.sleep(1.0)
+        since = len(ticks)
+        probe.wait_until(lambda: len(ticks) >= since + 100, 30, f"100 counts from {what}")
+        fresh = ticks[since:]
+        check(fresh[0] > saved, f"{what} counts from {fresh[0]}: not past its snapshot's {saved} (restarted from "
+              "nothing?)")
+        check(not gaps(fresh), f"counts lost or repeated: {gaps(fresh)[:5]}")
+        return fresh
+
     def replace(new_iface: str, package: str) -> tuple[int, dict[str, Any]]:
         code, out, err = cli("replace", cfg["system"], "ticker", "--new", new_iface, "--package", package,
                              "--timeout", "5")
@@ -196,17 +208,16 @@ def main() -> int:
                 check(any("container box" in f and "ended" in f for f in back[n].findings),
                       f"{n}: no finding names the container: {list(back[n].findings)}")
             last = ticks[mark - 1]
-            # the counts still on their way when the container died come first, then the restored ticker's
-            probe.wait_until(lambda: sum(1 for v in ticks[mark:] if v < last - 100) > 100, 30,
-                             f"100 counts from the restarted ticker (below the last before the kill, {last})")
-            resumed = [v for v in ticks[mark:] if v < last - 100]
-            check(resumed[0] > snap["ticker"]["count"], f"the ticker began at {resumed[0]}, not after its snapshot's "
-                  f"{snap['ticker']['count']}")
-            check(not gaps(resumed), f"counts lost or repeated after the restart: {gaps(resumed)[:5]}")
+            fresh = counts_after_restart(snap["ticker"]["count"], "the restarted ticker")
+            lines = manager_log().splitlines()
+            for n in ("ticker", "tally"):
+                said = [x for x in lines if f"{n}: active in container box (pid {back[n].pid}," in x]
+                check(said and "snapshot" in said[-1] and "restored" in said[-1],
+                      f"{n}: the manager did not say it was loaded again with its snapshot: {said[-1:]}")
             tally = Protocol(probe).save("tally")["values"]
             check(tally["received"] >= snap["tally"]["received"], f"the tally restarted from nothing: {tally}")
             return (f"box pid {pid} killed; {took:.2f} s to both active in pid {back['ticker'].pid} (as seen by status "
-                    f"polls); ticker resumed at {resumed[0]} (snapshot {snap['ticker']['count']}, last before the kill "
+                    f"polls); ticker counting again at {fresh[0]} (snapshot {snap['ticker']['count']}, last before the kill "
                     f"{last}); tally received {tally['received']} (snapshot {snap['tally']['received']}); restarts "
                     f"ticker {back['ticker'].restarts}, tally {back['tally'].restarts}, sensor {back['sensor'].restarts}")
 
@@ -282,7 +293,6 @@ def main() -> int:
             s = status()
             before = {n: i.pid for n, i in s.items()}
             probe.wait_until(lambda: ticks[-1] > saved + 300, 10, "300 ticks past the snapshot")
-            mark = len(ticks)
             os.kill(managers[-1][0].pid, signal.SIGKILL)
             managers[-1][0].wait(timeout=30)
             start_manager()
@@ -295,16 +305,13 @@ def main() -> int:
             gone = [p for p in (before["ticker"], before["tally"]) if Path(f"/proc/{p}").exists()
                     and "Z" not in Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()[:1]]
             check(not gone, f"the previous manager's containers still run: {gone}")
-            last = ticks[mark - 1]
-            probe.wait_until(lambda: sum(1 for v in ticks[mark:] if v < last - 100) > 100, 30,
-                             "100 counts from the ticker loaded again")
-            resumed = [v for v in ticks[mark:] if v < last - 100]
-            check(resumed[0] > saved, f"the ticker began at {resumed[0]}, not after its snapshot's {saved}")
+            fresh = counts_after_restart(saved, "the ticker loaded again")
             log = manager_log()
+            check("ticker: active in container box_3" in log and "snapshot" in log, "no restore of the ticker logged")
             check("a previous manager's pid" in log, "the new manager did not say it stopped the previous containers")
             return (f"the manager killed; a new one stopped the previous containers (pids {before['ticker']}, "
                     f"{before['tally']}), adopted the sensor (pid {before['sensor']}), loaded /ticker_3 into box_3 "
-                    f"(pid {t.pid}) and the tally into box (pid {after['tally'].pid}); ticker resumed at {resumed[0]} "
+                    f"(pid {t.pid}) and the tally into box (pid {after['tally'].pid}); ticker counting again at {fresh[0]} "
                     f"(snapshot {saved})")
 
         report.step("kill -9 of the manager: a new one loads every instance again, NEW in its own container",
