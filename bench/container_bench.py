@@ -1,6 +1,6 @@
 """Components in one process, measured on loopback (docs/system.md, "Containers: figures"; issue 37's goals):
 
-    python bench/container_bench.py [--runs 20] [--seconds 5] [--keep DIR]
+    python bench/container_bench.py [--runs 20] [--seconds 5] [--kills 20] [--only replace|throughput|kill] [--keep DIR]
 
 1. the silence on a 1 kHz topic, and on a 100 Hz one, across a replacement inside the container: an
    ``iface_container`` holds ticker 1.0 and the tally (tests/runtime/data); each run loads ticker 1.1
@@ -13,8 +13,12 @@
 2. messages per second from the ticker (1 kHz, 50 a tick) to the tally: in one container with intra-process
    communication, in one container without it, and as two processes; the ratios.
 
-A container's ``kill -9`` until its instances are back is the component manager's to measure (it restarts
-them); this bench says so rather than time a restart it would do itself.
+3. a container's ``kill -9`` until every instance in it is active again with its state, restarted by the
+   component manager (``iface-lsp manager`` running a system of ticker 1.0 and the tally in the container
+   ``box``): ``--kills`` times, the container killed with SIGKILL each time; from the kill to the manager's log
+   line that says the last of the two is active in the new container (the container restarted, both loaded
+   with their last snapshot restored and activated); median, p95, max (goal <= 1 s median), and the same as
+   seen by ``/iface_manager/status`` polled every 20 ms.
 
 Builds the ticker (1.0 and 1.1) and the tally (rclcpp) once (``--keep DIR`` builds there, or reuses the build
 found there: tests/ros_harness/cpp.py ``ticker_workspaces``), then runs itself in the ROS 2 environment. The
@@ -87,7 +91,7 @@ def prepare(args: argparse.Namespace) -> int:
                                                                          FLOOD.items()), encoding="utf-8")
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "server"), env.get("PYTHONPATH", "")])
     cfg = {"root": str(root), "ws": str(ws["ws"]), "ws_v1_1": str(ws["ws_v1_1"]), "runs": args.runs,
-           "seconds": args.seconds}
+           "seconds": args.seconds, "kills": args.kills, "only": args.only or ""}
     (root / "config.json").write_text(json.dumps(cfg))
     print(f"{load()} (before); commit {commit()}; logs in {root}", flush=True)
     try:
@@ -125,10 +129,10 @@ class Ticks:
 
 
 def inner(config: Path) -> int:
+    from iface.live.link import Link
     from iface.nodes import protocol
     from iface.operate.containers import component_in
     from iface.operate.in_container import ContainerCalls
-    from iface.live.link import Link
     from tests.ros_harness.probe import Component, Probe, Protocol
 
     cfg = json.loads(config.read_text())
@@ -154,8 +158,15 @@ def inner(config: Path) -> int:
         probe.wait_until(lambda: min(calls.control(node, protocol.STATUS).publisher_matched or [0]) >= at_least, 10,
                          f"{node}'s /tick matched by {at_least} subscriptions")
 
+    only = cfg.get("only", "")
+    if only == "kill":
+        code = kill_figure(cfg, probe)
+        probe.close()
+        return code
     # ---- 1. silence across a replacement inside the container
     for name, rate in RATES.items():
+        if only == "throughput":
+            break
         params = (root / f"{name}.yaml",)
         box_proc = container()
         try:
@@ -199,8 +210,9 @@ def inner(config: Path) -> int:
                   f"{tallied['missed'] - before['missed']}, received twice {twice} (the tally, in the process); {load()}", flush=True)
         finally:
             box_proc.stop()
-    print("container kill -9 -> instances back: not measured here (the component manager restarts a container's "
-          "instances: bench/manager_bench.py when it runs containers)", flush=True)
+    if only == "replace":
+        probe.close()
+        return 0
 
     # ---- 2. messages per second
     flood = (root / "flood.yaml",)
@@ -235,14 +247,113 @@ def inner(config: Path) -> int:
     print(f"messages/s, one container with intra-process communication vs two processes: "
           f"{rates['one container, intra-process'] / rates['two processes']:.2f}x; one container over DDS vs two "
           f"processes: {rates['one container, over DDS'] / rates['two processes']:.2f}x", flush=True)
+    code = kill_figure(cfg, probe) if not only and int(cfg["kills"]) > 0 else 0
     probe.close()
-    return 0
+    return code
+
+
+KILL_SYSTEM = """system bench_box version "1.0.0"
+include "ticker.iface"
+include "tally.iface"
+
+instance ticker : ticker (container = "box")
+instance tally : tally (container = "box", after = "ticker")
+"""
+
+
+def _logged_at(log: Path, line: str, after: float) -> float | None:
+    """The wall time (ROS log stamp, s) of the first manager log line containing ``line`` stamped after ``after``."""
+    for text in log.read_text(errors="replace").splitlines():
+        if line in text and text.startswith("[INFO] ["):
+            stamp = float(text.split("] [", 1)[1].split("]", 1)[0])
+            if stamp > after:
+                return stamp
+    return None
+
+
+def kill_figure(cfg: dict[str, Any], probe: Any) -> int:
+    """3. The manager runs ticker 1.0 and the tally in ``box``; the container is killed ``kills`` times."""
+    import signal
+
+    from iface_msgs.srv import Snapshot, SystemStatus
+
+    from tests.ros_harness.probe import Protocol
+
+    root, kills = Path(cfg["root"]), int(cfg["kills"])
+    sysdir = root / "kill"
+    shutil.rmtree(sysdir, ignore_errors=True)
+    sysdir.mkdir()
+    for name in ("ticker", "tally"):
+        shutil.copy(ROOT / "tests" / "runtime" / "data" / f"{name}.iface", sysdir)
+    (sysdir / "bench_box.iface").write_text(KILL_SYSTEM, encoding="utf-8")
+    log = root / "logs" / "kill-manager.log"
+    with open(log, "w") as out:
+        manager = subprocess.Popen([sys.executable, "-m", "iface", "manager", str(sysdir / "bench_box.iface"),
+                                    "--state-dir", str(sysdir / "state"), "--max-restarts", str(kills + 5),
+                                    "--heartbeat-timeout", "10"], stdout=out, stderr=subprocess.STDOUT,
+                                   start_new_session=True)
+
+    def status() -> dict[str, Any]:
+        answer = probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
+                            idempotent=True)
+        return {i.name: i for i in answer.instances}
+
+    def back(pid: int, timeout: float) -> dict[str, Any]:
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            s = status()
+            if len(s) == 2 and all(i.state == "active" and i.pid not in (0, pid) for i in s.values()):
+                return s
+            time.sleep(0.02)
+        raise TimeoutError(f"not both active again within {timeout:g} s: {status()}")
+
+    try:
+        back(-1, 120)
+        logged, seen = [], []
+        for _ in range(kills):
+            saved = probe.call(Snapshot, "/iface_manager/snapshot", Snapshot.Request(instance=""), timeout=30)
+            ticker_file = next(Path(f) for f in saved.files if Path(f).parent.name == "ticker")
+            count = json.loads(ticker_file.read_text())["values"]["count"]
+            pid = status()["ticker"].pid
+            killed, start = time.time(), time.monotonic()
+            os.kill(pid, signal.SIGKILL)
+            back(pid, 60)
+            seen.append(time.monotonic() - start)
+            stamp = None
+            end = time.monotonic() + 5
+            while stamp is None and time.monotonic() < end:
+                stamp = _logged_at(log, "tally: active in container box", killed)
+                time.sleep(0.02)
+            if stamp is None:
+                print("container_bench: the manager did not log the tally active", file=sys.stderr)
+                return 1
+            logged.append(stamp - killed)
+            restored = Protocol(probe).save("ticker")["values"]["count"]
+            if restored < count:
+                print(f"container_bench: the ticker restarted at {restored}, before its snapshot", file=sys.stderr)
+                return 1
+            time.sleep(0.5)
+        print(f"container kill -9 -> ticker and tally active again with their snapshots (the manager's log): median "
+              f"{statistics.median(logged):.3f} s, p95 {percentile(logged, 0.95):.3f} s, max {max(logged):.3f} s over "
+              f"{len(logged)}; as seen by status polls every 20 ms: median {statistics.median(seen):.3f} s, p95 "
+              f"{percentile(seen, 0.95):.3f} s; {load()}", flush=True)
+        return 0
+    finally:
+        if manager.poll() is None:
+            manager.send_signal(signal.SIGTERM)
+            try:
+                manager.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                os.killpg(manager.pid, signal.SIGKILL)
+                manager.wait(timeout=30)
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--runs", type=int, default=20)
     ap.add_argument("--seconds", type=float, default=5.0, help="how long each throughput is measured")
+    ap.add_argument("--kills", type=int, default=20, help="container kills the manager restarts (0: not measured)")
+    ap.add_argument("--only", choices=("replace", "throughput", "kill"), help="measure one figure only")
     ap.add_argument("--keep", type=Path, help="build into this folder, or reuse the build found there")
     ap.add_argument("--inner", type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args()

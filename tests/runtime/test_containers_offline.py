@@ -132,12 +132,18 @@ def test_an_untrusted_component_is_refused_before_the_container_is_asked(tmp_pat
         box.load(component, "ticker", trust_store=store)
 
 
-def test_the_manager_refuses_a_system_with_containers_it_cannot_run_yet(tmp_path: Path) -> None:
+def test_the_manager_takes_a_system_with_containers(tmp_path: Path) -> None:
+    """The manager runs containers now: a system with one is not refused for it (without ROS 2 here it stops only
+    because ROS 2 cannot be imported)."""
     examples = Path(__file__).resolve().parents[2] / "examples"
     shutil.copy(examples / "counter.iface", tmp_path)
     (tmp_path / "plant.iface").write_text('system plant version "1.0.0"\ninclude "counter.iface"\n'
                                           'instance one : counter (container = "box")\n', encoding="utf-8")
     done = run_cli("manager", str(tmp_path / "plant.iface"), "--state-dir", str(tmp_path / "state"))
-    assert done.returncode == 2, done.stdout + done.stderr
-    assert "puts instances into component containers (box): the manager does not run containers yet" in done.stderr
-    assert "Traceback" not in done.stderr and not (tmp_path / "state").exists()
+    assert "component containers" not in done.stderr and "Traceback" not in done.stderr, done.stderr
+    try:
+        import iface_msgs  # noqa: F401
+    except ImportError:
+        assert done.returncode == 2 and "cannot be imported" in done.stderr, done.stdout + done.stderr
+    else:  # pragma: no cover - ROS sourced in the test environment itself
+        pytest.skip("iface_msgs is importable here: the manager would run")

@@ -18,7 +18,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="where snapshots, process records and instance logs go "
                         "(default: .iface-state/<system> beside the system file)")
     p.add_argument("--trust-store", type=Path, metavar="DIR",
-                   help="a folder of trusted public keys (*.pub): a replacement must be signed by one of them")
+                   help="a folder of trusted public keys (*.pub): a replacement, and an instance loaded into a container, "
+                        "must be signed by one of them")
     p.add_argument("--max-restarts", type=int, default=DEFAULT_MAX_RESTARTS, metavar="R",
                    help=f"restarts of one instance allowed within --restart-period (default {DEFAULT_MAX_RESTARTS})")
     p.add_argument("--restart-period", type=float, default=DEFAULT_PERIOD, metavar="T",
@@ -48,12 +49,6 @@ def run(args: argparse.Namespace) -> int:
         spec = system_spec(args.system)
     except SystemFileError as e:
         print(f"iface-lsp manager: {e}", file=sys.stderr)
-        return 2
-    if spec.containers:
-        print(f"iface-lsp manager: {spec.name} puts instances into component containers "
-              f"({', '.join(spec.containers)}): the manager does not run containers yet (docs/system.md, Containers); "
-              "start the system with `generate --target launch` and `ros2 launch`, or without `container`",
-              file=sys.stderr)
         return 2
     try:
         import iface_msgs.srv  # noqa: F401

@@ -20,7 +20,9 @@ check and the nodes' check, and keeps a grace period after the switch):
 4. the critical section, kept to a few round trips: OLD pauses after its current work transaction
    (right after a tick of a fast work timer) and answers with its state, which is restored into NEW; OLD is deactivated, then NEW activated (never both
    active), and OLD's gate opened again after it. NEW's work timers continue OLD's schedule (the
-   state document carries when each last ran).
+   state document carries when each last ran). When OLD and NEW are loaded into one component container
+   (iface_runtime_cpp's ``iface_container``), ``switch_in`` has the container do step 4 in its process,
+   between two of OLD's ticks, with no round trip in it (the manager's replacement inside a container).
 
 Any refusal before step 4 leaves OLD untouched; a failure after OLD paused reactivates and resumes
 it (``roll_back``), so OLD goes on as before; after a switch (NEW failed later: the manager's grace
@@ -226,6 +228,35 @@ class HandOver:
             self.paused = False
         except LinkError as e:
             self.note("resume OLD", f"{self.old} (inactive) stays paused: {e}")
+        try:
+            after = self.calls.save(self.new, self.timeout, wait=self.timeout + 5)
+            self.state_after = json.loads(after.state)
+        except LinkError:
+            self.state_after = None
+
+    @_refusing
+    def switch_in(self, container: Any, name: str) -> None:
+        """The critical section run by the container both nodes are loaded into: its ``~/handover``
+        (``in_container.ContainerCalls.hand_over``: pause OLD between two of its ticks, restore its state into NEW,
+        activate NEW, deactivate OLD, in the process); then NEW's state read back for the record. Refused when
+        the container did not switch (OLD as it was; when it did not answer at all, a rollback looks)."""
+        self.touched_old = True  # no answer: OLD may be paused or switched
+        try:
+            done = container.hand_over(self.old, self.new, self.timeout)
+        except LinkError as e:
+            self.paused = True
+            raise Refused(f"container {name}'s hand-over did not answer: {e}") from e
+        if not done.success:
+            self.touched_old = False  # the container leaves OLD active and resumed
+            raise Refused(f"container {name} did not switch: {done.message}")
+        self.paused = False
+        self.deactivated = self.switched = True
+        self.state_before = done.state
+        self.pause_ms, self.critical_ms = done.pause_ms, done.critical_ms
+        self.note("switch in container", f"{name} switched {self.old} to {self.new} in its process"
+                  + (f" after a tick of '{done.after_tick}'" if done.after_tick else "")
+                  + f": pause {done.pause_ms:.2f} ms, OLD paused to NEW active {done.critical_ms:.3f} ms; restored "
+                  + (", ".join(done.restored) or "nothing") + (f"; kept {', '.join(done.kept)}" if done.kept else ""))
         try:
             after = self.calls.save(self.new, self.timeout, wait=self.timeout + 5)
             self.state_after = json.loads(after.state)

@@ -99,6 +99,8 @@ class Replacement:
     implementation: Implementation
     replaces_component: str
     replaces_hash: str
+    #: The component container NEW runs in ("": a process of its own, or the system file's container).
+    container: str = ""
 
     def holds_for(self, spec: Any) -> bool:
         """Whether the system file still names for the instance what this replacement replaced."""

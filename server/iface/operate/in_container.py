@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -23,7 +24,8 @@ from .containers import Component, ContainerError
 class Caller(Protocol):
     """The protocol client the calls go through."""
 
-    def call(self, service: str, fill: dict[str, Any], timeout: float, idempotent: bool = True) -> Any: ...
+    def call(self, service: str, fill: dict[str, Any], timeout: float, idempotent: bool = True,
+             alive: Callable[[], bool] | None = None, resend: float | None = None) -> Any: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,6 +81,10 @@ class ContainerCalls:
         for service, srv in (("_container/load_node", LoadNode), ("_container/unload_node", UnloadNode),
                              ("_container/list_nodes", ListNodes), (protocol.HAND_OVER[2:], HandOver)):
             self.link.know(f"{self.name}/{service}", srv)
+            if hasattr(self.link, "client"):
+                # made now, before the container (re)starts: its endpoints are matched with the others of the
+                # process as it is discovered, so a load sent once it answers list_nodes is heard by it
+                self.link.client(f"{self.name}/{service}", srv)
         self._known = True
 
     def load(self, component: Component, node_name: str, *, params_files: tuple[Path, ...] = (),
@@ -117,6 +123,24 @@ class ContainerCalls:
         if not answer.success:
             raise ContainerError(f"{self.name} did not unload node {unique_id}: {answer.error_message}")
 
+    def ready(self, timeout: float, alive: Callable[[], bool] | None = None, resend: float = 0.05) -> dict[str, int]:
+        """Wait until the container answers ``list_nodes``, then ``load_node`` (each asked every ``resend`` s: an
+        answer comes from a process that runs, never from one that just ended); its nodes.
+
+        ``load_node`` is asked for a package no index has (``NO_PACKAGE``), which every container refuses at
+        once and loads nothing for: a real load is sent once (a second one would load a second node), so it
+        must not go out before the service's request and answer both reach this process's client; after a
+        container restart the graph may still show the dead process's server, and ``list_nodes`` answering
+        does not say that ``load_node``'s endpoints are matched yet.
+        """
+        self._know()
+        deadline = time.monotonic() + timeout
+        answer = self.link.call(f"{self.name}/_container/list_nodes", {}, timeout, alive=alive, resend=resend)
+        self.link.call(f"{self.name}/_container/load_node", {"package_name": NO_PACKAGE, "plugin_name": NO_PACKAGE,
+                                                             "node_name": NO_PACKAGE},
+                       max(1.0, deadline - time.monotonic()), alive=alive, resend=resend)
+        return dict(zip((str(n) for n in answer.full_node_names), (int(i) for i in answer.unique_ids), strict=True))
+
     def nodes(self, timeout: float = 10.0) -> dict[str, int]:
         """The nodes the container holds: fully qualified name → id."""
         self._know()
@@ -136,5 +160,7 @@ class ContainerCalls:
                         str(answer.after_tick))
 
 
+#: The package of ``ready``'s LoadNode: none has this name, so the container refuses it and loads nothing.
+NO_PACKAGE = "iface_no_such_package"
 #: Seconds beyond the hand-over's own timeout its answer may take (the wait for OLD's next tick, the call itself).
 ALIGN_WAIT = protocol.ALIGN_SEC + 5.0

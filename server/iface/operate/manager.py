@@ -33,8 +33,21 @@ from ..live.link import Link, LinkError
 from ..nodes import protocol
 from ..semantics.compile import Workspace
 from . import processes
+from .container_host import (
+    Host,
+    component_of,
+    container_argv,
+    container_ended,
+    members,
+    parameter_files,
+    reload_order,
+    second_container,
+    second_container_name,
+)
+from .containers import CONTAINER_EXECUTABLE, CONTAINER_PACKAGE, ContainerError, sharing_problem
 from .handover import ACTIVE, INACTIVE, UNCONFIGURED, HandOver, Refused, decide
 from .implementation import Implementation, NotStartable, Replacement, Replacements, of_instance, replacing
+from .in_container import ContainerCalls, Loaded
 from .processes import ExitWatcher, InstanceProcess, Records, StartError
 from .restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD, Intensity, should_restart
 from .snapshots import DEFAULT_KEEP, SnapshotStore, iso_time
@@ -92,6 +105,11 @@ class Managed:
     heartbeat_ok: float = 0.0
     watched: float = 0.0
     findings: list[str] = field(default_factory=list)
+    #: The container it is loaded into (its node name; a replacement's may be a second one), None: a process of
+    #: its own. ``process`` is then the container's.
+    container: str | None = None
+    #: Its node in the container (the id ``unload_node`` takes), None while it is not loaded.
+    loaded: Loaded | None = None
 
     @property
     def name(self) -> str:
@@ -125,16 +143,23 @@ class Manager:
         self.watcher = ExitWatcher()
         self.log_dir = options.state_dir / "logs"
         self._envs: dict[str, dict[str, str]] = {}
+        #: The container processes, by node name.
+        self.hosts: dict[str, Host] = {}
+        self.container_records = Records(options.state_dir)
+        self.container_records.folder = options.state_dir / "containers"
         self.instances = [self._managed(spec) for spec in system.instances]
 
     def _managed(self, spec: Any) -> Managed:
         """An instance as its replacement record (if one holds) or else the system file says."""
         m = Managed(spec, spec.node, of_instance(spec),
                     SnapshotStore(self.options.state_dir / "snapshots" / spec.name, self.options.keep),
-                    Intensity(self.options.max_restarts, self.options.restart_period))
+                    Intensity(self.options.max_restarts, self.options.restart_period),
+                    container=getattr(spec, "container", None))
         replaced = self.replacements.load(spec.name)
         if replaced is not None and replaced.holds_for(spec):
             m.node, m.generation, m.impl = replaced.node, replaced.generation, replaced.implementation
+            if m.container is not None and replaced.container:
+                m.container = replaced.container  # a second container, NEW could not share the first one
         elif replaced is not None:
             m.note(f"the system file names {spec.component} ({spec.interface_hash[:19]}) for {spec.name}, not what "
                    f"{replaced.implementation.component} replaced: {replaced.implementation.component} no longer runs "
@@ -204,7 +229,7 @@ class Manager:
             if self.stopping():
                 return
             with self.lock:
-                if not self._adopt(m):
+                if m.container is not None or not self._adopt(m):
                     self._start_or_fail(m, "start")
 
     def serve(self) -> None:
@@ -212,6 +237,7 @@ class Manager:
         while not self.stopping():
             self.wake.clear()
             with self.lock:
+                self._watch_containers()
                 for m in self.instances:
                     self._watch(m, time.monotonic())
             self.wake.wait(TICK)
@@ -221,8 +247,14 @@ class Manager:
         for m in reversed(self.instances):
             with self.lock:
                 self._down(m)
+        with self.lock:
+            for host in list(self.hosts.values()):
+                self._stop_host(host)
 
     def _down(self, m: Managed) -> None:
+        if m.container is not None:
+            self._down_loaded(m)
+            return
         if m.process is None or not m.process.alive():
             self.records.remove(m.name)
             m.state = "down" if m.state not in ("failed",) else m.state
@@ -364,12 +396,16 @@ class Manager:
             raise LinkError(f"{node} did not answer within {self.options.start_timeout:g} s") from None
 
     def _start_or_fail(self, m: Managed, why: str) -> None:
-        """Start ``m``; on failure restart it per policy and intensity until it is up or stays down."""
+        """Start ``m`` (load it into its container); on failure restart it per policy and intensity until it is up or
+        stays down."""
         while True:
             try:
-                self._start(m)
+                if m.container is not None:
+                    self._load(m)
+                else:
+                    self._start(m)
                 return
-            except (StartError, LinkError, OSError) as e:
+            except (StartError, LinkError, ContainerError, NotStartable, OSError) as e:
                 reason = f"{why} failed: {e}"
             if not self._may_restart(m, reason, clean=False):
                 return
@@ -379,7 +415,9 @@ class Manager:
         """Record a failure of ``m``; whether it is to be started again (counted as a restart)."""
         m.note(reason)
         self.log(f"{m.name}: {reason}")
-        if m.process is not None and m.process.alive():
+        if m.container is not None:
+            self._unload(m)
+        elif m.process is not None and m.process.alive():
             m.process.stop(2.0)
         self.records.remove(m.name)
         m.heartbeat = None
@@ -403,6 +441,8 @@ class Manager:
             # asked for, so none is missing; the timeout runs from now
             m.heartbeat, m.heartbeat_ok = None, now
         m.watched = now
+        if m.container is not None and not m.process.alive():
+            return  # the container's end: _watch_containers restarts every instance in it
         if not m.process.alive():
             code = m.process.exit_code()
             if self._may_restart(m, f"process {m.process.pid} ended" + (f" (exit {code})" if code is not None else ""),
@@ -427,6 +467,232 @@ class Manager:
         if period and now >= m.next_snapshot:
             m.next_snapshot = now + period
             self._snapshot(m, "period")
+
+    # ---- containers ---------------------------------------------------------------------------------
+    def _host(self, name: str, env: dict[str, str]) -> Host:
+        """The running container ``name`` (started, in ``env``, when it does not run)."""
+        host = self.hosts.get(name)
+        if host is None:
+            host = self.hosts[name] = Host(name, env)
+        if not host.alive():
+            self._start_host(host)
+        return host
+
+    def _start_host(self, host: Host) -> None:
+        """Start the container process of ``host`` (a previous manager's still running is stopped first: its
+        instances are loaded again, with their snapshots) and wait until it answers."""
+        record = self.container_records.load(host.name)
+        if record is not None and processes.running(record):
+            self.log(f"container {host.name}: a previous manager's pid {record.pid} still runs: stopping it")
+            InstanceProcess(record).stop(5.0)
+        restart = host.process is not None
+        exe = processes.find_executable(CONTAINER_PACKAGE, CONTAINER_EXECUTABLE, host.env)
+        impl = Implementation(CONTAINER_EXECUTABLE, "", "", CONTAINER_PACKAGE, CONTAINER_EXECUTABLE)
+        proc = processes.start(host.name, host.name, container_argv(exe, host.name), host.env,
+                               self.log_dir / f"container.{host.name}.log", implementation=impl, generation=1)
+        host.process = self._watched(proc)
+        host.restarts += int(restart)
+        self.container_records.save(proc.record)
+        host.calls = ContainerCalls(self.link, host.name)  # its clients kept from a previous start (see ready)
+        self.log(f"container {host.name}: started pid {proc.pid} ({exe})")
+        try:
+            host.calls.ready(self.options.start_timeout, alive=proc.alive, resend=FIRST_ANSWER_RESEND)
+        except LinkError:
+            if not proc.alive():
+                raise LinkError(f"container {host.name}: its process ended (exit {proc.exit_code()}) before it "
+                                "answered") from None
+            raise LinkError(f"container {host.name} did not answer within {self.options.start_timeout:g} s") from None
+        self.log(f"container {host.name}: answers (pid {proc.pid})")
+
+    def _stop_host(self, host: Host) -> None:
+        """Stop the container process of ``host`` (its instances unloaded before) and forget it."""
+        if host.process is not None and host.process.alive():
+            host.process.stop(5.0)
+            self.log(f"container {host.name}: stopped (pid {host.process.pid})")
+        self.container_records.remove(host.name)
+        self.link.forget("/" + host.name)
+        self.hosts.pop(host.name, None)
+
+    def _load(self, m: Managed) -> None:
+        """Load ``m`` into its container (started if it does not run): its trust checked first, then configured, its
+        last snapshot restored and activated by the container."""
+        assert m.container is not None
+        env = self._environment(m.impl.package_dir)
+        host = self._host(m.container, env)
+        assert host.calls is not None and host.process is not None
+        m.state, m.process, m.loaded = "starting", host.process, None
+        self.link.forget(m.path)
+        component = component_of(m.impl, m.spec.plugin, m.impl.component == m.spec.component, env)
+        latest = m.store.latest()
+        try:
+            m.loaded = host.calls.load(component, m.node.lstrip("/"),
+                                       params_files=parameter_files(m.spec.parameters),
+                                       intra_process=bool(m.spec.intra_process), activate=True,
+                                       state=latest.document if latest is not None else "",
+                                       trust_store=self.options.trust_store, timeout=self.options.call_timeout)
+        except LinkError as e:
+            if host.alive() and host.process is not None:
+                # a container that does not answer a load is not trusted with the others either: its end
+                # restarts every instance in it (_watch_containers), this one first (_start_or_fail)
+                self.log(f"container {host.name}: no answer to the load of {m.name} ({e}): stopping pid "
+                         f"{host.process.pid}")
+                host.process.stop(2.0)
+            raise
+        m.state = "active"
+        m.heartbeat, m.heartbeat_ok = None, time.monotonic()
+        m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
+        restored = f", snapshot {latest.sequence} restored" if latest is not None else ""
+        self.log(f"{m.name}: active in container {host.name} (pid {host.pid}, {component.plugin} from "
+                 f"{component.prefix}{restored})")
+
+    def _unload(self, m: Managed) -> None:
+        """Unload ``m`` from its container when it is loaded there and the container runs."""
+        host = self.hosts.get(m.container or "")
+        if (m.loaded is not None and host is not None and host.alive() and host.calls is not None
+                and m.process is host.process):  # an id of a process that ended may be another node's now
+            try:
+                host.calls.unload(m.loaded.unique_id, self.options.call_timeout)
+            except (ContainerError, LinkError) as e:
+                m.note(f"unload from container {host.name}: {e}")
+        m.loaded = None
+        self.link.forget(m.path)
+
+    def _down_loaded(self, m: Managed) -> None:
+        """Down for an instance in a container: deactivate (a snapshot), then unload."""
+        host = self.hosts.get(m.container or "")
+        if m.loaded is None or host is None or not host.alive():
+            m.loaded = None
+            m.state = "down" if m.state != "failed" else m.state
+            return
+        t = self.options.call_timeout
+        try:
+            if self.link.lifecycle_state(m.path, t) == ACTIVE:
+                self.link.transition(m.path, DEACTIVATE, t)
+                self._snapshot(m, "deactivate")
+        except LinkError as e:
+            m.note(f"down: {e}")
+        self._unload(m)
+        m.state = "down"
+        self.log(f"{m.name}: down (unloaded from container {host.name})")
+
+    def _watch_containers(self) -> None:
+        """A container whose process ended: every instance in it failed, and restarted (in order, with its snapshot)
+        per its own policy and intensity."""
+        for host in list(self.hosts.values()):
+            # those loaded into a process of the container that ended (the current one, or one before it)
+            hit = [m for m in reload_order(self.instances, host.name) if m.process is None or not m.process.alive()]
+            if not hit:
+                if host.process is not None and not host.alive() and not members(self.instances, host.name):
+                    self._stop_host(host)
+                continue
+            ended = next((m.process for m in hit if m.process is not None), host.process)
+            reason = container_ended(host.name, ended.pid if ended is not None else 0,
+                                     ended.exit_code() if ended is not None else None)
+            self.log(reason)
+            for m in hit:
+                m.loaded = None  # gone with the process
+            again = [m for m in hit if self._may_restart(m, reason, clean=False)]
+            for m in again:
+                self._start_or_fail(m, "restart")
+
+    def _replace_loaded(self, m: Managed, h: HandOver, report: Any, new: Any, package: Path, generation: int,
+                        new_node: str, timeout: float) -> dict[str, Any]:
+        """Replace an instance in a container: NEW loaded beside OLD and switched by the container when it can share
+        the process; else NEW in a second container, handed over between the two processes."""
+        host = self.hosts.get(m.container or "")
+        if host is None or not host.alive() or host.calls is None:
+            h.note("refused", f"container {m.container} does not run", ok=False)
+            return _record(h, report, m, "refused")
+        try:
+            impl = replacing(m.impl, new, report.new_hash, package)
+            env = self._environment(str(package))
+            component = component_of(impl, m.spec.plugin, impl.component == m.spec.component, env)
+        except (NotStartable, StartError, ContainerError, OSError) as e:
+            h.note("load NEW", str(e), ok=False)
+            return _record(h, report, m, "refused")
+        try:
+            problem = sharing_problem(component.library, host.pid, host.env, env)
+        except ContainerError as e:
+            problem = f"cannot tell whether it can ({e})"
+        target = host
+        if problem is None:
+            h.note("share", f"NEW's {component.library.name} can share container {host.name}'s process: loaded "
+                   "beside OLD, switched by the container")
+        else:
+            name = second_container_name(m.spec.container or host.name, generation)
+            h.note("second container", second_container(host.name, name, problem))
+            try:
+                target = self._host(name, env)
+            except (StartError, LinkError, OSError) as e:
+                h.note("load NEW", str(e), ok=False)
+                if name in self.hosts:
+                    self._stop_host(self.hosts[name])
+                return _record(h, report, m, "refused")
+        assert target.calls is not None and target.process is not None
+        try:
+            loaded = target.calls.load(component, new_node, params_files=parameter_files(m.spec.parameters),
+                                       intra_process=bool(m.spec.intra_process), configure=True,
+                                       trust_store=self.options.trust_store, timeout=self.options.start_timeout)
+        except (ContainerError, LinkError) as e:
+            h.note("load NEW", str(e), ok=False)
+            if target is not host:
+                self._stop_host(target)
+            return _record(h, report, m, "refused")
+        h.note("load NEW", f"{new_node} loaded into container {target.name} (pid {target.pid}): {component.plugin} "
+               f"from {component.prefix}, configured")
+        try:
+            h.check_nodes()
+            h.prepare()
+            if target is host:
+                h.switch_in(host.calls, host.name)
+            else:
+                h.switch()
+            failure = self._grace(new_node, target.process)
+            if failure is None:
+                return self._commit_loaded(m, h, report, target, loaded, impl, new_node, generation)
+            h.note("grace", failure, ok=False)
+        except Refused as e:
+            h.note("refused", str(e), ok=False)
+        try:
+            target.calls.unload(loaded.unique_id, self.options.call_timeout)
+        except (ContainerError, LinkError) as e:
+            h.note("unload NEW", str(e), ok=False)
+        if target is not host:
+            self._stop_host(target)
+        self.link.forget("/" + new_node)
+        if not h.touched_old:
+            return _record(h, report, m, "refused")
+        if h.roll_back():
+            h.note("rollback", f"{m.path} active again with its state")
+        else:
+            h.note("rollback", f"{m.path} could not be made active again with its state", ok=False)
+            m.note(f"rollback failed: {[s.detail for s in h.steps if not s.ok][-1:]}")
+        return _record(h, report, m, "rolled_back")
+
+    def _commit_loaded(self, m: Managed, h: HandOver, report: Any, target: Host, loaded: Loaded,
+                       impl: Implementation, new_node: str, generation: int) -> dict[str, Any]:
+        """NEW (in ``target``) is the instance from now on: recorded, then OLD unloaded (and its container stopped
+        when NEW left it empty), then NEW's state saved."""
+        old_host, old_loaded, old_path = self.hosts[m.container or ""], m.loaded, m.path
+        m.node, m.impl, m.generation, m.loaded = new_node, impl, generation, loaded
+        m.container, m.process = target.name, target.process
+        m.heartbeat, m.heartbeat_ok = None, time.monotonic()
+        self.replacements.save(Replacement(m.name, new_node, generation, impl, m.spec.component,
+                                           m.spec.interface_hash, target.name))
+        if old_loaded is not None and old_host.calls is not None:
+            try:
+                old_host.calls.unload(old_loaded.unique_id, self.options.call_timeout)
+            except (ContainerError, LinkError) as e:
+                h.note("unload OLD", str(e), ok=False)
+        self.link.forget(old_path)
+        if old_host is not target and not members(self.instances, old_host.name):
+            self._stop_host(old_host)
+        self._snapshot(m, "replace")
+        h.note("commit", f"{m.name} is {m.path} in container {target.name} (pid {target.pid}, {impl.component}); "
+               f"OLD {old_path} unloaded")
+        self.log(f"{m.name}: replaced by {m.path} in container {target.name} ({impl.component} from "
+                 f"{impl.package_dir})")
+        return _record(h, report, m, "replaced")
 
     # ---- snapshots ---------------------------------------------------------------------------------
     def _snapshot(self, m: Managed, why: str) -> str | None:
@@ -467,7 +733,8 @@ class Manager:
                 "name": m.name, "node": m.path, "component": m.impl.component, "state": m.state,
                 "pid": m.process.pid if m.process is not None and m.process.alive() else 0,
                 "restarts": m.restarts, "interface_hash": m.impl.interface_hash,
-                "last_snapshot": iso_time(m.last_snapshot) if m.last_snapshot is not None else None})
+                "last_snapshot": iso_time(m.last_snapshot) if m.last_snapshot is not None else None,
+                "container": m.container})
             findings.extend({"instance": m.name, "message": f} for f in m.findings)
         return {"system": self.system.name, "instances": instances, "findings": findings}
 
@@ -479,7 +746,7 @@ class Manager:
         response.instances = [
             InstanceStatus(name=i["name"], node=i["node"], component=i["component"], state=i["state"], pid=i["pid"],
                            restarts=i["restarts"], interface_hash=i["interface_hash"],
-                           last_snapshot=i["last_snapshot"] or "",
+                           last_snapshot=i["last_snapshot"] or "", container=i["container"] or "",
                            findings=[f["message"] for f in data["findings"] if f["instance"] == i["name"]])
             for i in data["instances"]]
         return response
@@ -526,6 +793,8 @@ class Manager:
         except Refused as e:
             h.note("refused", str(e), ok=False)
             return _record(h, report, m, "refused")
+        if m.container is not None:
+            return self._replace_loaded(m, h, report, new, package, generation, new_node, timeout)
         try:
             impl = replacing(m.impl, new, report.new_hash, package)
             proc = self._launch(m, impl, new_node, generation, f"{m.name}.{generation}.log")

@@ -18,6 +18,7 @@
 #include "ament_index_cpp/get_package_share_directory.hpp"
 #include "ament_index_cpp/get_resource.hpp"
 #include "lifecycle_msgs/msg/state.hpp"
+#include "rclcpp/create_timer.hpp"
 
 #ifndef IFACE_RUNTIME_CPP_VERSION
 #error "IFACE_RUNTIME_CPP_VERSION: CMakeLists.txt defines it from package.xml"
@@ -513,14 +514,17 @@ void ComponentNode::continue_schedule()
     const double due = last + entry->period;
     entry->timer->cancel();
     std::weak_ptr<WorkTimer> weak = entry;
-    entry->first = create_wall_timer(
+    // Made stopped and started once held in `first`: a first tick already due fires at once, on another thread
+    // of a multi-threaded executor (a container's), and must find `first` set.
+    entry->first = rclcpp::create_wall_timer(
       std::chrono::duration<double>(std::max(0.0, due - static_cast<double>(now) / 1e9)), [this, weak] {
         if (auto t = weak.lock()) {
           t->first->cancel();
           t->timer->reset();
           tick(*t);
         }
-      }, main_group);
+      }, main_group, get_node_base_interface().get(), get_node_timers_interface().get(), false);
+    entry->first->reset();
     RCLCPP_INFO(get_logger(), "schedule: timer '%s' continues the restored state's '%s': last tick at %.6f, the "
       "first tick due at %.6f (period %.6f s, in %.6f s)", entry->name.c_str(), found->first.c_str(), last, due,
       entry->period, due - static_cast<double>(now) / 1e9);
