@@ -46,6 +46,7 @@ from rclpy.action import ActionClient, ActionServer, CancelResponse, GoalRespons
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.parameter import Parameter
 from rclpy.qos import (
@@ -242,6 +243,7 @@ class ComponentNode(LifecycleNode):
         self.diagnostics_group = MutuallyExclusiveCallbackGroup()
         self.control_group = MutuallyExclusiveCallbackGroup()
         super().__init__(node_name or self.NODE_NAME, **kwargs)
+        self._guard_change_state()
         self.gate = Gate()
         self.finalized = threading.Event()
         self.active = False
@@ -270,6 +272,26 @@ class ComponentNode(LifecycleNode):
         self.create_service(ComponentControl, "~/control", self._on_control, callback_group=self.control_group)
         self.create_service(Describe, "~/describe", self._on_describe, callback_group=self.control_group)
         self._create_diagnostics()
+
+    def _guard_change_state(self) -> None:
+        """Answer a transition the state machine refuses with ``success: false``, as Kilted's rclpy does: Jazzy's
+        (7.1) lets its ``RCLError`` out of the ``~/change_state`` callback, which ends the process (a caller that
+        sent one transition twice, e.g. after a lost answer, would kill the node)."""
+        service = getattr(self, "_service_change_state", None)
+        if service is None:
+            return
+        on_change_state = service.callback
+
+        def guarded(request: Any, response: Any) -> Any:
+            try:
+                return on_change_state(request, response)
+            except _rclpy.RCLError as e:
+                self.get_logger().warning(f"transition {request.transition.id} refused in state "
+                                          f"{self._state_machine.current_state[1]}: {e}")
+                response.success = False
+                return response
+
+        service.callback = guarded
 
     # ---- what the user may call or override ------------------------------------------------------
     @classmethod
