@@ -8,7 +8,7 @@
   ``processes`` (instance processes: started, their end told at once, recorded, adopted),
   ``containers`` (a component as a container loads it, its trust, whether NEW can share a process),
   ``in_container`` (the calls to a running container), ``container_host`` (the manager's containers: a
-  failure domain each), ``announce`` (the manager's DDS participant announcing itself often),
+  failure domain each),
   ``manager`` (``/iface_manager``), ``manager_client`` and ``status_html`` (the ``system`` command's side).
 
 May import: ``model``, ``syntax``, ``semantics``, ``text``, ``forms``, ``compat``, ``nodes`` (the protocol,

@@ -32,7 +32,7 @@ from typing import Any
 from ..live.link import Link, LinkError
 from ..nodes import protocol
 from ..semantics.compile import Workspace
-from . import announce, processes
+from . import processes
 from .container_host import (
     Host,
     component_of,
@@ -883,9 +883,7 @@ def run(system: Any, options: Options) -> int:
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
-    env = dict(os.environ)  # what the processes it starts get: without the profile below
-    profile = announce.own_profile(env, options.state_dir, Path.cwd())
-    os.environ.update(profile)
+    env = dict(os.environ)
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     manager = Manager(system, options, env)
     previous = {s: signal.signal(s, lambda *_: setattr(manager, "stop_requested", True))
@@ -893,9 +891,6 @@ def run(system: Any, options: Options) -> int:
     try:
         manager.open()
         manager.log(f"managing {system.name} ({len(manager.instances)} instances), state in {options.state_dir}")
-        why = announce.why_not(env, Path.cwd())
-        manager.log(f"its participant announces itself every {announce.ANNOUNCE_SEC:g} s"
-                    if profile else f"its participant announces itself as configured ({why})")
         manager.up()
         manager.serve()
         manager.down()
