@@ -660,14 +660,7 @@ class Manager:
         if target is not host:
             self._stop_host(target)
         self.link.forget("/" + new_node)
-        if not h.touched_old:
-            return _record(h, report, m, "refused")
-        if h.roll_back():
-            h.note("rollback", f"{m.path} active again with its state")
-        else:
-            h.note("rollback", f"{m.path} could not be made active again with its state", ok=False)
-            m.note(f"rollback failed: {[s.detail for s in h.steps if not s.ok][-1:]}")
-        return _record(h, report, m, "rolled_back")
+        return _undone(h, report, m)
 
     def _commit_loaded(self, m: Managed, h: HandOver, report: Any, target: Host, loaded: Loaded,
                        impl: Implementation, new_node: str, generation: int) -> dict[str, Any]:
@@ -822,14 +815,7 @@ class Manager:
             h.note("refused", str(e), ok=False)
         proc.stop(2.0)
         self.link.forget("/" + new_node)
-        if not h.touched_old:
-            return _record(h, report, m, "refused")
-        if h.roll_back():
-            h.note("rollback", f"{m.path} active again with its state")
-        else:
-            h.note("rollback", f"{m.path} could not be made active again with its state", ok=False)
-            m.note(f"rollback failed: {[s.detail for s in h.steps if not s.ok][-1:]}")
-        return _record(h, report, m, "rolled_back")
+        return _undone(h, report, m)
 
     def _grace(self, node: str, proc: InstanceProcess) -> str | None:
         """NEW's first heartbeats within the grace period; None when it stayed up and active."""
@@ -869,6 +855,18 @@ class Manager:
         h.note("commit", f"{m.name} is {m.path} (pid {proc.pid}, {impl.component}); OLD {old_path} shut down")
         self.log(f"{m.name}: replaced by {m.path} (pid {proc.pid}, {impl.component} from {impl.package_dir})")
         return _record(h, report, m, "replaced")
+
+
+def _undone(h: HandOver, report: Any, m: Managed) -> dict[str, Any]:
+    """The record of a replacement that did not go through: refused while OLD was untouched, else OLD rolled back."""
+    if not h.touched_old:
+        return _record(h, report, m, "refused")
+    if h.roll_back():
+        h.note("rollback", f"{m.path} active again with its state")
+    else:
+        h.note("rollback", f"{m.path} could not be made active again with its state", ok=False)
+        m.note(f"rollback failed: {[s.detail for s in h.steps if not s.ok][-1:]}")
+    return _record(h, report, m, "rolled_back")
 
 
 def _record(h: HandOver, report: Any, m: Managed, result: str) -> dict[str, Any]:
