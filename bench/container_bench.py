@@ -8,7 +8,9 @@
    (between two of OLD's ticks, no DDS round trip in the critical section) and unloads OLD, through
    ``iface.operate.in_container`` (the calls the component manager makes). Median and p95 over ``--runs``
    (goals <= 2 / 3 ms at 1 kHz, <= 11 / 12 ms at 100 Hz) from the publish times (``source_timestamp``) of
-   OLD's last count and NEW's first; the arrival times too, the container's critical section and pause, and
+   OLD's last count and NEW's first; the arrival times too, the longer of NEW's next two periods (a late
+   second tick shows there) and every other period (the container's own jitter), the container's critical
+   section and pause, and
    counts lost or repeated (0 expected, at the bench's subscriber over DDS and at the tally in the process);
 2. messages per second from the ticker (1 kHz, 50 a tick) to the tally: in one container with intra-process
    communication, in one container without it, and as two processes; the ratios.
@@ -20,8 +22,8 @@
    with their last snapshot restored and activated); median, p95, max (goal <= 1 s median), and the same as
    seen by ``/iface_manager/status`` polled every 20 ms.
 
-Builds the ticker (1.0 and 1.1) and the tally (rclcpp) once (``--keep DIR`` builds there, or reuses the build
-found there: tests/ros_harness/cpp.py ``ticker_workspaces``), then runs itself in the ROS 2 environment. The
+Builds the ticker (1.0 and 1.1) and the tally (rclcpp) once, in the test cache (tests/ros_harness/cpp.py
+``ticker_workspaces``; ``--keep DIR`` keeps the run's folder), then runs itself in the ROS 2 environment. The
 machine's load average is printed with the figures: measure on a quiet machine.
 """
 
@@ -70,7 +72,7 @@ def build(root: Path) -> tuple[dict[str, Path], dict[str, str], str]:
     if missing_tools(env):
         return {}, {}, f"no {', '.join(missing_tools(env))} to build C++"
     start = time.monotonic()
-    ws, why = ticker_workspaces(venv, env, root)
+    ws, why = ticker_workspaces(venv, root)
     if why:
         return {}, {}, why
     print(f"workspaces ready in {time.monotonic() - start:.0f} s ({root})", flush=True)
@@ -174,7 +176,8 @@ def inner(config: Path) -> int:
             box.load(tally, "tally", activate=True)
             matched("ticker_0", 2)
             time.sleep(1.0)
-            silences, arrivals, critical, pauses = [], [], [], []
+            silences, arrivals, critical, pauses, after = [], [], [], [], []
+            lasts: list[int] = []
             first = len(ticks.seen)
             before = calls.save("tally")["values"]
             for run in range(1, runs + 1):
@@ -187,15 +190,20 @@ def inner(config: Path) -> int:
                     return 1
                 box.unload(box.nodes()[old])
                 last = int(done.state["values"]["count"])
+                lasts.append(last)
                 probe.wait_until(lambda: bool(ticks.seen) and ticks.seen[-1][0] > last + 2,  # noqa: B023 - now
                                  10, "NEW's counts")
                 at = {v: (s, r) for v, s, r in ticks.seen}
                 silences.append(at[last + 1][0] - at[last][0])
+                after.append(max(at[v + 1][0] - at[v][0] for v in range(last + 1, last + 3)))  # NEW's next two
                 arrivals.append(at[last + 1][1] - at[last][1])
                 critical.append(done.critical_ms)
                 pauses.append(done.pause_ms)
                 time.sleep(0.2)
             values = [v for v, _, _ in ticks.seen[first:]]
+            switches = set(lasts)
+            steady = [(b[1] - a[1]) for a, b in itertools.pairwise(ticks.seen[first:])
+                      if b[0] == a[0] + 1 and a[0] not in switches]
             lost = sum(max(0, b - a - 1) for a, b in itertools.pairwise(values))
             repeated = sum(1 for a, b in itertools.pairwise(values) if b <= a)
             tallied = calls.save("tally")["values"]
@@ -205,7 +213,10 @@ def inner(config: Path) -> int:
                   f"{statistics.median(silences):.2f} ms, p95 {percentile(silences, 0.95):.2f} ms, max "
                   f"{max(silences):.2f} over {len(silences)}; arrival times: median {statistics.median(arrivals):.2f} "
                   f"ms, p95 {percentile(arrivals, 0.95):.2f} ms; critical section median "
-                  f"{statistics.median(critical):.3f} ms, p95 {percentile(critical, 0.95):.3f} ms; pause median "
+                  f"{statistics.median(critical):.3f} ms, p95 {percentile(critical, 0.95):.3f} ms; NEW's next two "
+                  f"periods, the longer: median {statistics.median(after):.2f} ms, p95 {percentile(after, 0.95):.2f} "
+                  f"ms; every other period (publish times): median {statistics.median(steady):.2f} ms, p95 "
+                  f"{percentile(steady, 0.95):.2f} ms, p99 {percentile(steady, 0.99):.2f} ms; pause median "
                   f"{statistics.median(pauses):.2f} ms; lost {lost}, repeated {repeated} (bench, over DDS), missed "
                   f"{tallied['missed'] - before['missed']}, received twice {twice} (the tally, in the process); {load()}", flush=True)
         finally:
@@ -354,7 +365,7 @@ def main() -> int:
     ap.add_argument("--seconds", type=float, default=5.0, help="how long each throughput is measured")
     ap.add_argument("--kills", type=int, default=20, help="container kills the manager restarts (0: not measured)")
     ap.add_argument("--only", choices=("replace", "throughput", "kill"), help="measure one figure only")
-    ap.add_argument("--keep", type=Path, help="build into this folder, or reuse the build found there")
+    ap.add_argument("--keep", type=Path, help="keep the run's folder (workspace views, logs) here")
     ap.add_argument("--inner", type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.inner is not None:

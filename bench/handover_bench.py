@@ -54,10 +54,9 @@ def percentile(values: list[float], q: float) -> float:
 def measure(rate: float, handovers: int, python: str, logs: Path, cpp: str | None = None) -> dict[str, Any]:
     """In the ROS environment: start two counters and hand over ``handovers`` times; the figures."""
     import rclpy
+    from counter_msgs.msg import Count
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
-
-    from counter_msgs.msg import Count
 
     rclpy.init()
     node = rclpy.create_node("handover_bench_probe")

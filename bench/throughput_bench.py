@@ -93,7 +93,6 @@ def drive(messages: int) -> float:
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
-
     from relay_msgs.msg import Sample
 
     rclpy.init()

@@ -1,17 +1,17 @@
-"""Building generated C++ (rclcpp) packages with the ROS 2 runtime's rclcpp, for the container tests and benches.
+"""The container tests' and benches' C++ (rclcpp) workspaces, and the environment that builds and runs them.
 
 rclcpp has no wheel: ``../shared/ros2-runtime/build-cpp.sh VENV`` builds it into ``VENV/cpp`` and writes
 ``cpp-env.sh``. ``rclcpp_env`` is the environment of ``ros2-env.sh`` and ``cpp-env.sh`` (None without
-them); ``build_cpp`` runs colcon on a folder of generated packages as docs/targets.md says, every package
-built there (a workspace of its own, as a user's: the container loads its libraries from it, and the trust
-tests sign and change its install folder, which the test cache's read-only entries must never see).
+them). ``ticker_workspaces`` builds the tickers and the tally through the test cache (``workspaces.py``: each
+package once per content on this machine) and gives each test its own copy of the component packages it signs
+(the container loads its libraries from there; the trust tests sign and change them, which the cache's
+read-only entries must never see).
 """
 
 from __future__ import annotations
 
 import shutil
 import subprocess
-import time
 from pathlib import Path
 
 from .workspaces import cpp_environment
@@ -34,21 +34,6 @@ def overlay(env: dict[str, str], ws: Path, script: str = "local_setup.bash") -> 
     return dict(item.split("=", 1) for item in dump.decode().split("\0") if "=" in item)
 
 
-def build_cpp(venv: Path, env: dict[str, str], generated: Path, ws: Path) -> tuple[bool, str, float]:
-    """colcon build of every package under ``generated`` into ``ws``: (ok, last lines, seconds)."""
-    start = time.monotonic()
-    shutil.copytree(generated, ws / "src")
-    cmd = ["colcon", "--log-base", "log", "build", "--base-paths", "src", "--build-base", "build",
-           "--install-base", "install", "--event-handlers", "console_direct-", "--cmake-args",
-           f"-DPython3_EXECUTABLE={venv}/bin/python", "-DBUILD_TESTING=OFF",
-           f"-DCMAKE_EXE_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_LDFLAGS', '')}",
-           f"-DCMAKE_SHARED_LINKER_FLAGS={env.get('ROS2_RUNTIME_CXX_SHARED_LDFLAGS', '')}"]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=2400, env=env, cwd=ws, check=False)
-    (ws / "colcon.log").write_text(done.stdout + done.stderr)
-    tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-30:])
-    return done.returncode == 0, tail, time.monotonic() - start
-
-
 def keep_only(gen: Path, *keep: str) -> None:
     """Leave only the packages ``keep`` in ``gen``: the rest comes from a workspace built before."""
     for package in gen.iterdir():
@@ -56,19 +41,28 @@ def keep_only(gen: Path, *keep: str) -> None:
             shutil.rmtree(package)
 
 
-def ticker_workspaces(venv: Path, env: dict[str, str], root: Path) -> tuple[dict[str, Path], str]:
-    """The workspaces of the container tests and bench/container_bench.py, built under ``root`` (reused when built
-    there before): ``ws`` holds iface_msgs, iface_runtime_cpp, ticker 1.0, its ticker_msgs and the tally
-    (tests/runtime/data, with their user files); ``ws_v1_1`` ticker 1.1 alone on top of it (its ticker_msgs is
-    1.0's: NEW can share OLD's container). On failure: no workspaces, why."""
-    from .ros import DATA, generate
+#: The workspaces ``ticker_workspaces`` makes: each one's components (iface file in tests/runtime/data, package),
+#: the generated packages it keeps (all: None; the others come from ``ws`` beneath it), the packages of its own.
+TICKERS: dict[str, tuple[tuple[tuple[str, str], ...], tuple[str, ...] | None, tuple[str, ...]]] = {
+    "ws": ((("ticker", "ticker"), ("tally", "tally")), None, ("ticker", "tally")),
+    "ws_v1_1": ((("ticker_v1_1", "ticker"),), ("ticker",), ("ticker",)),
+    "ws_v2": ((("ticker_v2", "ticker"),), ("ticker", "ticker_msgs"), ("ticker",)),
+}
 
-    out = {"ws": root / "ws", "ws_v1_1": root / "ws_v1_1"}
-    plan = {"ws": (("ticker", "ticker"), ("tally", "tally")), "ws_v1_1": (("ticker_v1_1", "ticker"),)}
-    for key, components in plan.items():
-        ws = out[key]
-        if all((ws / "install" / package).is_dir() for _, package in components):
-            continue
+
+def ticker_workspaces(venv: Path, root: Path) -> tuple[dict[str, Path], str]:
+    """The workspaces of the container tests and bench/container_bench.py, under ``root``: ``ws`` holds iface_msgs,
+    iface_runtime_cpp, ticker 1.0, its ticker_msgs and the tally (tests/runtime/data, with their user files);
+    ``ws_v1_1`` ticker 1.1 on top of it (its ticker_msgs is 1.0's: NEW can share OLD's container); ``ws_v2``
+    ticker 2.0 with a ticker_msgs of its own on top of it (NEW cannot share a container that has 1.0's loaded).
+    Each is a view of test cache entries in which the component packages are copies of its own
+    (``workspaces.own_copy``), to sign. On failure: no workspaces, why."""
+    from .ros import DATA, build, generate
+    from .workspaces import own_copy
+
+    cached: dict[str, Path] = {}
+    out: dict[str, Path] = {}
+    for key, (components, kept, _) in TICKERS.items():
         gen = root / f"gen_{key}"
         shutil.rmtree(gen, ignore_errors=True)
         for iface, package in components:
@@ -76,13 +70,13 @@ def ticker_workspaces(venv: Path, env: dict[str, str], root: Path) -> tuple[dict
             if done.returncode != 0:
                 return {}, f"generate {iface}: {done.stderr}"
             shutil.copyfile(DATA / f"{package}_node.cpp", gen / package / "src" / "node.cpp")
-        build_env = env
-        if key == "ws_v1_1":
-            keep_only(gen, "ticker")
-            build_env = overlay(env, out["ws"], "setup.bash")
-        shutil.rmtree(ws, ignore_errors=True)
-        ws.mkdir(parents=True)
-        ok, tail, _ = build_cpp(venv, build_env, gen, ws)
+        if kept is not None:
+            keep_only(gen, *kept)
+        cached[key] = root / f"cache_{key}"
+        underlays = [cached["ws"]] if key != "ws" else []
+        ok, why, _ = build(venv, gen, cached[key], underlays=underlays, cpp=True)
         if not ok:
-            return {}, f"{key} did not build (log {ws}/colcon.log):\n{tail}"
+            return {}, f"{key}: {why}"
+    for key, (_, _, own) in TICKERS.items():
+        out[key] = own_copy(cached[key], own, root / key)
     return out, ""

@@ -28,6 +28,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+
 from tests.ros_harness.probe import Component, Probe, Protocol, Report, check  # noqa: E402
 
 CONTAINER = "iface_container"

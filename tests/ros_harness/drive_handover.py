@@ -20,6 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: te
 import itertools
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+
 from tests.ros_harness.probe import Component, Probe, Report, check  # noqa: E402
 
 OLD, NEW = "counter", "counter_new"

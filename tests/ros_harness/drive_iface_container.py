@@ -27,10 +27,10 @@ sys.path.insert(0, str(ROOT / "server"))  # iface.operate: the calls the manager
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
+from iface.live.link import Link
 from iface.nodes import protocol
 from iface.operate.containers import ContainerError, component_in, mapped_files, sharing_problem
 from iface.operate.in_container import ContainerCalls
-from iface.live.link import Link
 from tests.ros_harness.probe import Component, Probe, Protocol, Report, check
 
 CONTAINER = "box"

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
-from tests.ros_harness.probe import Probe, Report, check, import_interface
+from tests.ros_harness.probe import ManagerStatus, Probe, Report, check, import_interface
 
 SYSTEM_KEYS = {"instances", "findings"}
 INSTANCE_KEYS = {"name", "node", "component", "state", "pid", "restarts", "interface_hash", "last_snapshot",
@@ -109,7 +109,6 @@ def main() -> int:
     a.logs.mkdir(parents=True, exist_ok=True)
     flags = Path(cfg["env"]["IFACE_TEST_FLAGS"])
     report = Report(a.out)
-    from iface_msgs.srv import SystemStatus
     from thermostat_msgs.srv import SetPoint
 
     probe = Probe()
@@ -117,26 +116,8 @@ def main() -> int:
     # stopped from outside (run_bounded's SIGTERM): still stop what this driver started
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
 
-    def status() -> dict[str, Any]:
-        answer = probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
-                            idempotent=True)
-        return {i.name: i for i in answer.instances}
-
-    def settle(predicate: Any, timeout: float, what: str) -> dict[str, Any]:
-        end = time.monotonic() + timeout
-        last: dict[str, Any] = {}
-        while time.monotonic() < end:
-            try:
-                last = status()
-            except Exception:  # noqa: BLE001 - a manager starting or gone: ask again
-                time.sleep(0.2)
-                continue
-            if predicate(last):
-                return last
-            time.sleep(0.2)
-        raise TimeoutError(f"{what}: not seen within {timeout:g} s; last status: "
-                           + "; ".join(f"{n} {i.state} pid {i.pid} restarts {i.restarts} {list(i.findings)[-2:]}"
-                                       for n, i in last.items()))
+    status = ManagerStatus(probe)
+    settle = status.settle
 
     def all_active(s: dict[str, Any]) -> bool:
         return len(s) == 3 and all(i.state == "active" for i in s.values())

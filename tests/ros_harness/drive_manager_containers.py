@@ -32,7 +32,7 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from iface.live.link import Link
 from iface.operate.containers import mapped_files
 from iface.operate.in_container import ContainerCalls
-from tests.ros_harness.probe import Probe, Protocol, Report, check
+from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, check
 
 ORDER = ("sensor", "ticker", "tally")
 
@@ -69,7 +69,6 @@ def main() -> int:
     cfg = json.loads(a.config.read_text())
     a.logs.mkdir(parents=True, exist_ok=True)
     report = Report(a.out)
-    from iface_msgs.srv import SystemStatus
     from ticker_msgs.msg import Tick
 
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
@@ -94,26 +93,8 @@ def main() -> int:
 
     start_manager()
 
-    def status() -> dict[str, Any]:
-        answer = probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
-                            idempotent=True)
-        return {i.name: i for i in answer.instances}
-
-    def settle(predicate: Any, timeout: float, what: str) -> dict[str, Any]:
-        end = time.monotonic() + timeout
-        last: dict[str, Any] = {}
-        while time.monotonic() < end:
-            try:
-                last = status()
-            except Exception:  # noqa: BLE001 - a manager starting: ask again
-                time.sleep(0.1)
-                continue
-            if predicate(last):
-                return last
-            time.sleep(0.05)
-        raise TimeoutError(f"{what}: not seen within {timeout:g} s; last status: "
-                           + "; ".join(f"{n} {i.state} pid {i.pid} restarts {i.restarts} {list(i.findings)[-2:]}"
-                                       for n, i in last.items()))
+    status = ManagerStatus(probe)
+    settle = status.settle
 
     def all_active(s: dict[str, Any]) -> bool:
         return set(s) == set(ORDER) and all(i.state == "active" for i in s.values())

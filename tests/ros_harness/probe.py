@@ -304,6 +304,38 @@ class Probe:
             return set()
 
 
+class ManagerStatus:
+    """``/iface_manager/status`` of a running component manager, as the scenario drivers poll it."""
+
+    def __init__(self, probe: Probe, poll: float = 0.05) -> None:
+        self.probe = probe
+        self.poll = poll
+        self.srv = import_interface("iface_msgs/srv/SystemStatus")
+
+    def __call__(self) -> dict[str, Any]:
+        """Each instance's status by its name."""
+        answer = self.probe.call(self.srv, "/iface_manager/status", self.srv.Request(), timeout=30, idempotent=True)
+        return {i.name: i for i in answer.instances}
+
+    def settle(self, predicate: Callable[[dict[str, Any]], bool], timeout: float, what: str) -> dict[str, Any]:
+        """The first status for which ``predicate`` holds, asked every ``poll`` s (a manager starting or gone: asked
+        again); StepFailed with the last status seen after ``timeout`` s."""
+        end = time.monotonic() + timeout
+        last: dict[str, Any] = {}
+        while time.monotonic() < end:
+            try:
+                last = self()
+            except Exception:  # noqa: BLE001 - a manager starting or gone: ask again
+                time.sleep(self.poll)
+                continue
+            if predicate(last):
+                return last
+            time.sleep(self.poll)
+        raise StepFailed(f"{what}: not seen within {timeout:g} s; last status: "
+                         + "; ".join(f"{n} {i.state} pid {i.pid} restarts {i.restarts} {list(i.findings)[-2:]}"
+                                     for n, i in last.items()))
+
+
 def import_interface(name: str) -> Any:
     """``pkg/kind/Name`` → the class."""
     import importlib

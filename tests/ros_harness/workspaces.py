@@ -8,8 +8,8 @@ same package is so built once per content on this machine, whichever test, bench
 
 What ``build`` leaves in the caller's workspace folder is a view of those entries: ``install/setup.bash``
 (and ``local_setup.bash``) sources each of them in order, ``install/PKG`` links to each package's
-install folder (read-only: copy a package before changing it), ``iface-layers.json`` lists them (what a
-later ``build`` on this workspace as an underlay reads).
+install folder (read-only: copy a package before changing it; ``own_copy`` makes such a view),
+``iface-layers.json`` lists them (what a later ``build`` on this workspace as an underlay reads).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import shutil
 import subprocess
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from . import cache
@@ -328,6 +328,23 @@ def build(venv: Path, generated: Path, workspace: Path, *, underlays: Sequence[P
         return False, why, time.monotonic() - start
     write_view(workspace, layers)
     return True, "", time.monotonic() - start
+
+
+def own_copy(workspace: Path, names: Sequence[str], dest: Path) -> Path:
+    """``dest`` made the view of ``workspace`` (made by ``build``) in which the packages ``names`` are copies of
+    their own (``dest/own/<package>``, the layer that ``workspace`` links for each): a user's install folders,
+    which a test may change (sign, tamper with) where the test cache's entries are read-only. Build on
+    ``workspace``, not on ``dest``: a cache entry must never be built on a test's copy."""
+    layers = layers_of(workspace)
+    for name in names:
+        at = max(i for i, layer in enumerate(layers) if name in layer.packages)
+        copy = dest / "own" / name
+        if copy.exists():
+            shutil.rmtree(copy)
+        shutil.copytree(layers[at].path / "install", copy / "install", symlinks=True)
+        layers[at] = replace(layers[at], path=copy)
+    write_view(dest, layers)
+    return dest
 
 
 def debian_build(generated: Path) -> subprocess.CompletedProcess[str]:

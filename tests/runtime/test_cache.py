@@ -169,3 +169,31 @@ def test_clear_and_the_listing(place: Path, capsys: pytest.CaptureFixture[str]) 
     assert cache.main(["--clear"]) == 0
     assert "1 entries removed" in capsys.readouterr().out and not (cache.root() / key).exists()
     assert cache.main(["--bogus"]) == 2
+
+
+def test_an_own_copy_is_a_view_whose_named_packages_are_copies_the_test_may_change(tmp_path: Path) -> None:
+    """workspaces.own_copy: the named packages are copies of the layer the view links for each (the last one),
+    sourced and linked instead of the cache's entry; the other packages stay the entries', and a change to a copy
+    leaves the entry as it was (a test signs its copy; the cache sees no change)."""
+    from ..ros_harness.workspaces import Layer, layers_of, own_copy, write_view
+
+    def layer(key: str, package: str, text: str) -> Layer:
+        ws = tmp_path / "cache" / key / "ws"
+        (ws / "install" / package).mkdir(parents=True)
+        (ws / "install" / package / "lib.so").write_text(text)
+        (ws / "install" / "local_setup.bash").write_text(f"# {key}\n")
+        return Layer(key, ws, (package,), ())
+
+    layers = [layer("k1", "msgs", "msgs"), layer("k2", "ticker", "1.0"), layer("k3", "ticker", "1.1")]
+    view = tmp_path / "view"
+    write_view(view, layers)
+    own = own_copy(view, ["ticker"], tmp_path / "own")
+    copy = tmp_path / "own" / "own" / "ticker"
+    assert [layer.path for layer in layers_of(own)] == [layers[0].path, layers[1].path, copy]
+    assert (own / "install" / "ticker").resolve() == (copy / "install" / "ticker").resolve()
+    assert (own / "install" / "msgs").resolve() == (layers[0].path / "install" / "msgs").resolve()
+    setup = (own / "install" / "setup.bash").read_text()
+    assert f'. "{copy}/install/local_setup.bash"' in setup and f"{layers[2].path}/install" not in setup
+    (own / "install" / "ticker" / "iface-signature.json").write_text("{}")  # signed: the copy changes
+    assert (copy / "install" / "ticker" / "lib.so").read_text() == "1.1"
+    assert not (layers[2].path / "install" / "ticker" / "iface-signature.json").exists()

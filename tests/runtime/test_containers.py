@@ -59,7 +59,7 @@ def run(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, A
     if missing_tools(env):
         pytest.skip(f"no {', '.join(missing_tools(env))} on PATH to build C++")
     root = tmp_path_factory.mktemp("containers")
-    ws, why = ticker_workspaces(ros_venv, env, root)
+    ws, why = ticker_workspaces(ros_venv, root)
     assert not why, why
     store, tampered = sign_prefixes([ws["ws"] / "install" / "ticker", ws["ws"] / "install" / "tally",
                                      ws["ws_v1_1"] / "install" / "ticker"], root)

@@ -2,8 +2,8 @@
 
 The system: a Python room sensor (examples/, built in the session's workspace), then ticker 1.0 (1 kHz,
 its rate from a parameters file) and the tally, both C++ (tests/runtime/data), in the container ``box``.
-The C++ workspaces are tests/ros_harness/cpp.py's ``ticker_workspaces`` (built once for this module), each
-C++ install prefix signed by a key of the trust store; a copy of ticker 1.1's whose library changed after it
+The C++ workspaces are tests/ros_harness/cpp.py's ``ticker_workspaces`` (from the test cache, the component
+packages copies of this module's own), each C++ install prefix signed by a key of the trust store; a copy of ticker 1.1's whose library changed after it
 was signed is the untrusted NEW. drive_manager_containers.py runs the scenario (each test below is one of
 its steps): up in order; the untrusted library refused before the container loads it; the container killed
 with SIGKILL and both instances active again with their snapshots, each restart counted; ticker 1.0
@@ -25,8 +25,8 @@ from typing import Any
 
 import pytest
 
-from ..ros_harness.cpp import build_cpp, keep_only, missing_tools, overlay, rclcpp_env, ticker_workspaces
-from ..ros_harness.ros import DATA, HARNESS, ROOT, environment, generate, run_bounded
+from ..ros_harness.cpp import missing_tools, overlay, rclcpp_env, ticker_workspaces
+from ..ros_harness.ros import DATA, HARNESS, ROOT, environment, run_bounded
 from .test_containers import sign_prefixes
 
 DRIVER = HARNESS / "drive_manager_containers.py"
@@ -51,20 +51,6 @@ instance tally : tally (container = "box", after = "ticker")
 """
 
 
-def ticker_v2_workspace(venv: Path, env: dict[str, str], root: Path, ws: Path) -> Path:
-    """Ticker 2.0 (tests/runtime/data/ticker_v2.iface: a new message, so another ticker_msgs) with its own
-    ticker_msgs, built on top of ``ws``: a NEW that cannot share a container that has 1.0's ticker_msgs loaded."""
-    gen, out = root / "gen_ws_v2", root / "ws_v2"
-    done = generate(DATA / "ticker_v2.iface", gen, "--target", "rclcpp")
-    assert done.returncode == 0, done.stderr
-    shutil.copyfile(DATA / "ticker_node.cpp", gen / "ticker" / "src" / "node.cpp")
-    keep_only(gen, "ticker", "ticker_msgs")
-    out.mkdir()
-    ok, tail, _ = build_cpp(venv, overlay(env, ws, "setup.bash"), gen, out)
-    assert ok, f"ticker 2.0 did not build (log {out}/colcon.log):\n{tail}"
-    return out
-
-
 @pytest.fixture(scope="module")
 def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     ros_venv = ros_workspace.venv
@@ -75,9 +61,9 @@ def run(ros_workspace: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[st
     if missing_tools(env):
         pytest.skip(f"no {', '.join(missing_tools(env))} on PATH to build C++")
     root = tmp_path_factory.mktemp("manager_containers")
-    ws, why = ticker_workspaces(ros_venv, env, root)
+    ws, why = ticker_workspaces(ros_venv, root)
     assert not why, why
-    ws_v2 = ticker_v2_workspace(ros_venv, env, root, ws["ws"])
+    ws_v2 = ws["ws_v2"]
     store, tampered = sign_prefixes([ws["ws"] / "install" / "ticker", ws["ws"] / "install" / "tally",
                                      ws_v2 / "install" / "ticker", ws["ws_v1_1"] / "install" / "ticker"], root)
     sysdir = root / "system"

@@ -18,6 +18,8 @@
 #include "ament_index_cpp/get_package_share_directory.hpp"
 #include "ament_index_cpp/get_resource.hpp"
 #include "lifecycle_msgs/msg/state.hpp"
+#include "rcl/error_handling.h"
+#include "rcl/timer.h"
 #include "rclcpp/create_timer.hpp"
 
 #ifndef IFACE_RUNTIME_CPP_VERSION
@@ -338,7 +340,18 @@ rclcpp::TimerBase::SharedPtr ComponentNode::create_work_timer(
         tick(*t);
       }
     }, main_group);
+  // Made now, stopped, so that continuing a schedule (continue_schedule, in a hand-over's critical section) only
+  // sets its delay and starts it: a timer added then would wait for the executor to collect its entities again.
+  entry->first = rclcpp::create_wall_timer(
+    std::chrono::duration<double>(period_sec), [this, weak] {
+      if (auto t = weak.lock()) {
+        t->first->cancel();
+        t->timer->reset();
+        tick(*t);
+      }
+    }, main_group, get_node_base_interface().get(), get_node_timers_interface().get(), false);
   keep(entry->timer);
+  keep(entry->first);
   keep(entry);
   work_timers_.push_back(entry);
   return entry->timer;
@@ -513,17 +526,14 @@ void ComponentNode::continue_schedule()
     const double last = static_cast<double>(found->second) / 1e9;
     const double due = last + entry->period;
     entry->timer->cancel();
-    std::weak_ptr<WorkTimer> weak = entry;
-    // Made stopped and started once held in `first`: a first tick already due fires at once, on another thread
-    // of a multi-threaded executor (a container's), and must find `first` set.
-    entry->first = rclcpp::create_wall_timer(
-      std::chrono::duration<double>(std::max(0.0, due - static_cast<double>(now) / 1e9)), [this, weak] {
-        if (auto t = weak.lock()) {
-          t->first->cancel();
-          t->timer->reset();
-          tick(*t);
-        }
-      }, main_group, get_node_base_interface().get(), get_node_timers_interface().get(), false);
+    const int64_t delay = std::max<int64_t>(
+      1000, found->second + static_cast<int64_t>(std::llround(entry->period * 1e9)) - now);
+    int64_t before = 0;
+    if (rcl_timer_exchange_period(entry->first->get_timer_handle().get(), delay, &before) != RCL_RET_OK) {
+      rcl_reset_error();
+      entry->timer->reset();  // cannot set the delay: the next tick one period from now
+      continue;
+    }
     entry->first->reset();
     RCLCPP_INFO(get_logger(), "schedule: timer '%s' continues the restored state's '%s': last tick at %.6f, the "
       "first tick due at %.6f (period %.6f s, in %.6f s)", entry->name.c_str(), found->first.c_str(), last, due,

@@ -395,7 +395,8 @@ protected:
   void keep_service(rclcpp::ServiceBase::SharedPtr service) {services_.push_back(std::move(service));}
 
 private:
-  //! A work timer: its period, its callback, the timer, and the one-shot that continues a restored schedule.
+  //! A work timer: its period, its callback, the timer, and the one-shot (stopped until then) that continues a
+  //! restored schedule.
   struct WorkTimer
   {
     std::string name;
