@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import shutil
 import subprocess
+from dataclasses import dataclass
 from pathlib import Path
 
 from .workspaces import cpp_environment
@@ -41,12 +42,22 @@ def keep_only(gen: Path, *keep: str) -> None:
             shutil.rmtree(package)
 
 
-#: The workspaces ``ticker_workspaces`` makes: each one's components (iface file in tests/runtime/data, package),
-#: the generated packages it keeps (all: None; the others come from ``ws`` beneath it), the packages of its own.
-TICKERS: dict[str, tuple[tuple[tuple[str, str], ...], tuple[str, ...] | None, tuple[str, ...]]] = {
-    "ws": ((("ticker", "ticker"), ("tally", "tally")), None, ("ticker", "tally")),
-    "ws_v1_1": ((("ticker_v1_1", "ticker"),), ("ticker",), ("ticker",)),
-    "ws_v2": ((("ticker_v2", "ticker"),), ("ticker", "ticker_msgs"), ("ticker",)),
+@dataclass(frozen=True)
+class Tickers:
+    """One of the workspaces ``ticker_workspaces`` makes."""
+
+    #: (iface file in tests/runtime/data, its package) of each component generated into it
+    components: tuple[tuple[str, str], ...]
+    #: the generated packages it builds (None: all; the others come from ``ws`` beneath it)
+    kept: tuple[str, ...] | None
+    #: the packages copied for the test to sign and change
+    own: tuple[str, ...]
+
+
+TICKERS = {
+    "ws": Tickers((("ticker", "ticker"), ("tally", "tally")), None, ("ticker", "tally")),
+    "ws_v1_1": Tickers((("ticker_v1_1", "ticker"),), ("ticker",), ("ticker",)),
+    "ws_v2": Tickers((("ticker_v2", "ticker"),), ("ticker", "ticker_msgs"), ("ticker",)),
 }
 
 
@@ -62,21 +73,21 @@ def ticker_workspaces(venv: Path, root: Path) -> tuple[dict[str, Path], str]:
 
     cached: dict[str, Path] = {}
     out: dict[str, Path] = {}
-    for key, (components, kept, _) in TICKERS.items():
+    for key, plan in TICKERS.items():
         gen = root / f"gen_{key}"
         shutil.rmtree(gen, ignore_errors=True)
-        for iface, package in components:
+        for iface, package in plan.components:
             done = generate(DATA / f"{iface}.iface", gen, "--target", "rclcpp")
             if done.returncode != 0:
                 return {}, f"generate {iface}: {done.stderr}"
             shutil.copyfile(DATA / f"{package}_node.cpp", gen / package / "src" / "node.cpp")
-        if kept is not None:
-            keep_only(gen, *kept)
+        if plan.kept is not None:
+            keep_only(gen, *plan.kept)
         cached[key] = root / f"cache_{key}"
         underlays = [cached["ws"]] if key != "ws" else []
         ok, why, _ = build(venv, gen, cached[key], underlays=underlays, cpp=True)
         if not ok:
             return {}, f"{key}: {why}"
-    for key, (_, _, own) in TICKERS.items():
-        out[key] = own_copy(cached[key], own, root / key)
+    for key, plan in TICKERS.items():
+        out[key] = own_copy(cached[key], plan.own, root / key)
     return out, ""
