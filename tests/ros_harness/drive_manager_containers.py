@@ -76,7 +76,7 @@ def main() -> int:
     box = ContainerCalls(Link(probe.node), "box")
     ticks: list[int] = []
     qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
-    probe.node.create_subscription(Tick, "/tick", lambda m: ticks.append(int(m.value)), qos)
+    probe.fast_subscription(Tick, "/tick", lambda m: ticks.append(int(m.value)), qos)
     argv = [cfg["python"], "-m", "iface", "manager", cfg["system"], "--state-dir", cfg["state"], "--trust-store",
             cfg["store"], "--max-restarts", "3", "--heartbeat-timeout", "10", "--grace", "2"]
     managers: list[tuple[subprocess.Popen[bytes], Path]] = []
