@@ -58,7 +58,7 @@ def main() -> int:
     env = cfg["env"]
     ticks: list[tuple[int, float]] = []  # (count, publish time in ms)
     qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
-    probe.node.create_subscription(Tick, "/tick", lambda m, info: ticks.append(
+    probe.fast_subscription(Tick, "/tick", lambda m, info: ticks.append(
         (m.value, info["source_timestamp"] / 1e6)), qos)
     store = Path(cfg["store"])
     v1_0 = component_in(Path(cfg["ws"]) / "install" / "ticker", "ticker", "ticker::Ticker")

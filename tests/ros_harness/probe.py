@@ -153,7 +153,7 @@ class Probe:
         self._action_clients: list[Any] = []
         self._fast: list[tuple[Any, Any, threading.Thread]] = []
 
-    def fast_subscription(self, msg_type: Any, topic: str, callback: Callable[[Any], None], qos: QoSProfile) -> None:
+    def fast_subscription(self, msg_type: Any, topic: str, callback: Callable[..., None], qos: QoSProfile) -> None:
         """A subscription on a node of its own, spun by a single-threaded executor in a thread of its own: rclpy's
         multi-threaded executor hands each message to a thread pool, which on a loaded machine took one 1 kHz message
         in three (test_manager_containers), where this path keeps up."""
