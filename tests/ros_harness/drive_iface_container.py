@@ -41,6 +41,10 @@ def gaps(values: list[int]) -> list[tuple[int, int]]:
     return [(a, b) for a, b in itertools.pairwise(values) if b != a + 1]
 
 
+#: snapshots of the tally taken in a row while /tick runs (each paused its work gate: a count arriving then was lost)
+SAVES = 100
+
+
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("config", type=Path)
@@ -109,6 +113,22 @@ def main() -> int:
             return f"refused before any request: {said[:300]}; the container never mapped {tampered.library.name}"
 
         report.step("container: an untrusted library is refused before it is loaded", refused)
+
+        def snapshots() -> str:
+            calls = Protocol(probe)
+            first = calls.save("tally")["values"]
+            for _ in range(SAVES - 1):
+                calls.save("tally")
+            last = calls.save("tally")["values"]
+            status = calls.control("tally", protocol.STATUS)
+            check(last["received"] - first["received"] >= 100, f"the tally received {last['received']} (the ticker "
+                  f"stopped?)")
+            check(last["missed"] == first["missed"], f"the tally missed {last['missed'] - first['missed']} counts "
+                  f"across {SAVES} snapshots")
+            return (f"{SAVES} snapshots of the tally while /tick ran at 1 kHz: {last['received'] - first['received']} "
+                    f"counts received between the first and the last, none missed; {status.transactions} transactions")
+
+        report.step(f"container: {SAVES} snapshots of the tally at 1 kHz lose no message", snapshots)
 
         def beside() -> str:
             problem = sharing_problem(v1_1.library, container.proc.pid, env, cfg["env_v1_1"])

@@ -14,6 +14,9 @@ public:
   void on_tick(const Tick & msg) override
   {
     state.received += 1;
+    if (state.last != 0 && msg.value != state.last + 1) {
+      RCLCPP_WARN(get_logger(), "tick %ld after %ld", static_cast<long>(msg.value), static_cast<long>(state.last));
+    }
     if (state.last != 0 && msg.value > state.last + 1) {
       state.missed += msg.value - state.last - 1;
     }

@@ -12,7 +12,8 @@ namespace iface_runtime
 
 bool Gate::enter()
 {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_);
+  cond_.wait(lock, [this] {return holds_ == 0 || paused_;});
   if (paused_) {
     ++refused_;
     return false;
@@ -38,6 +39,7 @@ std::pair<bool, std::string> Gate::pause(double timeout)
     return {true, "already paused"};
   }
   paused_ = true;
+  cond_.notify_all();  // work waiting on a hold is refused now
   const uint64_t busy = in_flight_;
   if (!cond_.wait_for(lock, std::chrono::duration<double>(timeout), [this] {return in_flight_ == 0;})) {
     paused_ = false;
@@ -59,6 +61,36 @@ std::pair<bool, std::string> Gate::resume()
   }
   paused_ = false;
   return {true, "resumed"};
+}
+
+Hold Gate::hold(double timeout)
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (paused_) {
+    return {true, false, "paused"};
+  }
+  ++holds_;
+  const uint64_t busy = in_flight_;
+  if (!cond_.wait_for(lock, std::chrono::duration<double>(timeout), [this] {return in_flight_ == 0;})) {
+    --holds_;
+    lock.unlock();
+    cond_.notify_all();
+    char g[64];
+    std::snprintf(g, sizeof g, "%g", timeout);
+    return {false, false, std::to_string(busy) + " work transaction(s) still running after " + g + " s"};
+  }
+  return {true, true, "held"};
+}
+
+void Gate::release()
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (holds_ > 0) {
+      --holds_;
+    }
+  }
+  cond_.notify_all();
 }
 
 bool Gate::paused() const

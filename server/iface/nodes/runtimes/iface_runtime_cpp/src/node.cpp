@@ -791,28 +791,30 @@ rcl_interfaces::msg::SetParametersResult ComponentNode::check_parameters(
 namespace
 {
 
-//! No transaction runs while it lives (pausing for the time if needed); std::runtime_error when none ends in time.
+//! No transaction runs while it lives: new work waits (a paused gate refuses it anyway), none is refused, so that a
+//! snapshot loses no message; std::runtime_error when the work in progress does not end in time.
 class Quiet
 {
 public:
   Quiet(Gate & gate, double timeout)
-  : gate_(gate), was_paused_(gate.paused())
+  : gate_(gate), hold_(gate.hold(timeout))
   {
-    auto [ok, message] = gate_.pause(timeout);
-    if (!ok) {
-      throw std::runtime_error(message);
+    if (!hold_.ok) {
+      throw std::runtime_error(hold_.message);
     }
   }
   ~Quiet()
   {
-    if (!was_paused_) {
-      gate_.resume();
+    if (hold_.held) {
+      gate_.release();
     }
   }
+  Quiet(const Quiet &) = delete;
+  Quiet & operator=(const Quiet &) = delete;
 
 private:
   Gate & gate_;
-  bool was_paused_;
+  Hold hold_;
 };
 
 //! When each work timer of the node that saved ``document`` last ran (its "schedule": name -> ns).

@@ -1,4 +1,6 @@
-// Work transactions and pausing: a pause waits for the transaction in progress, or leaves the gate as it was.
+// Work transactions and pausing: a pause waits for the transaction in progress, or leaves the gate as it was; a
+// hold (a snapshot) makes new work wait and refuses none.
+#include <atomic>
 #include <chrono>
 #include <string>
 #include <thread>
@@ -52,11 +54,68 @@ void a_pause_waits_for_the_transaction_in_progress()
   CHECK(gate.pause(0.0) == std::make_pair(true, std::string("paused")));
 }
 
+void work_that_arrives_during_a_hold_waits_for_it_and_is_not_refused()
+{
+  Gate gate;
+  const auto hold = gate.hold(1.0);
+  CHECK(hold.ok && hold.held && !gate.paused());
+  std::atomic<int> entered{-1};
+  std::thread worker([&] {entered = gate.enter() ? 1 : 0;});
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  CHECK_EQ(entered.load(), -1);
+  CHECK_EQ(gate.in_flight(), uint64_t{0});
+  gate.release();
+  worker.join();
+  CHECK_EQ(entered.load(), 1);
+  CHECK_EQ(gate.refused(), uint64_t{0});
+  gate.leave();
+}
+
+void a_hold_waits_for_the_work_in_progress_or_leaves_the_gate_as_it_was()
+{
+  Gate gate;
+  CHECK(gate.enter());
+  auto hold = gate.hold(0.05);
+  CHECK(!hold.ok && !hold.held);
+  CHECK_EQ(hold.message, std::string("1 work transaction(s) still running after 0.05 s"));
+  CHECK(gate.enter());  // not held
+  gate.leave();
+  std::thread worker([&gate] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      gate.leave();
+    });
+  hold = gate.hold(5.0);
+  worker.join();
+  CHECK(hold.ok && hold.held);
+  CHECK_EQ(gate.in_flight(), uint64_t{0});
+  gate.release();
+}
+
+void a_pause_refuses_the_work_a_hold_made_wait_and_a_paused_gate_needs_no_hold()
+{
+  Gate gate;
+  CHECK(gate.hold(1.0).held);
+  std::atomic<int> entered{-1};
+  std::thread worker([&] {entered = gate.enter() ? 1 : 0;});
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  CHECK(gate.pause(1.0).first);
+  worker.join();
+  CHECK_EQ(entered.load(), 0);
+  CHECK_EQ(gate.refused(), uint64_t{1});
+  gate.release();
+  const auto again = gate.hold(1.0);
+  CHECK(again.ok && !again.held && gate.paused());
+  CHECK(!gate.enter());
+}
+
 }  // namespace
 
 int main()
 {
   a_pause_that_cannot_wait_long_enough_leaves_the_gate_open();
   a_pause_waits_for_the_transaction_in_progress();
+  work_that_arrives_during_a_hold_waits_for_it_and_is_not_refused();
+  a_hold_waits_for_the_work_in_progress_or_leaves_the_gate_as_it_was();
+  a_pause_refuses_the_work_a_hold_made_wait_and_a_paused_gate_needs_no_hold();
   return check::done("gate");
 }

@@ -16,7 +16,8 @@ class Gate:
 
     Every main callback is a work transaction: it enters the gate and leaves it. ``pause`` lets
     no new transaction in and waits until the ones in progress have ended; a pause that does not
-    get there in time leaves the gate as it was.
+    get there in time leaves the gate as it was. ``quiet`` (a snapshot's moment) holds the gate:
+    new work waits until the hold ends instead of being refused, so that a snapshot loses no message.
     """
 
     def __init__(self) -> None:
@@ -25,10 +26,12 @@ class Gate:
         self.paused = False
         self.transactions = 0
         self.refused = 0
+        self.holds = 0
 
     def enter(self) -> bool:
-        """Start a transaction; False (counted as refused) while paused."""
+        """Start a transaction, after a hold if one is on; False (counted as refused) while paused."""
         with self._cond:
+            self._cond.wait_for(lambda: self.holds == 0 or self.paused)
             if self.paused:
                 self.refused += 1
                 return False
@@ -48,6 +51,7 @@ class Gate:
             if self.paused:
                 return True, "already paused"
             self.paused = True
+            self._cond.notify_all()  # work waiting on a hold is refused now
             busy = self.in_flight
             if not self._cond.wait_for(lambda: self.in_flight == 0, timeout):
                 self.paused = False
@@ -65,16 +69,24 @@ class Gate:
 
     @contextmanager
     def quiet(self, timeout: float) -> Iterator[None]:
-        """No transaction runs inside (pausing for the time if needed); TimeoutError when it cannot be had."""
-        was_paused = self.paused
-        ok, message = self.pause(timeout)
-        if not ok:
-            raise TimeoutError(message)
+        """No transaction runs inside: new work waits (a paused gate refuses it anyway), none is refused;
+        TimeoutError when the work in progress does not end within ``timeout`` s."""
+        with self._cond:
+            held = not self.paused
+            if held:
+                self.holds += 1
+                busy = self.in_flight
+                if not self._cond.wait_for(lambda: self.in_flight == 0, timeout):
+                    self.holds -= 1
+                    self._cond.notify_all()
+                    raise TimeoutError(f"{busy} work transaction(s) still running after {timeout:g} s")
         try:
             yield
         finally:
-            if not was_paused:
-                self.resume()
+            if held:
+                with self._cond:
+                    self.holds -= 1
+                    self._cond.notify_all()
 
     @contextmanager
     def transaction(self) -> Iterator[None]:

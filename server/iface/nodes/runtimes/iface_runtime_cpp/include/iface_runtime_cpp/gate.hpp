@@ -21,17 +21,30 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-//! Work transactions and pausing: pause lets no new transaction in and waits for the running ones.
+//! What Gate::hold did: ok (no transaction runs), held (release() it: false when the gate was paused), why not.
+struct Hold
+{
+  bool ok = false;
+  bool held = false;
+  std::string message;
+};
+
+//! Work transactions and pausing: pause lets no new transaction in and waits for the running ones; hold (a
+//! snapshot's moment) makes new work wait instead of refusing it.
 class Gate
 {
 public:
-  //! Start a transaction; false (counted as refused) while paused.
+  //! Start a transaction, after a hold if one is on; false (counted as refused) while paused.
   bool enter();
   //! End a transaction.
   void leave();
   //! Refuse new work and wait (at most timeout s) for the work in progress to end.
   std::pair<bool, std::string> pause(double timeout);
   std::pair<bool, std::string> resume();
+  //! Let new work wait, none refused, and wait (at most timeout s) for the work in progress to end.
+  Hold hold(double timeout);
+  //! End a hold (Hold::held): the work that waited goes on.
+  void release();
   bool paused() const;
   uint64_t in_flight() const;
   uint64_t transactions() const;
@@ -42,6 +55,7 @@ private:
   std::condition_variable cond_;
   uint64_t in_flight_ = 0;
   bool paused_ = false;
+  uint32_t holds_ = 0;
   uint64_t transactions_ = 0;
   uint64_t refused_ = 0;
 };
