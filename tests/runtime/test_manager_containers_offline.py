@@ -101,6 +101,26 @@ def test_a_dead_container_restarts_each_instance_in_it_counted_in_its_own_restar
     assert "stays down: more than 1 restarts within 60 s" in ticker.findings[-1]
 
 
+def test_no_instance_of_a_dead_container_is_reported_active_before_it_is_loaded_again(tmp_path: Path) -> None:
+    """While the first instance of a container that ended is loaded again, the others are not reported active with
+    no process (a client that waited for every instance active took the tally's stale state for a restart)."""
+    mgr = _manager(tmp_path, [_spec("ticker", "box"), _spec("tally", "box")])
+    dead = _Dead()
+    mgr.hosts["box"] = Host("box", {}, process=dead)  # type: ignore[arg-type]
+    for m in mgr.instances:
+        m.state, m.process = "active", dead  # type: ignore[assignment]
+    seen: list[dict[str, tuple[str, int]]] = []
+
+    def start_or_fail(m: Any, why: str) -> None:
+        seen.append({i["name"]: (i["state"], i["restarts"]) for i in mgr.status()["instances"]})
+        m.state = "active"
+
+    mgr._start_or_fail = start_or_fail  # type: ignore[method-assign]
+    mgr._watch_containers()
+    assert seen == [{"ticker": ("starting", 1), "tally": ("starting", 1)},
+                    {"ticker": ("active", 1), "tally": ("starting", 1)}]
+
+
 def test_an_instance_with_restart_never_stays_down_when_its_container_ends(tmp_path: Path) -> None:
     mgr = _manager(tmp_path, [_spec("ticker", "box", restart="never"), _spec("tally", "box")])
     mgr.hosts["box"] = Host("box", {}, process=_Dead())  # type: ignore[arg-type]

@@ -431,6 +431,7 @@ class Manager:
             self.log(f"{m.name}: stays down (restart intensity reached)")
             return False
         m.restarts += 1
+        m.state = "starting"  # until it is up again: never reported active with no process
         return True
 
     def _watch(self, m: Managed, now: float) -> None:
