@@ -32,7 +32,7 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from iface.live.link import Link
 from iface.operate.containers import mapped_files
 from iface.operate.in_container import ContainerCalls
-from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, check
+from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, StepFailed, check
 
 ORDER = ("sensor", "ticker", "tally")
 
@@ -106,6 +106,15 @@ def main() -> int:
             f.write(f"$ {' '.join(cmd)}\nexit {done.returncode}\n{done.stdout}\n{done.stderr}\n")
         return done.returncode, done.stdout, done.stderr
 
+    def counts_past(value: int, timeout: float, what: str) -> None:
+        """Wait until the subscriber has seen a count past ``value``; on a timeout say where it was."""
+        since, start = len(ticks), time.monotonic()
+        try:
+            probe.wait_until(lambda: ticks and ticks[-1] > value, timeout, what)
+        except TimeoutError as e:
+            raise StepFailed(f"{e}: {len(ticks) - since} counts arrived in {time.monotonic() - start:.1f} s, the last "
+                             f"{ticks[-1] if ticks else None} (wanted past {value})") from None
+
     def counts_after_restart(saved: int, what: str) -> list[int]:
         """Counts of the ticker once it runs again (restarted from its snapshot ``saved``): the counts that arrive
         1 s after it is active (the dead process's last ones are in by then), 100 of them."""
@@ -174,7 +183,7 @@ def main() -> int:
                         Path(f).parent.name)), strict=True)}
             s = status()
             pid, restarts = s["ticker"].pid, (s["ticker"].restarts, s["tally"].restarts, s["sensor"].restarts)
-            probe.wait_until(lambda: ticks and ticks[-1] > snap["ticker"]["count"] + 300, 10, "300 ticks more")
+            counts_past(snap["ticker"]["count"] + 300, 10, "300 ticks more")
             mark = len(ticks)
             os.kill(pid, signal.SIGKILL)
             killed = time.monotonic()
@@ -217,7 +226,7 @@ def main() -> int:
             check("share" in steps and "switch in container" in steps, f"steps {list(steps)}")
             carried = int(record["state_before"]["count"])
             check(int(record["state_after"]["count"]) >= carried, f"state after {record['state_after']}")
-            probe.wait_until(lambda: ticks[-1] >= carried + 500, 15, f"counts past {carried + 500}")
+            counts_past(carried + 499, 15, f"counts past {carried + 500}")
             window = ticks[mark:]
             check(not gaps(window), f"counts lost or repeated across the replacement: {gaps(window)[:5]}")
             check(carried in window and carried + 1 in window, f"{carried} -> {carried + 1} not seen")
@@ -247,7 +256,7 @@ def main() -> int:
             check("another ticker_msgs (an interface package)" in why and "box_3" in why, f"steps {steps}")
             check("switch in container" not in steps and "activate NEW" in steps, f"steps {list(steps)}")
             carried = int(record["state_before"]["count"])
-            probe.wait_until(lambda: ticks[-1] >= carried + 500, 15, f"counts past {carried + 500}")
+            counts_past(carried + 499, 15, f"counts past {carried + 500}")
             window = ticks[mark:]
             check(not gaps(window), f"counts lost or repeated across the replacement: {gaps(window)[:5]}")
             after = status()
@@ -273,7 +282,7 @@ def main() -> int:
                                .read_text())["values"]["count"]
             s = status()
             before = {n: i.pid for n, i in s.items()}
-            probe.wait_until(lambda: ticks[-1] > saved + 300, 10, "300 ticks past the snapshot")
+            counts_past(saved + 300, 10, "300 ticks past the snapshot")
             os.kill(managers[-1][0].pid, signal.SIGKILL)
             managers[-1][0].wait(timeout=30)
             start_manager()
