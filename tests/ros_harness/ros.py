@@ -91,6 +91,10 @@ def shared_dir() -> Path | None:
 
 
 DOMAIN_LOCKS = Path(tempfile.gettempdir()) / "iface-ros-domains"
+#: The most domains one process holds: a worker that runs many scenarios then reuses its own, and leaves the
+#: rest of the 101 to the other workers and runs (a worker that took one per scenario held half of them, two
+#: held them all, and a run started then took domains at random: shared).
+MAX_HELD = 16
 _held: dict[int, IO[str]] = {}
 
 
@@ -98,11 +102,11 @@ def free_domain() -> int:
     """A ROS_DOMAIN_ID that no other test run on this machine holds, kept until this process ends.
 
     Two test runs side by side start nodes of the same names; a shared domain would mix them up.
-    Each run takes a new domain per scenario while one is free (1..101 stay clear of the ephemeral
-    ports), then reuses its own oldest one.
+    Each process takes a new domain per scenario while one is free and it holds fewer than
+    :data:`MAX_HELD` (1..101 stay clear of the ephemeral ports), then reuses its own oldest one.
     """
     DOMAIN_LOCKS.mkdir(exist_ok=True)
-    free = [d for d in range(1, 102) if d not in _held]
+    free = [d for d in range(1, 102) if d not in _held] if len(_held) < MAX_HELD else []
     random.SystemRandom().shuffle(free)
     for domain in free:
         handle = open(DOMAIN_LOCKS / f"{domain}.lock", "a")  # noqa: SIM115 - held until the process ends
