@@ -211,3 +211,34 @@ def test_members_exist_from_configure_and_work_only_when_active(ros_workspace: W
     for expected in ("state unconfigured", "unconfigured True False False", "configure inactive",
                      "inactive True True True 0", "activate active", "active True"):
         assert expected in lines, f"{expected!r} not in:\n{seen}"
+
+
+#: An action client of the runtime, its lock there when the node first sees it (LockedActionClient).
+LOCKED = textwrap.dedent("""\
+    import rclpy
+    from every_member_msgs.action import Travel
+    from iface_runtime_py.runtime import LockedActionClient
+    rclpy.init()
+    node = rclpy.create_node("locked_probe")
+    seen = []
+    add = node.add_waitable
+    node.add_waitable = lambda waitable: (seen.append(hasattr(waitable, "_lock")), add(waitable))
+    client = LockedActionClient(node, Travel, "/travel")
+    client.get_num_entities()  # what an executor thread asks while it builds its wait set
+    print("lock when added:", seen)
+    client.destroy()
+    node.destroy_node()
+    rclpy.shutdown()
+""")
+
+
+def test_an_action_client_has_its_lock_when_the_node_first_sees_it(ros_workspace: Workspace, tmp_path: Path) -> None:
+    """Kilted's rclpy adds an ActionClient to its node before it makes the lock ``get_num_entities`` takes; an
+    executor thread that built its wait set then ended the component's process (AttributeError, seen in CI while a
+    configure made the client). The runtime's client has its lock first."""
+    env = environment(ros_workspace.venv, ros_workspace.path, tmp_path / "ros-log")
+    script = tmp_path / "locked.py"
+    script.write_text(LOCKED)
+    code = run_bounded([str(ros_workspace.venv / "bin" / "python"), str(script)], env, 60, tmp_path / "locked.log")
+    said = (tmp_path / "locked.log").read_text(errors="replace")
+    assert code == 0 and "lock when added: [True]" in said, said[-3000:]

@@ -199,6 +199,16 @@ def _initial(spec: ParamSpec) -> Any:
 # ---- the node -------------------------------------------------------------------------------------
 
 
+class LockedActionClient(ActionClient):
+    """rclpy's ActionClient, its lock made first. Kilted's adds the client to the node before it makes the lock
+    that ``get_num_entities`` takes, and an executor thread may build its wait set meanwhile (a configure runs in
+    one of the executor's threads while the main thread spins): AttributeError, the process ended."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self._lock = threading.Lock()
+        super().__init__(*args, **kwargs)
+
+
 class WorkTimer:
     """A work timer: its name (the callback's), period, the rclpy timer, and when it last ran (ns since the epoch)."""
 
@@ -416,7 +426,7 @@ class ComponentNode(LifecycleNode):
             services = qos_profile(qos, qos_profile_services_default)
             extra = {"goal_service_qos_profile": services, "result_service_qos_profile": services,
                      "cancel_service_qos_profile": services, "feedback_sub_qos_profile": qos_profile(qos)}
-        client = ActionClient(self, action_type, name, callback_group=self.client_group, **extra)
+        client = LockedActionClient(self, action_type, name, callback_group=self.client_group, **extra)
         self._entities.append(("action", client))
         return client
 
