@@ -168,16 +168,14 @@ class Probe:
 
         def drain() -> None:
             while not stop.is_set():
-                while not stop.is_set():
-                    with sub.handle:
-                        taken = sub.handle.take_message(msg_type, False)
-                    if taken is None:
-                        break
-                    if with_info:
-                        callback(*taken)
-                    else:
-                        callback(taken[0])
-                stop.wait(0.001)
+                with sub.handle:
+                    taken = sub.handle.take_message(msg_type, False)
+                if taken is None:
+                    stop.wait(0.001)
+                elif with_info:
+                    callback(*taken)
+                else:
+                    callback(taken[0])
 
         thread = threading.Thread(target=drain, daemon=True)
         thread.start()
