@@ -20,7 +20,9 @@
    ``box``): ``--kills`` times, the container killed with SIGKILL each time; from the kill to the manager's log
    line that says the last of the two is active in the new container (the container restarted, both loaded
    with their last snapshot restored and activated); median, p95, max (goal <= 1 s median), and the same as
-   seen by ``/iface_manager/status`` polled every 20 ms.
+   seen by ``/iface_manager/status`` polled every 20 ms; then the same with ``standby = "true"`` on the tally
+   (the manager keeps a spare container process, told to start instead of a process started; each kill once
+   the standby is ready, as a crash that comes a while after the last one).
 
 Builds the ticker (1.0 and 1.1) and the tally (rclcpp) once, in the test cache (tests/ros_harness/cpp.py
 ``ticker_workspaces``; ``--keep DIR`` keeps the run's folder), then runs itself in the ROS 2 environment. The
@@ -162,7 +164,7 @@ def inner(config: Path) -> int:
 
     only = cfg.get("only", "")
     if only == "kill":
-        code = kill_figure(cfg, probe)
+        code = kill_figures(cfg, probe)
         probe.close()
         return code
     # ---- 1. silence across a replacement inside the container
@@ -258,7 +260,7 @@ def inner(config: Path) -> int:
     print(f"messages/s, one container with intra-process communication vs two processes: "
           f"{rates['one container, intra-process'] / rates['two processes']:.2f}x; one container over DDS vs two "
           f"processes: {rates['one container, over DDS'] / rates['two processes']:.2f}x", flush=True)
-    code = kill_figure(cfg, probe) if not only and int(cfg["kills"]) > 0 else 0
+    code = kill_figures(cfg, probe) if not only and int(cfg["kills"]) > 0 else 0
     probe.close()
     return code
 
@@ -268,8 +270,28 @@ include "ticker.iface"
 include "tally.iface"
 
 instance ticker : ticker (container = "box")
-instance tally : tally (container = "box", after = "ticker")
+instance tally : tally (container = "box", after = "ticker"{standby})
 """
+
+
+def ready_standby(node: str, timeout: float = 60.0) -> int:
+    """The pid of ``node``'s standby once it takes its signal (a handler for SIGUSR1, the manager's test)."""
+    import signal
+
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        for entry in os.listdir("/proc"):
+            try:
+                cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
+                status = Path(f"/proc/{entry}/status").read_text()
+            except OSError:
+                continue
+            if b"--standby" in cmd and f"__node:={node}".encode() in cmd:
+                caught = next(line.split()[1] for line in status.splitlines() if line.startswith("SigCgt:"))
+                if int(caught, 16) >> (signal.SIGUSR1 - 1) & 1:
+                    return int(entry)
+        time.sleep(0.05)
+    raise TimeoutError(f"no standby of {node} ready within {timeout:g} s")
 
 
 def _logged_at(log: Path, line: str, after: float) -> float | None:
@@ -282,8 +304,14 @@ def _logged_at(log: Path, line: str, after: float) -> float | None:
     return None
 
 
-def kill_figure(cfg: dict[str, Any], probe: Any) -> int:
-    """3. The manager runs ticker 1.0 and the tally in ``box``; the container is killed ``kills`` times."""
+def kill_figures(cfg: dict[str, Any], probe: Any) -> int:
+    """3. Without a standby, then with one."""
+    return kill_figure(cfg, probe, standby=False) or kill_figure(cfg, probe, standby=True)
+
+
+def kill_figure(cfg: dict[str, Any], probe: Any, standby: bool) -> int:
+    """The manager runs ticker 1.0 and the tally in ``box`` (with a standby container when ``standby``); the
+    container is killed ``kills`` times."""
     import signal
 
     from iface_msgs.srv import Snapshot, SystemStatus
@@ -296,8 +324,9 @@ def kill_figure(cfg: dict[str, Any], probe: Any) -> int:
     sysdir.mkdir()
     for name in ("ticker", "tally"):
         shutil.copy(ROOT / "tests" / "runtime" / "data" / f"{name}.iface", sysdir)
-    (sysdir / "bench_box.iface").write_text(KILL_SYSTEM, encoding="utf-8")
-    log = root / "logs" / "kill-manager.log"
+    (sysdir / "bench_box.iface").write_text(KILL_SYSTEM.format(standby=', standby = "true"' if standby else ""),
+                                            encoding="utf-8")
+    log = root / "logs" / f"kill-manager{'-standby' if standby else ''}.log"
     with open(log, "w") as out:
         manager = subprocess.Popen([sys.executable, "-m", "iface", "manager", str(sysdir / "bench_box.iface"),
                                     "--state-dir", str(sysdir / "state"), "--max-restarts", str(kills + 5),
@@ -326,6 +355,9 @@ def kill_figure(cfg: dict[str, Any], probe: Any) -> int:
             ticker_file = next(Path(f) for f in saved.files if Path(f).parent.name == "ticker")
             count = json.loads(ticker_file.read_text())["values"]["count"]
             pid = status()["ticker"].pid
+            if standby:
+                ready_standby("box")
+                time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
             killed, start = time.time(), time.monotonic()
             os.kill(pid, signal.SIGKILL)
             back(pid, 60)
@@ -344,7 +376,8 @@ def kill_figure(cfg: dict[str, Any], probe: Any) -> int:
                 print(f"container_bench: the ticker restarted at {restored}, before its snapshot", file=sys.stderr)
                 return 1
             time.sleep(0.5)
-        print(f"container kill -9 -> ticker and tally active again with their snapshots (the manager's log): median "
+        what = "with a standby container" if standby else "without a standby"
+        print(f"container kill -9 ({what}) -> ticker and tally active again with their snapshots (the manager's log): median "
               f"{statistics.median(logged):.3f} s, p95 {percentile(logged, 0.95):.3f} s, max {max(logged):.3f} s over "
               f"{len(logged)}; as seen by status polls every 20 ms: median {statistics.median(seen):.3f} s, p95 "
               f"{percentile(seen, 0.95):.3f} s; {load()}", flush=True)

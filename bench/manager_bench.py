@@ -1,12 +1,14 @@
 """The component manager, measured on loopback (docs/system.md):
 
     python bench/manager_bench.py [--runs 10] [--replacements 10] [--instances 20] [--idle 30]
-                                  [--only crash replace idle] [--workspace WS]
+                                  [--only crash standby replace idle] [--workspace WS]
 
 1. ``crash``: an instance's crash (``kill -9`` of a Python instance) until it is active again with its state
    (goal: median <= 1.5 s, p95 <= 2.5 s over 10 on a quiet machine), and where the time went: each phase
    from the kill (death noticed, process started, its node up, its services answering, configured,
-   restored, active) as the manager's log and the instance's log time them;
+   restored, active) as the manager's log and the instance's log time them; ``standby``: the same with
+   ``standby = "true"`` (its standby told instead of a process started; each kill once the standby is
+   ready, as a crash that comes a while after the last one);
 2. ``replace``: the silence on a 10 Hz topic across a managed replacement (``/iface_manager/replace``;
    goal p95 <= 250 ms);
 3. ``idle``: the manager's CPU with N idle instances (percent of one core over ``--idle`` seconds).
@@ -61,9 +63,11 @@ def prepare(args: argparse.Namespace) -> int:
     for name in ("room_sensor", "thermostat"):
         shutil.copy(ROOT / "examples" / f"{name}.iface", root)
     (root / "idle.yaml").write_text("/**:\n  ros__parameters:\n    rate_hz: 0.1\n", encoding="utf-8")
-    (root / "pair.iface").write_text(
-        'system pair version "1.0.0"\ninclude "room_sensor.iface"\ninclude "thermostat.iface"\n'
-        'instance sensor : room_sensor\ninstance thermostat : thermostat (snapshot = "0.5s")\n', encoding="utf-8")
+    for name, extra in (("pair", ""), ("pair_standby", ', standby = "true"')):
+        (root / f"{name}.iface").write_text(
+            f'system {name} version "1.0.0"\ninclude "room_sensor.iface"\ninclude "thermostat.iface"\n'
+            f'instance sensor : room_sensor\ninstance thermostat : thermostat (snapshot = "0.5s"{extra})\n',
+            encoding="utf-8")
     idle = "".join(f'instance idle{i} : room_sensor (parameters = "idle.yaml")\n' for i in range(args.instances))
     (root / "idle.iface").write_text(f'system idle version "1.0.0"\ninclude "room_sensor.iface"\n{idle}',
                                      encoding="utf-8")
@@ -91,6 +95,7 @@ LOG_LINE = re.compile(r"^\[\w+\] \[(\d+\.\d+)\] \[([^\]]+)\]: (.*)$")
 PHASES = (
     ("death noticed", "manager", re.compile(r"^thermostat: process \d+ ended")),
     ("process started", "manager", re.compile(r"^thermostat: started pid \d+")),
+    ("standby told", "manager", re.compile(r"^thermostat: standby pid \d+ told")),
     ("node up", "instance", re.compile(r"parameter file")),
     ("services answer", "manager", re.compile(r"^thermostat: answers")),
     ("configured", "manager", re.compile(r"^thermostat: configured")),
@@ -124,6 +129,24 @@ def phases(logs: dict[str, Path], killed: float) -> dict[str, float]:
     return found
 
 
+def ready_standby(node: str, timeout: float = 60.0) -> int:
+    """The pid of ``node``'s standby once it takes its signal (a handler for SIGUSR1, the manager's test)."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        for entry in os.listdir("/proc"):
+            try:
+                cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
+                status = Path(f"/proc/{entry}/status").read_text()
+            except OSError:
+                continue
+            if b"--standby" in cmd and f"__node:={node}".encode() in cmd:
+                caught = next(line.split()[1] for line in status.splitlines() if line.startswith("SigCgt:"))
+                if int(caught, 16) >> (signal.SIGUSR1 - 1) & 1:
+                    return int(entry)
+        time.sleep(0.05)
+    raise TimeoutError(f"no standby of {node} ready within {timeout:g} s")
+
+
 def start_manager(cfg: dict[str, Any], system: str, state: str, log: Path) -> subprocess.Popen[bytes]:
     argv = [cfg["python"], "-m", "iface", "manager", system, "--state-dir", state, "--max-restarts", "1000",
             "--grace", "1"]
@@ -141,97 +164,115 @@ def stop_manager(proc: subprocess.Popen[bytes]) -> None:
             proc.wait(timeout=30)
 
 
-def inner(config: Path) -> int:
-    sys.path.insert(0, str(ROOT))
-    from iface_msgs.srv import Replace, SystemStatus
-    from thermostat_msgs.msg import Heater
-    from thermostat_msgs.srv import SetPoint
+class Bench:
+    """The probe's calls the sections share."""
 
-    from tests.ros_harness.probe import Probe, import_interface
+    def __init__(self, cfg: dict[str, Any]) -> None:
+        from tests.ros_harness.probe import Probe
 
-    cfg = json.loads(config.read_text())
-    root = Path(cfg["root"])
-    probe = Probe()
+        self.cfg = cfg
+        self.root = Path(cfg["root"])
+        self.probe = Probe()
 
-    def status() -> dict[str, Any]:
-        answer = probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
-                            idempotent=True)
+    def status(self) -> dict[str, Any]:
+        from iface_msgs.srv import SystemStatus
+
+        answer = self.probe.call(SystemStatus, "/iface_manager/status", SystemStatus.Request(), timeout=30,
+                                 idempotent=True)
         return {i.name: i for i in answer.instances}
 
-    def until(predicate: Any, timeout: float) -> dict[str, Any]:
+    def until(self, predicate: Any, timeout: float) -> dict[str, Any]:
         end = time.monotonic() + timeout
         while time.monotonic() < end:
             with contextlib.suppress(Exception):  # not answering yet
-                s = status()
+                s = self.status()
                 if predicate(s):
                     return s
             time.sleep(0.02)
         raise TimeoutError("manager status not reached")
 
-    def set_point(node: str) -> float:
+    def set_point(self, node: str) -> float:
+        from tests.ros_harness.probe import import_interface
+
         service = f"{node}/save_state"
-        types = probe.wait_until(lambda: next((t for n, t in probe.node.get_service_names_and_types()
-                                               if n == service and t), None), 30, service)
+        types = self.probe.wait_until(lambda: next((t for n, t in self.probe.node.get_service_names_and_types()
+                                                    if n == service and t), None), 30, service)
         save_t = import_interface(types[0])
-        answer = probe.call(save_t, service, save_t.Request(timeout_sec=5.0), timeout=30, idempotent=True)
+        answer = self.probe.call(save_t, service, save_t.Request(timeout_sec=5.0), timeout=30, idempotent=True)
         return float(json.loads(answer.state)["values"]["set_point"])
 
-    print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}", flush=True)
-    manager_log = root / "manager-pair.log"
-    manager = start_manager(cfg, str(root / "pair.iface"), str(root / "state-pair"), manager_log)
-    try:
-        until(lambda s: len(s) == 2 and all(i.state == "active" for i in s.values()), 180)
-        probe.call(SetPoint, "/thermostat/set_point", SetPoint.Request(celsius=21.25), timeout=30)
+    def pair(self, system: str) -> tuple[subprocess.Popen[bytes], dict[str, Path]]:
+        """The manager of ``system`` (a sensor, a thermostat with a set point of 21.25 in its snapshot) and its logs."""
+        from thermostat_msgs.srv import SetPoint
+
+        log = self.root / f"manager-{system}.log"
+        manager = start_manager(self.cfg, str(self.root / f"{system}.iface"), str(self.root / f"state-{system}"), log)
+        self.until(lambda s: len(s) == 2 and all(i.state == "active" for i in s.values()), 180)
+        self.probe.call(SetPoint, "/thermostat/set_point", SetPoint.Request(celsius=21.25), timeout=30)
         time.sleep(1.2)  # a periodic snapshot (0.5 s) holds the value
+        return manager, {"manager": log, "instance": self.root / f"state-{system}" / "logs" / "thermostat.log"}
+
+    def crashes(self, logs: dict[str, Path], label: str, standby: bool) -> bool:
+        """``kill -9`` of the thermostat, ``runs`` times, each until it is active again with its state; the
+        figures printed. False when a state was not restored."""
         crash: list[float] = []
         timed: dict[str, list[float]] = {phase: [] for phase, _, _ in PHASES}
-        logs = {"manager": manager_log, "instance": root / "state-pair" / "logs" / "thermostat.log"}
-        for run in range(cfg["runs"] if "crash" in cfg["only"] else 0):
-            old = status()["thermostat"]
+        for run in range(self.cfg["runs"]):
+            old = self.status()["thermostat"]
+            if standby:
+                ready_standby("thermostat")
+                time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
             killed, start = time.time(), time.monotonic()
             os.kill(old.pid, signal.SIGKILL)
-            until(lambda s, old=old: s["thermostat"].state == "active" and s["thermostat"].pid not in (0, old.pid), 60)
+            self.until(lambda s, old=old: s["thermostat"].state == "active"
+                       and s["thermostat"].pid not in (0, old.pid), 60)
             crash.append(time.monotonic() - start)
-            if set_point(status()["thermostat"].node) != 21.25:
+            if self.set_point(self.status()["thermostat"].node) != 21.25:
                 print("manager_bench: the state was not restored", file=sys.stderr)
-                return 1
+                return False
             seen = phases(logs, killed)
             for phase, at in seen.items():
                 timed[phase].append(at)
-            print(f"  crash {run}: {crash[-1]:.2f} s; " + ", ".join(f"{p} {t:.3f}" for p, t in seen.items()),
+            print(f"  {label} {run}: {crash[-1]:.2f} s; " + ", ".join(f"{p} {t:.3f}" for p, t in seen.items()),
                   flush=True)
             time.sleep(1.0)
         if crash:
             print("  phases, median s after the kill: " + ", ".join(
                 f"{p} {statistics.median(t):.3f}" for p, t in timed.items() if t), flush=True)
-            print(f"crash -> active with state: median {statistics.median(crash):.2f} s, p95 "
+            print(f"{label}: crash -> active with state: median {statistics.median(crash):.2f} s, p95 "
                   f"{percentile(crash, 0.95):.2f} s, max {max(crash):.2f} s over {len(crash)} kill -9 "
                   f"(goal: median <= 1.5 s, p95 <= 2.5 s over 10 on a quiet machine)", flush=True)
+        return True
+
+    def replacements(self) -> bool:
+        """Managed replacements of the thermostat, each the longest silence on /room/heater; False on a failure."""
+        from iface_msgs.srv import Replace
+        from thermostat_msgs.msg import Heater
 
         stamps: list[float] = []
-        probe.node.create_subscription(Heater, "/room/heater", lambda _m: stamps.append(time.monotonic()), 100)
+        self.probe.node.create_subscription(Heater, "/room/heater", lambda _m: stamps.append(time.monotonic()), 100)
         gaps = []
-        for run in range(cfg["replacements"] if "replace" in cfg["only"] else 0):
+        for run in range(self.cfg["replacements"]):
             side = "a" if run % 2 == 0 else "b"
             time.sleep(1.0)
             stamps.clear()
             time.sleep(1.0)
-            request = Replace.Request(instance="thermostat", new_iface=str(root / "thermostat.iface"),
-                                      package=str(root / side / "install" / "thermostat"), timeout_sec=10.0)
+            request = Replace.Request(instance="thermostat", new_iface=str(self.root / "thermostat.iface"),
+                                      package=str(self.root / side / "install" / "thermostat"), timeout_sec=10.0)
             asked = time.monotonic()
-            answer = probe.call(Replace, "/iface_manager/replace", request, timeout=120)
+            answer = self.probe.call(Replace, "/iface_manager/replace", request, timeout=120)
             answered = time.monotonic()
             time.sleep(1.0)
             if not answer.success:
                 print(f"manager_bench: replace {run} {answer.result}: {answer.record[-400:]}", file=sys.stderr)
-                return 1
+                return False
             heard = list(stamps)
             gap, gap_at = max((b - a, a) for a, b in itertools.pairwise(heard))
             gaps.append(gap)
             record = json.loads(answer.record)
             detail = {st["step"]: st["detail"] for st in record.get("steps", [])}
-            print(f"  replace {run}: longest gap {gap * 1000:.0f} ms, from {(gap_at - asked) * 1000:.0f} ms after the request"
-                  f" ({(answered - asked) * 1000:.0f} ms to the answer); critical section "
+            print(f"  replace {run}: longest gap {gap * 1000:.0f} ms, from {(gap_at - asked) * 1000:.0f} ms after "
+                  f"the request ({(answered - asked) * 1000:.0f} ms to the answer); critical section "
                   f"{record.get('critical_section_ms')} ms, pause {record.get('pause_ms')} ms; "
                   f"{detail.get('start NEW', '')}; {detail.get('match', '')}", flush=True)
         if gaps:
@@ -240,32 +281,54 @@ def inner(config: Path) -> int:
             print(f"silence on /room/heater (10 Hz) across a managed replacement: median "
                   f"{statistics.median(gaps) * 1000:.0f} ms, p95 {p95 * 1000:.0f} ms, max {gaps[-1] * 1000:.0f} ms "
                   f"over {len(gaps)} (goal p95 <= 250 ms)", flush=True)
-    finally:
-        stop_manager(manager)
-    if "idle" not in cfg["only"]:
-        probe.close()
-        print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}", flush=True)
-        return 0
+        return True
 
-    manager = start_manager(cfg, str(root / "idle.iface"), str(root / "state-idle"), root / "manager-idle.log")
+    def idle(self) -> None:
+        """The manager's CPU and memory with ``instances`` idle instances."""
+        manager = start_manager(self.cfg, str(self.root / "idle.iface"), str(self.root / "state-idle"),
+                                self.root / "manager-idle.log")
+        try:
+            s = self.until(lambda s: s and all(i.state == "active" for i in s.values()), 600)
+            time.sleep(3)
+            tick = os.sysconf("SC_CLK_TCK")
+
+            def cpu() -> float:
+                fields = Path(f"/proc/{manager.pid}/stat").read_text().rsplit(")", 1)[1].split()
+                return (int(fields[11]) + int(fields[12])) / tick
+
+            c0, t0 = cpu(), time.monotonic()
+            time.sleep(self.cfg["idle"])
+            c1, t1 = cpu(), time.monotonic()
+            rss = int(Path(f"/proc/{manager.pid}/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+            print(f"manager CPU with {len(s)} idle instances: {100 * (c1 - c0) / (t1 - t0):.1f} % of one core over "
+                  f"{t1 - t0:.0f} s (RSS {rss:.0f} MB)", flush=True)
+        finally:
+            stop_manager(manager)
+
+
+def inner(config: Path) -> int:
+    sys.path.insert(0, str(ROOT))
+    cfg = json.loads(config.read_text())
+    only = cfg["only"]
+    bench = Bench(cfg)
+    print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}", flush=True)
     try:
-        s = until(lambda s: s and all(i.state == "active" for i in s.values()), 600)
-        time.sleep(3)
-        tick = os.sysconf("SC_CLK_TCK")
-
-        def cpu() -> float:
-            fields = Path(f"/proc/{manager.pid}/stat").read_text().rsplit(")", 1)[1].split()
-            return (int(fields[11]) + int(fields[12])) / tick
-
-        c0, t0 = cpu(), time.monotonic()
-        time.sleep(cfg["idle"])
-        c1, t1 = cpu(), time.monotonic()
-        rss = int(Path(f"/proc/{manager.pid}/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
-        print(f"manager CPU with {len(s)} idle instances: {100 * (c1 - c0) / (t1 - t0):.1f} % of one core over "
-              f"{t1 - t0:.0f} s (RSS {rss:.0f} MB)", flush=True)
+        for system, label, standby in (("pair", "crash", False), ("pair_standby", "standby", True)):
+            wanted = label in only or (system == "pair" and "replace" in only)
+            if not wanted:
+                continue
+            manager, logs = bench.pair(system)
+            try:
+                if label in only and cfg["runs"] and not bench.crashes(logs, label, standby):
+                    return 1
+                if system == "pair" and "replace" in only and not bench.replacements():
+                    return 1
+            finally:
+                stop_manager(manager)
+        if "idle" in only:
+            bench.idle()
     finally:
-        stop_manager(manager)
-        probe.close()
+        bench.probe.close()
     print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}", flush=True)
     return 0
 
@@ -274,8 +337,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--runs", type=int, default=10, help="kill -9 of the instance (default 10)")
     ap.add_argument("--replacements", type=int, default=10, help="managed replacements (default 10)")
-    ap.add_argument("--only", nargs="+", choices=("crash", "replace", "idle"), default=["crash", "replace", "idle"],
-                    help="the figures to measure (default all)")
+    ap.add_argument("--only", nargs="+", choices=("crash", "standby", "replace", "idle"),
+                    default=["crash", "standby", "replace", "idle"], help="the figures to measure (default all)")
     ap.add_argument("--instances", type=int, default=20)
     ap.add_argument("--idle", type=float, default=30.0)
     ap.add_argument("--workspace", type=Path, help="a colcon workspace with room_sensor, thermostat and iface_msgs built")

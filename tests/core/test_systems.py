@@ -225,6 +225,26 @@ def test_system_spec_gives_an_instance_in_a_container_its_container_and_class(tm
     assert spec.in_container("nothing") == ()
 
 
+def test_standby_is_for_an_instance_that_may_restart(tmp_path: Path) -> None:
+    text = CONTAINED + ('instance spare : counter (standby = "true", node = "spare")\n'
+                        'instance spare_rclcpp : counter (runtime = "rclcpp", standby = "true", node = "spare_cpp")\n'
+                        'instance boxed : counter (container = "box", standby = "true", node = "boxed")\n'
+                        'instance idle : counter (standby = "true", restart = "never", node = "idle")\n'
+                        'instance unsure : counter (standby = "yes", node = "unsure")\n')
+    path = _contained(tmp_path, text)
+    comp = Workspace().compile_path(str(path))
+    found = sorted((d.location()[0], d.severity.name, d.message.split(":")[0]) for d in comp.diagnostics
+                   if d.code == "invalid-instance-annotation")
+    assert found == [(13, "WARNING", ('standby = "true" keeps a spare process for a restart, and restart = "never" '
+                                      "never restarts the instance")),
+                     (14, "ERROR", "standby must be \"true\" or \"false\", not 'yes'")]
+    (tmp_path / "plant.iface").write_text(text.replace('instance unsure : counter (standby = "yes", node = "unsure")\n',
+                                                       ""), encoding="utf-8")
+    got = {i.name: i.standby for i in system_spec(path).instances}
+    assert got == {"sensor": False, "one": False, "two": False, "lone": False, "third": False, "spare": True,
+                   "spare_rclcpp": True, "boxed": True, "idle": True}
+
+
 def test_check_says_what_an_instance_in_a_container_does_not_use(tmp_path: Path) -> None:
     text = CONTAINED + ('instance stray : counter (plugin = "counter::Counter", intra_process = "true")\n'
                         'instance runner : counter (container = "box", executable = "counter")\n')

@@ -129,6 +129,8 @@ async def test_completion_of_components_annotations_and_values(client: Client, p
     keys = await complete(client, uri, HEAD + "instance back : display (|)")
     assert {"package", "executable", "node", "restart", "snapshot", "after", "parameters"} <= keys
     assert {'"never"', '"on-failure"', '"always"'} <= await complete(client, uri, HEAD + 'instance back : display (restart = "|")')
+    assert "standby" in keys
+    assert {'"true"', '"false"'} <= await complete(client, uri, HEAD + 'instance back : display (standby = "|")')
     assert '"front"' in await complete(client, uri, HEAD + 'instance back : display (node = "b", after = |)')
     assert {"system", "instance"} <= await complete(client, uri, HEAD + "|")
 
@@ -148,6 +150,13 @@ async def test_completion_and_hover_of_a_container(client: Client, plant: str) -
     await client.wait_diagnostics(uri, client.versions[uri])
     shown = await hover(client, uri, "back", 1)
     assert "- container: `box` (shares its process; intra-process where the QoS allows)" in shown
+    assert "standby" not in shown
+    spare = boxed.replace('(container = "box")', '(container = "box", standby = "true")')
+    client.replace(uri, spare)
+    client.texts[uri] = spare
+    await client.wait_diagnostics(uri, client.versions[uri])
+    shown = await hover(client, uri, "back", 1)
+    assert "- standby: a spare container process started ahead, which becomes the container at a restart" in shown
     assert "- runtime: `rclcpp`" in shown
     key = await hover(client, uri, "container", 1)
     assert "**instance annotation** `container`" in key and "share its process" in key

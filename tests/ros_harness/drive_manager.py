@@ -70,8 +70,9 @@ class Manager:
 OWN = ""
 
 
-def node_processes(node: str) -> list[int]:
-    """The pids of this test's processes whose command line names ``__node:=node``."""
+def node_processes(node: str, standby: bool | None = False) -> list[int]:
+    """The pids of this test's processes whose command line names ``__node:=node``: not standbys (``--standby``),
+    only standbys (``standby=True``) or both (``None``)."""
     found = []
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
@@ -81,12 +82,24 @@ def node_processes(node: str) -> list[int]:
             state = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[0]
             if f"__node:={node}".encode() not in cmd or state == "Z":
                 continue
+            if standby is not None and (b"--standby" in cmd) != standby:
+                continue
             environ = Path(f"/proc/{entry}/environ").read_bytes()
         except OSError:
             continue
         if OWN and OWN.encode() in environ:
             found.append(int(entry))
     return found
+
+
+def catches(pid: int, signum: int) -> bool:
+    """Whether ``pid`` has a handler for ``signum`` (``SigCgt``: the manager's test that a standby is ready)."""
+    try:
+        text = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    mask = next((line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), "0")
+    return bool(int(mask, 16) >> (signum - 1) & 1)
 
 
 def command_line(pid: int) -> str:
@@ -330,6 +343,41 @@ def main() -> int:
         report.step("replace by another implementation with an interface package of another name",
                     lambda: replaced_by("eco", "thermostat_4"))
 
+        def ready_standby(node: str, other_than: tuple[int, ...] = ()) -> int:
+            """The one standby of ``node`` (not one of ``other_than``), once it takes its signal (the manager's test
+            of ready)."""
+            def one() -> int | None:
+                found = [p for p in node_processes(node, standby=True) if p not in other_than]
+                return found[0] if len(found) == 1 and catches(found[0], signal.SIGUSR1) else None
+            return int(probe.wait_until(one, 60, f"one standby of {node}, ready"))
+
+        def crash_standby() -> str:
+            spare_pid = ready_standby("sensor")
+            log = managers[-1].log()
+            check(f"sensor: started standby pid {spare_pid}" in log, f"standby {spare_pid} not the manager's: {log[-1500:]}")
+            code, out, err = cli("snapshot", cfg["system"], "sensor")
+            check(code == 0, f"snapshot exit {code}: {err}")
+            kept = json.loads(Path(json.loads(out)["files"][0]).read_text())["values"]["readings"]
+            old = status()["sensor"]
+            start = time.monotonic()
+            os.kill(old.pid, signal.SIGKILL)
+            s = settle(lambda s: s["sensor"].state == "active" and s["sensor"].pid not in (0, old.pid)
+                       and s["sensor"].restarts == old.restarts + 1, 60, "sensor restarted")
+            took = time.monotonic() - start
+            check(s["sensor"].pid == spare_pid, f"sensor restarted as pid {s['sensor'].pid}, not its standby {spare_pid}")
+            after = managers[-1].log().split(f"sensor: standby pid {spare_pid} told to start", 1)
+            check(len(after) == 2 and "sensor: restored snapshot" in after[1] and "sensor: started pid" not in after[1],
+                  f"manager log after the kill: {after[-1][:1500]}")
+            readings = saved("/sensor")["readings"]
+            check(readings >= kept, f"readings {readings} after the restart, {kept} in the last snapshot")
+            check(not node_processes("sensor"), f"a process started for the sensor: {node_processes('sensor')}")
+            following = ready_standby("sensor", other_than=(spare_pid,))
+            return (f"standby pid {spare_pid} active as /sensor after {took:.2f} s with readings {readings} (snapshot "
+                    f"{kept}); next standby pid {following}")
+
+        report.step("kill -9 of an instance with a standby: its standby is the instance, with its state; another "
+                    "follows", crash_standby)
+
         def crash_loop() -> str:
             (flags / "spare.crash").touch()
             pid = status()["spare"].pid
@@ -354,6 +402,7 @@ def main() -> int:
             for name, pid in pids.items():
                 check(not Path(f"/proc/{pid}").exists() or "Z" in Path(f"/proc/{pid}/stat").read_text().split()[2],
                       f"{name} pid {pid} still runs")
+            check(not node_processes("sensor", standby=None), f"left: {node_processes('sensor', standby=None)}")
             return f"down in reverse order, exit 0 ({pids})"
 
         report.step("SIGTERM: down in reverse order, exit 0", down)
@@ -371,7 +420,7 @@ def main() -> int:
         for m in managers:
             m.stop()
         for name in ("sensor", "thermostat", "thermostat_2", "thermostat_3", "thermostat_4", "spare"):
-            for pid in node_processes(name):
+            for pid in node_processes(name, standby=None):
                 try:
                     os.killpg(pid, signal.SIGKILL)
                 except OSError:

@@ -42,8 +42,9 @@ def gaps(values: list[int]) -> list[tuple[int, int]]:
     return [(a, b) for a, b in itertools.pairwise(values) if b != a + 1]
 
 
-def own_processes(own: str, node: str) -> list[int]:
-    """The pids of this test's processes (their environment names ``own``) started with ``__node:=node``."""
+def own_processes(own: str, node: str, standby: bool | None = None) -> list[int]:
+    """The pids of this test's processes (their environment names ``own``) started with ``__node:=node``: standbys
+    (``--standby``) too, only them (``standby=True``) or none (``False``)."""
     found = []
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
@@ -53,11 +54,23 @@ def own_processes(own: str, node: str) -> list[int]:
             state = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[0]
             if f"__node:={node}".encode() not in cmd or state == "Z":
                 continue
+            if standby is not None and (b"--standby" in cmd) != standby:
+                continue
             if own.encode() in Path(f"/proc/{entry}/environ").read_bytes():
                 found.append(int(entry))
         except OSError:
             continue
     return found
+
+
+def catches(pid: int, signum: int) -> bool:
+    """Whether ``pid`` has a handler for ``signum`` (``SigCgt``: the manager's test that a standby is ready)."""
+    try:
+        text = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    mask = next((line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), "0")
+    return bool(int(mask, 16) >> (signum - 1) & 1)
 
 
 def main() -> int:
@@ -183,6 +196,10 @@ def main() -> int:
                         Path(f).parent.name)), strict=True)}
             s = status()
             pid, restarts = s["ticker"].pid, (s["ticker"].restarts, s["tally"].restarts, s["sensor"].restarts)
+            spare = probe.wait_until(lambda: next((p for p in own_processes(cfg["own"], "box", standby=True)
+                                                   if catches(p, signal.SIGUSR1)), None), 60,
+                                     "the container's standby (the tally says standby), ready")
+            check(f"container box: started standby pid {spare}" in manager_log(), "the standby is not the manager's")
             counts_past(snap["ticker"]["count"] + 300, 10, "300 ticks more")
             mark = len(ticks)
             os.kill(pid, signal.SIGKILL)
@@ -194,6 +211,8 @@ def main() -> int:
             check(back["sensor"].restarts == restarts[2] and back["sensor"].pid == s["sensor"].pid,
                   "the Python instance was touched")
             check(back["ticker"].pid == back["tally"].pid, "not one container again")
+            check(back["ticker"].pid == spare and f"container box: standby pid {spare} told to start" in manager_log(),
+                  f"the container came back as pid {back['ticker'].pid}, not its standby {spare}")
             for n in ("ticker", "tally"):
                 check(any("container box" in f and "ended" in f for f in back[n].findings),
                       f"{n}: no finding names the container: {list(back[n].findings)}")
@@ -206,12 +225,13 @@ def main() -> int:
                       f"{n}: the manager did not say it was loaded again with its snapshot: {said[-1:]}")
             tally = Protocol(probe).save("tally")["values"]
             check(tally["received"] >= snap["tally"]["received"], f"the tally restarted from nothing: {tally}")
-            return (f"box pid {pid} killed; {took:.2f} s to both active in pid {back['ticker'].pid} (as seen by status "
+            return (f"box pid {pid} killed; {took:.2f} s to both active in its standby, pid {back['ticker'].pid} (as seen by status "
                     f"polls); ticker counting again at {fresh[0]} (snapshot {snap['ticker']['count']}, last before the kill "
                     f"{last}); tally received {tally['received']} (snapshot {snap['tally']['received']}); restarts "
                     f"ticker {back['ticker'].restarts}, tally {back['tally'].restarts}, sensor {back['sensor'].restarts}")
 
-        if not report.step("kill -9 of the container: both instances active again with their snapshots", kill_container):
+        if not report.step("kill -9 of the container: both instances active again with their snapshots, in its standby",
+                           kill_container):
             return 1
 
         def in_container() -> str:

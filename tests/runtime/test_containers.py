@@ -19,8 +19,11 @@ from typing import Any
 
 import pytest
 
+from iface.operate.processes import find_executable
+
 from ..ros_harness.cpp import missing_tools, overlay, rclcpp_env, ticker_workspaces
 from ..ros_harness.ros import HARNESS, environment, run_bounded
+from ..ros_harness.standby_probe import findings
 
 DRIVER = HARNESS / "drive_iface_container.py"
 STEPS = [
@@ -75,7 +78,7 @@ def run(ros_venv: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, A
     code = run_bounded([sys.executable, str(DRIVER), str(root / "config.json"), "--out", str(out), "--logs",
                         str(root / "logs")], run_env, 300, log)
     steps = json.loads(out.read_text()) if out.is_file() else {}
-    steps["_run"] = {"code": code, "log": str(log), "logs": str(root / "logs")}
+    steps["_run"] = {"code": code, "log": str(log), "logs": str(root / "logs"), "env": run_env}
     return steps
 
 
@@ -88,3 +91,13 @@ def test_iface_container(run: dict[str, Any], step: str) -> None:
         tail = Path(info["log"]).read_text(errors="replace")[-3000:] if Path(info["log"]).is_file() else ""
         pytest.fail(f"step not reached (driver exit {info['code']}; logs in {info['logs']}):\n{tail}")
     assert run[step]["ok"], f"{step}: {run[step]['detail']} (logs in {info['logs']})"
+
+
+def test_a_standby_container_makes_its_node_only_when_told_and_ends_with_its_parent(run: dict[str, Any],
+                                                                                    ros_venv: Path) -> None:
+    """``iface_container --standby`` (the manager's spare container): no container node until SIGUSR1, then the
+    container's (its services, its name from ``__node:=``); a second SIGUSR1 ends nothing; one whose parent ends,
+    ends."""
+    env = run["_run"]["env"]
+    exe = find_executable("iface_runtime_cpp", "iface_container", env)
+    findings(ros_venv, env, "box_standby", [exe], Path(run["_run"]["logs"]) / "standby.log")

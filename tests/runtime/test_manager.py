@@ -1,6 +1,6 @@
 """End to end: `iface-lsp manager` keeps a system up, keeps its state and replaces parts; `iface-lsp system` asks it.
 
-The system (a room sensor, a thermostat after it, a spare sensor) is generated from examples/ with
+The system (a room sensor with a standby, a thermostat after it, a spare sensor) is generated from examples/ with
 the tests' user modules (tests/runtime/data/*_node.py: each dies on activate when a flag file
 names its node), built in the session's one workspace (conftest.py), and run on loopback.
 NEW for the replacements is a signed copy of the thermostat's install folder (an equivalent
@@ -46,6 +46,7 @@ STEPS = [
     "kill -9 of NEW: the manager restarts NEW (not OLD) with its state",
     "kill -9 of the manager: a new one adopts NEW",
     "replace by another implementation with an interface package of another name",
+    "kill -9 of an instance with a standby: its standby is the instance, with its state; another follows",
     "a crash loop stops at the intensity limit and is reported",
     "SIGTERM: down in reverse order, exit 0",
     "a manager started again runs NEW, with its state",
@@ -55,7 +56,7 @@ system test_room version "1.0.0"
 include "room_sensor.iface"
 include "thermostat.iface"
 
-instance sensor : room_sensor
+instance sensor : room_sensor (standby = "true")
 instance thermostat : thermostat (restart = "on-failure", snapshot = "1s", after = "sensor")
 instance spare : room_sensor
 """

@@ -6,7 +6,8 @@ The C++ workspaces are tests/ros_harness/cpp.py's ``ticker_workspaces`` (from th
 packages copies of this module's own), each C++ install prefix signed by a key of the trust store; a copy of ticker 1.1's whose library changed after it
 was signed is the untrusted NEW. drive_manager_containers.py runs the scenario (each test below is one of
 its steps): up in order; the untrusted library refused before the container loads it; the container killed
-with SIGKILL and both instances active again with their snapshots, each restart counted; ticker 1.0
+with SIGKILL and both instances active again with their snapshots in its standby (the tally says
+``standby = "true"``: the manager keeps a spare container process), each restart counted; ticker 1.0
 replaced by 1.1 inside the container, the count carried and none lost; then by 2.0, which has
 another ticker_msgs and so goes into a second container, with the reason in the record; the manager
 killed and a new one taking the system back (the previous containers stopped, every instance loaded again
@@ -33,7 +34,7 @@ DRIVER = HARNESS / "drive_manager_containers.py"
 STEPS = [
     "up: the Python instance, then both C++ instances in the container, in order",
     "untrusted: a changed library is refused before the container loads it",
-    "kill -9 of the container: both instances active again with their snapshots",
+    "kill -9 of the container: both instances active again with their snapshots, in its standby",
     "replace inside the container at 1 kHz: the count carried, none lost",
     "replace by a NEW that cannot share the process: a second container, the reason recorded",
     "kill -9 of the manager: a new one loads every instance again, NEW in its own container",
@@ -47,7 +48,7 @@ include "tally.iface"
 
 instance sensor : room_sensor
 instance ticker : ticker (container = "box", parameters = "ticker.params.yaml", after = "sensor")
-instance tally : tally (container = "box", after = "ticker")
+instance tally : tally (container = "box", after = "ticker", standby = "true")
 """
 
 

@@ -31,7 +31,8 @@ def _spec(name: str, container: str | None, restart: str = "on-failure") -> Simp
                            interface_hash="sha256:" + "0" * 64, package="ticker", executable="ticker",
                            restart=restart, snapshot_period=None, after=(), parameters=None, line=1,
                            container=container, runtime="rclcpp" if container else "rclpy",
-                           plugin="ticker::Ticker" if container else None, intra_process=bool(container))
+                           plugin="ticker::Ticker" if container else None, intra_process=bool(container),
+                           standby=False)
 
 
 class _Dead:

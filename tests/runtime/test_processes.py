@@ -192,7 +192,7 @@ def test_the_manager_restarts_an_instance_when_its_process_ends_not_at_its_next_
     monkeypatch.setattr(manager_module, "TICK", 3600.0)
     spec = SimpleNamespace(name="sensor", node="sensor", component="room_sensor", iface_file="s.iface",
                            interface_hash="sha256:x", package="room_sensor", executable="room_sensor",
-                           restart="on-failure", snapshot_period=None, parameters=None)
+                           restart="on-failure", snapshot_period=None, parameters=None, standby=False)
     system = SimpleNamespace(name="room", instances=(spec,))
     manager = manager_module.Manager(system, manager_module.Options(state_dir=tmp_path), dict(os.environ))
     manager.log = lambda message: None  # type: ignore[method-assign]

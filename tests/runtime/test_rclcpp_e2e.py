@@ -30,6 +30,7 @@ from typing import Any
 import pytest
 
 from ..ros_harness.ros import DATA, HARNESS, ROOT, build, environment, generate, run_bounded
+from ..ros_harness.standby_probe import findings
 from ..ros_harness.workspaces import cpp_environment, workspace_of
 
 DRIVER = HARNESS / "drive_rclcpp.py"
@@ -341,13 +342,22 @@ def test_a_user_file_that_no_longer_matches_stops_the_build_with_the_reason(work
                      "not override", done.stderr), done.stderr[-3000:]
 
 
+def test_a_standby_makes_its_node_only_when_told_and_ends_with_its_parent(workspaces: dict[str, Any]) -> None:
+    """``--standby``, as the Python runtime's (test_rclpy_start.py): no component node until SIGUSR1, then the
+    node; a second SIGUSR1 ends nothing; a standby whose parent ends, ends."""
+    venv, ws = workspaces["venv"], workspaces["ws_cpp"]
+    env = environment(venv, ws, workspaces["root"] / "ros-log")
+    exe = str(ws / "install" / "counter" / "lib" / "counter" / "counter")
+    findings(venv, env, "counter_standby", [exe], workspaces["root"] / "standby.log")
+
+
 def test_the_command_line_is_the_python_nodes(workspaces: dict[str, Any]) -> None:
     """--help, an unknown option refused with exit 2 as argparse does, and SIGTERM ends the node cleanly."""
     venv, ws = workspaces["venv"], workspaces["ws_cpp"]
     env = environment(venv, ws, workspaces["root"] / "ros-log")
     exe = str(ws / "install" / "counter" / "lib" / "counter" / "counter")
     shown = subprocess.run([exe, "--help"], env=env, capture_output=True, text=True, timeout=30, check=False)
-    assert shown.returncode == 0 and "--activate" in shown.stdout and "--no-default-params" in shown.stdout
+    assert shown.returncode == 0 and all(o in shown.stdout for o in ("--activate", "--no-default-params", "--standby"))
     bad = subprocess.run([exe, "--bogus"], env=env, capture_output=True, text=True, timeout=30, check=False)
     assert bad.returncode == 2 and "counter: error: unrecognized arguments: --bogus" in bad.stderr, bad.stderr
     log = workspaces["root"] / "sigterm.log"

@@ -24,6 +24,7 @@ from pathlib import Path
 from ..ros_harness import cache
 from ..ros_harness.ros import DEFAULT_VENV, ROOT, environment, run_bounded, sourced
 from ..ros_harness.ros2cli import Launched, cmdline, iface_lsp_on_path, ros2
+from ..ros_harness.standby_probe import findings
 from ..ros_harness.workspaces import toolchain
 from .conftest import Workspace
 
@@ -242,3 +243,14 @@ def test_an_action_client_has_its_lock_when_the_node_first_sees_it(ros_workspace
     code = run_bounded([str(ros_workspace.venv / "bin" / "python"), str(script)], env, 60, tmp_path / "locked.log")
     said = (tmp_path / "locked.log").read_text(errors="replace")
     assert code == 0 and "lock when added: [True]" in said, said[-3000:]
+
+
+
+def test_a_standby_makes_its_node_only_when_told_and_ends_with_its_parent(ros_workspace: Workspace,
+                                                                          tmp_path: Path) -> None:
+    """``--standby`` (the manager's spare for a fast restart): ROS up with a hidden node and no component node until
+    SIGUSR1, then the component's node (``__node:=`` its own, not the hidden one's); a second SIGUSR1 ends
+    nothing; a standby whose parent ends, ends."""
+    env = environment(ros_workspace.venv, ros_workspace.path, tmp_path / "ros-log")
+    exe = ros_workspace.path / "install" / "robot_arm" / "lib" / "robot_arm" / "robot_arm"
+    findings(ros_workspace.venv, env, "arm_standby", [str(exe)], tmp_path / "standby.log")

@@ -10,7 +10,7 @@ from ..model.normalize import flat_reading
 from ..model.walk import resolve_typedefs, type_text, typedef_chain
 from ..semantics.query import Hit, instance_component
 from ..semantics.systems import ANNOTATIONS as INSTANCE_ANNOTATIONS
-from ..semantics.systems import DEFAULT_RESTART, intra_process, runtime, start_order
+from ..semantics.systems import DEFAULT_RESTART, intra_process, runtime, standby, start_order
 
 TARGETS = ("ros2", "px4", "idl", "json")
 TARGET_TITLES = {"ros2": "ROS 2", "px4": "PX4", "idl": "IDL", "json": "JSON Schema"}
@@ -319,6 +319,10 @@ def _system_part(hit: Hit, iface: m.Interface) -> str | None:
             lines.append(f"- container: {_code(box)} (shares its process; "
                          + ("intra-process where the QoS allows)" if intra_process(inst) else "no intra-process)"))
         lines.append(f"- runtime: {_code(runtime(inst))}")
+        if standby(inst):
+            lines.append("- standby: a spare " + ("container process" if box else "process")
+                         + " started ahead, which becomes " + ("the container" if box else "the instance")
+                         + " at a restart")
         return "\n".join(lines) + (f"\n\n{inst.doc}" if inst.doc else "")
     if hit.kind == "instance-component" and isinstance(node, m.Instance):
         comp = instance_component(iface, node)

@@ -20,7 +20,7 @@ from ..compat.systemfile import instance_compilations, system_findings
 from ..model import nodes as m
 from ..model.diagnostics import Diagnostic, Severity
 from ..semantics.compile import Compilation, Workspace
-from ..semantics.systems import DEFAULT_RESTART, intra_process, period, runtime, start_order
+from ..semantics.systems import DEFAULT_RESTART, intra_process, period, runtime, standby, start_order
 from .component import ComponentSpec, node_spec
 
 
@@ -53,6 +53,8 @@ class InstanceSpec:
     plugin: str | None = None
     #: In a container: its publishers and subscriptions use intra-process communication where the QoS allows it.
     intra_process: bool = False
+    #: A spare process kept started ahead (of the instance, or of its container), which becomes it at a restart.
+    standby: bool = False
 
 
 @dataclass(frozen=True)
@@ -132,7 +134,8 @@ def _instance(system: Compilation, inst: m.Instance, comp: Compilation,
         snapshot_period=period(snapshot) if snapshot is not None else None,
         after=tuple(dict.fromkeys(a.text for a in inst.after)),
         parameters=(base / parameters).resolve() if parameters else None, line=line,
-        container=inst.value("container"), runtime=run, plugin=plugin, intra_process=intra_process(inst))
+        container=inst.value("container"), runtime=run, plugin=plugin, intra_process=intra_process(inst),
+        standby=standby(inst))
 
 
 def _at(comp: Compilation, inst: m.Instance) -> str:

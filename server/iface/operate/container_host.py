@@ -24,6 +24,7 @@ from .containers import INDEX, Component, ContainerError, component_in, find_com
 from .implementation import Implementation, install_prefixes
 from .in_container import ContainerCalls
 from .processes import InstanceProcess
+from .standby import Standby
 
 
 class Member(Protocol):
@@ -46,6 +47,9 @@ class Host:
     calls: ContainerCalls | None = None
     #: Times its process was started again after it ended.
     restarts: int = 0
+    #: Its spare process (an instance in it says ``standby = "true"``): ROS up, the container's node made when it
+    #: is started again.
+    standby: Standby = field(default_factory=Standby)
 
     def alive(self) -> bool:
         """Whether its process runs."""
@@ -61,9 +65,10 @@ class Host:
 RUNNING = ("starting", "inactive", "active")
 
 
-def container_argv(executable: str, name: str) -> list[str]:
-    """The command line of the container process named ``name``."""
-    return [executable, "--ros-args", "-r", f"__node:={name}"]
+def container_argv(executable: str, name: str, standby: bool = False) -> list[str]:
+    """The command line of the container process named ``name`` (a ``standby`` waits for SIGUSR1 to make its
+    node)."""
+    return [executable, *(["--standby"] if standby else []), "--ros-args", "-r", f"__node:={name}"]
 
 
 def members(instances: Iterable[Any], container: str) -> list[Any]:

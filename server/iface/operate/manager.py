@@ -51,6 +51,8 @@ from .in_container import ContainerCalls, Loaded
 from .processes import ExitWatcher, InstanceProcess, Records, StartError
 from .restart import DEFAULT_MAX_RESTARTS, DEFAULT_PERIOD, Intensity, should_restart
 from .snapshots import DEFAULT_KEEP, SnapshotStore, iso_time
+from .standby import Standby
+from .standby import environment as standby_environment
 
 NODE_NAME = "iface_manager"
 STATUS_SERVICE = f"/{NODE_NAME}/status"
@@ -110,6 +112,8 @@ class Managed:
     container: str | None = None
     #: Its node in the container (the id ``unload_node`` takes), None while it is not loaded.
     loaded: Loaded | None = None
+    #: Its spare process (``standby = "true"``): ROS up and no node, made the instance at its next start.
+    standby: Standby = field(default_factory=Standby)
 
     @property
     def name(self) -> str:
@@ -252,6 +256,7 @@ class Manager:
                 self._stop_host(host)
 
     def _down(self, m: Managed) -> None:
+        m.standby.stop()
         if m.container is not None:
             self._down_loaded(m)
             return
@@ -342,24 +347,42 @@ class Manager:
             made = self._envs[package_dir] = processes.package_environment(Path(package_dir), self.env)
         return made
 
-    def _launch(self, m: Managed, impl: Implementation, node: str, generation: int, log: str) -> InstanceProcess:
-        """Start a process of ``impl`` as ``node`` for ``m`` (with the instance's parameters), watched."""
+    def _launch(self, m: Managed, impl: Implementation, node: str, generation: int, log: str,
+                standby: bool = False) -> InstanceProcess:
+        """Start a process of ``impl`` as ``node`` for ``m`` (with the instance's parameters), watched; a
+        ``standby`` waits for SIGUSR1 before it makes its node."""
         env = self._environment(impl.package_dir)
         exe = processes.find_executable(impl.package, impl.executable, env, impl.package_dir)
-        argv = [exe, "--ros-args", "-r", f"__node:={node}"]
+        argv = [exe, *(["--standby"] if standby else []), "--ros-args", "-r", f"__node:={node}"]
         if m.spec.parameters:
             argv += ["--params-file", str(m.spec.parameters)]
-        proc = processes.start(m.name, node, argv, env, self.log_dir / log, implementation=impl,
-                               generation=generation)
-        self.log(f"{m.name}: started pid {proc.pid} ({impl.component}, {exe})")
+        proc = processes.start(m.name, node, argv, standby_environment(env) if standby else env, self.log_dir / log,
+                               implementation=impl, generation=generation)
+        self.log(f"{m.name}: started {'standby ' if standby else ''}pid {proc.pid} ({impl.component}, {exe})")
         return self._watched(proc)
 
     def _start(self, m: Managed) -> None:
-        """Start a process for ``m``, configure it, restore its last snapshot, activate it."""
+        """Start a process for ``m`` (its standby told, if it has one), configure it, restore its last snapshot,
+        activate it."""
         m.state = "starting"
-        m.process = self._launch(m, m.impl, m.node, m.generation, f"{m.name}.log")
+        spare = m.standby.take(lambda p: (p.record.node, p.record.generation, p.record.implementation())
+                               == (m.node, m.generation, m.impl))  # not one made for what ran before a replacement
+        if spare is not None:
+            m.process = spare
+            self.log(f"{m.name}: standby pid {spare.pid} told to start")
+        else:
+            m.process = self._launch(m, m.impl, m.node, m.generation, f"{m.name}.log")
         self.records.save(m.process.record)
         self._bring_up(m, m.process)
+
+    def _keep_standby(self, m: Managed) -> None:
+        """Start a standby for an active ``m`` that wants one (``standby = "true"``) and has none running."""
+        if not m.spec.standby or m.container is not None or m.state != "active" or self.stopping():
+            return
+        said = m.standby.keep(lambda: self._launch(m, m.impl, m.node, m.generation, f"{m.name}.log", standby=True))
+        if said is not None:
+            m.note(said)
+            self.log(f"{m.name}: {said}")
 
     def _bring_up(self, m: Managed, proc: InstanceProcess) -> None:
         """Configure, restore the last snapshot, activate; each step logged as it ends."""
@@ -422,10 +445,12 @@ class Manager:
         self.records.remove(m.name)
         m.heartbeat = None
         if not should_restart(m.spec.restart, failed=not clean):
+            m.standby.stop()
             m.state = "stopped"
             m.note(f"not restarted (restart = {m.spec.restart})")
             return False
         if not m.intensity.allow(time.monotonic()):
+            m.standby.stop()
             m.state = "failed"
             m.note(f"stays down: more than {m.intensity.max_restarts} restarts within {m.intensity.period:g} s")
             self.log(f"{m.name}: stays down (restart intensity reached)")
@@ -468,6 +493,7 @@ class Manager:
         if period and now >= m.next_snapshot:
             m.next_snapshot = now + period
             self._snapshot(m, "period")
+        self._keep_standby(m)
 
     # ---- containers ---------------------------------------------------------------------------------
     def _host(self, name: str, env: dict[str, str]) -> Host:
@@ -487,15 +513,16 @@ class Manager:
             self.log(f"container {host.name}: a previous manager's pid {record.pid} still runs: stopping it")
             InstanceProcess(record).stop(5.0)
         restart = host.process is not None
-        exe = processes.find_executable(CONTAINER_PACKAGE, CONTAINER_EXECUTABLE, host.env)
-        impl = Implementation(CONTAINER_EXECUTABLE, "", "", CONTAINER_PACKAGE, CONTAINER_EXECUTABLE)
-        proc = processes.start(host.name, host.name, container_argv(exe, host.name), host.env,
-                               self.log_dir / f"container.{host.name}.log", implementation=impl, generation=1)
-        host.process = self._watched(proc)
+        spare = host.standby.take()
+        if spare is not None:
+            proc = spare
+            self.log(f"container {host.name}: standby pid {proc.pid} told to start")
+        else:
+            proc = self._launch_host(host)
+        host.process = proc
         host.restarts += int(restart)
         self.container_records.save(proc.record)
         host.calls = ContainerCalls(self.link, host.name)  # its clients kept from a previous start (see ready)
-        self.log(f"container {host.name}: started pid {proc.pid} ({exe})")
         try:
             host.calls.ready(self.options.start_timeout, alive=proc.alive, resend=FIRST_ANSWER_RESEND)
         except LinkError:
@@ -505,8 +532,28 @@ class Manager:
             raise LinkError(f"container {host.name} did not answer within {self.options.start_timeout:g} s") from None
         self.log(f"container {host.name}: answers (pid {proc.pid})")
 
+    def _launch_host(self, host: Host, standby: bool = False) -> InstanceProcess:
+        """Start a container process for ``host`` (a ``standby`` waits for SIGUSR1 to make its node), watched."""
+        exe = processes.find_executable(CONTAINER_PACKAGE, CONTAINER_EXECUTABLE, host.env)
+        impl = Implementation(CONTAINER_EXECUTABLE, "", "", CONTAINER_PACKAGE, CONTAINER_EXECUTABLE)
+        proc = processes.start(host.name, host.name, container_argv(exe, host.name, standby),
+                               standby_environment(host.env) if standby else host.env,
+                               self.log_dir / f"container.{host.name}.log", implementation=impl, generation=1)
+        self.log(f"container {host.name}: started {'standby ' if standby else ''}pid {proc.pid} ({exe})")
+        return self._watched(proc)
+
+    def _keep_host_standby(self, host: Host) -> None:
+        """Start a standby container for a running ``host`` one of whose active instances says ``standby = "true"``."""
+        if self.stopping() or not host.alive() or not any(
+                m.spec.standby and m.state == "active" for m in members(self.instances, host.name)):
+            return
+        said = host.standby.keep(lambda: self._launch_host(host, standby=True))
+        if said is not None:
+            self.log(f"container {host.name}: {said}")
+
     def _stop_host(self, host: Host) -> None:
-        """Stop the container process of ``host`` (its instances unloaded before) and forget it."""
+        """Stop the container process of ``host`` (its instances unloaded before) and its standby, and forget it."""
+        host.standby.stop()
         if host.process is not None and host.process.alive():
             host.process.stop(5.0)
             self.log(f"container {host.name}: stopped (pid {host.process.pid})")
@@ -585,6 +632,8 @@ class Manager:
             if not hit:
                 if host.process is not None and not host.alive() and not members(self.instances, host.name):
                     self._stop_host(host)
+                else:
+                    self._keep_host_standby(host)
                 continue
             ended = next((m.process for m in hit if m.process is not None), host.process)
             reason = container_ended(host.name, ended.pid if ended is not None else 0,
@@ -840,6 +889,7 @@ class Manager:
         """NEW is the instance from now on: recorded (before OLD goes, so that a new manager never adopts OLD),
         then OLD shut down, then NEW's state saved."""
         old_proc, old_path = m.process, m.path
+        m.standby.stop()  # OLD's: the next one starts NEW
         m.process, m.node, m.impl, m.generation = proc, new_node, impl, generation
         m.heartbeat, m.heartbeat_ok = None, time.monotonic()
         self.replacements.save(Replacement(m.name, new_node, generation, impl, m.spec.component,

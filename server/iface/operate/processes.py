@@ -81,6 +81,17 @@ def proc_cmdline(pid: int) -> tuple[str, ...] | None:
     return tuple(part.decode(errors="replace") for part in raw.split(b"\0") if part)
 
 
+def catches(pid: int, signum: int) -> bool:
+    """Whether ``pid`` has a handler for ``signum`` (``SigCgt`` of ``/proc/<pid>/status``); False when there is
+    no such process."""
+    try:
+        text = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    mask = next((line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), "0")
+    return bool(int(mask, 16) >> (signum - 1) & 1)
+
+
 def running(record: ProcessRecord) -> bool:
     """Whether the recorded process still runs (same pid, start time and command line; not a zombie)."""
     stat = proc_stat(record.pid)

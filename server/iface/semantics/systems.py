@@ -39,6 +39,10 @@ ANNOTATIONS: dict[str, str] = {
     "intra_process": 'in a container: "true" (default) or "false", whether its publishers and subscriptions '
                      "reach the container's other instances in-process where their QoS allows it (volatile, "
                      "keep_last)",
+    "standby": '"true": the manager keeps a spare process of the instance (in a container: of its container) started '
+               "ahead, ROS up and no node yet, which becomes the instance (the container) when its process fails: a "
+               'restart without a process start or a new participant to discover; "false" (default) saves that '
+               "process's memory",
 }
 RESTART = ("never", "on-failure", "always")
 DEFAULT_RESTART = "on-failure"
@@ -81,6 +85,11 @@ def runtime(inst: m.Instance) -> str:
 def intra_process(inst: m.Instance) -> bool:
     """Whether an instance in a container uses intra-process communication (the default), per ``intra_process``."""
     return inst.value("container") is not None and inst.value("intra_process") != "false"
+
+
+def standby(inst: m.Instance) -> bool:
+    """Whether the manager keeps a spare process for the instance, or for its container (``standby = "true"``)."""
+    return inst.value("standby") == "true"
 
 
 def containers(instances: list[m.Instance]) -> list[str]:
@@ -214,6 +223,10 @@ def _containers(iface: m.Interface, nodes: dict[str, m.Instance]) -> Iterator[Di
     for inst in iface.instances:
         name = inst.value("container")
         if name is None:
+            if inst.value("standby") == "true" and inst.value("restart") == "never":
+                yield make("invalid-instance-annotation", "standby = \"true\" keeps a spare process for a restart, "
+                           "and restart = \"never\" never restarts the instance: the spare would only take memory",
+                           src, annotation_span(inst, "standby"), severity=Severity.WARNING)
             for key in CONTAINER_ONLY:
                 if inst.value(key) is not None:
                     yield make("invalid-instance-annotation", f"'{key}' is for an instance in a container: add "
@@ -294,8 +307,8 @@ def _value_problem(iface: m.Interface, inst: m.Instance, key: str, text: str,
                      "and underscores, not a digit first")
     if key == "runtime" and text not in RUNTIMES:
         return bad, f"runtime must be one of {', '.join(repr(r) for r in RUNTIMES)}, not '{text}'"
-    if key == "intra_process" and text not in BOOLEANS:
-        return bad, f"intra_process must be \"true\" or \"false\", not '{text}'"
+    if key in ("intra_process", "standby") and text not in BOOLEANS:
+        return bad, f"{key} must be \"true\" or \"false\", not '{text}'"
     if key == "plugin" and not _PLUGIN.match(text):
         return bad, f"'{text}' is no C++ class name with its namespace, like \"counter::Counter\""
     if key == "after":

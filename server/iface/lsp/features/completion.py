@@ -231,6 +231,8 @@ def offer_system(ctx: Context, names: tuple[Name, ...], items: Items) -> None:
             values = [(r, "runtime") for r in RUNTIMES]
         elif ctx.key == "intra_process":
             values = [(b, "intra-process communication") for b in BOOLEANS]
+        elif ctx.key == "standby":
+            values = [(b, "a spare process for a fast restart") for b in BOOLEANS]
         elif ctx.key == "container":
             values = [(n.name, f"container of {', '.join(n.members)}") for n in names if n.kind == "container"]
         items.prefix = ""  # the quote is part of the label; the client filters

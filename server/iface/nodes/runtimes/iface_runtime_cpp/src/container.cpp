@@ -8,6 +8,7 @@
 //   "state" (a state document restored after configure) and "activate": a component brought up in one request.
 // docs/runtime.md, "The hand-over inside a container".
 #include <algorithm>
+#include <atomic>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -16,6 +17,7 @@
 
 #include "iface_msgs/srv/hand_over.hpp"
 #include "iface_runtime_cpp/iface_runtime.hpp"
+#include "iface_runtime_cpp/standby.hpp"
 #include "lifecycle_msgs/msg/state.hpp"
 #include "rclcpp/rclcpp.hpp"
 #include "rclcpp_components/component_manager.hpp"
@@ -243,10 +245,35 @@ private:
 
 }  // namespace iface_runtime
 
+namespace
+{
+//! rclcpp's own signal handlers end a standby container (rclcpp::ok()): nothing else stops it.
+const std::atomic<bool> g_never{false};
+}  // namespace
+
 int main(int argc, char ** argv)
 {
+  // --standby (the manager's spare container, docs/system.md "Standby"): ROS up, the container's node made on
+  // SIGUSR1
+  const auto own = rclcpp::remove_ros_arguments(argc, argv);
+  const bool standby = std::find(own.begin() + 1, own.end(), "--standby") != own.end();
+  const pid_t parent = iface_runtime::standby_parent();
+  sigset_t told{};
+  if (standby) {
+    told = iface_runtime::standby_signal();  // before ROS starts its threads
+  }
   rclcpp::init(argc, argv);
+  std::shared_ptr<rclcpp::Node> spare;
+  if (standby) {
+    spare = iface_runtime::standby_node();
+    if (!iface_runtime::until_told(told, g_never, parent)) {
+      spare.reset();
+      rclcpp::shutdown();
+      return 0;
+    }
+  }
   auto node = std::make_shared<iface_runtime::Container>(rclcpp::NodeOptions());
+  spare.reset();  // after the container's node: the participant stays up between the two
   rcl_interfaces::msg::ParameterDescriptor threads;
   threads.description = "threads of the container's multi-threaded executor";
   threads.read_only = true;

@@ -23,6 +23,7 @@ import argparse
 import importlib
 import json
 import os
+import signal
 import sys
 import threading
 import time
@@ -48,6 +49,7 @@ from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
+from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import (
     DurabilityPolicy,
@@ -835,6 +837,53 @@ def _quiet_exit() -> Iterator[None]:
         pass
 
 
+#: The node a standby holds until it is told: its DDS participant up and discovered before the component needs it.
+STANDBY_NODE = "_iface_standby_"
+#: Seconds between a standby's looks at its parent (it ends with the process that started it).
+STANDBY_LOOK = 0.2
+#: The environment variable that names the process a standby ends with (the manager sets it to its own pid, so
+#: that one that ended while the standby was still importing is seen too); without it, the parent at start.
+STANDBY_PARENT = "IFACE_STANDBY_PARENT"
+
+
+def _standby_parent() -> int:
+    """The process whose end ends a standby."""
+    given = os.environ.get(STANDBY_PARENT, "").strip()
+    return int(given) if given.isdigit() else os.getppid()
+
+
+def _standby_signal() -> set[signal.Signals]:
+    """SIGUSR1, the standby's order to become the component: blocked before ROS starts its threads, so every
+    thread leaves it pending for ``sigtimedwait`` in the main thread, which takes it at once.
+
+    Then a handler that does nothing: the manager tells a standby only once it has one (``SigCgt``), and a
+    second SIGUSR1 after the first ends nothing."""
+    told = {signal.SIGUSR1}
+    signal.pthread_sigmask(signal.SIG_BLOCK, told)
+    signal.signal(signal.SIGUSR1, lambda _signum, _frame: None)
+    return told
+
+
+def _standby_node() -> Node:
+    """A hidden node with no endpoints, made only for the participant that comes with it.
+
+    It takes no global ROS arguments, so ``__node:=`` and parameter files remap the component's node only,
+    and it has no rosout, parameter or type description endpoints for discovery to carry.
+    """
+    return rclpy.create_node(f"{STANDBY_NODE}{os.getpid()}", use_global_arguments=False, enable_rosout=False,
+                             start_parameter_services=False,
+                             parameter_overrides=[Parameter("start_type_description_service", value=False)])
+
+
+def _until_told(told: set[signal.Signals], parent: int) -> bool:
+    """Wait for SIGUSR1; False when ROS shuts down (SIGINT, SIGTERM) or the process ``parent`` is no longer this
+    one's parent (it ended first)."""
+    while signal.sigtimedwait(told, STANDBY_LOOK) is None:
+        if not rclpy.ok() or os.getppid() != parent:
+            return False
+    return True
+
+
 def main(load: Callable[[], type[ComponentNode]], package: str, params_file_name: str,
          argv: list[str] | None = None) -> int:
     """Start the component: its default parameter file, then the command line's ROS arguments."""
@@ -846,6 +895,9 @@ def main(load: Callable[[], type[ComponentNode]], package: str, params_file_name
     parser.add_argument("--activate", action="store_true", help="configure and activate at start")
     parser.add_argument("--no-default-params", action="store_true",
                         help=f"do not load the installed config/{params_file_name}")
+    parser.add_argument("--standby", action="store_true",
+                        help="a spare for a fast restart: start ROS and wait; make the node on SIGUSR1, end when "
+                             "the process that started it ends first (the component manager's standby)")
     opts = parser.parse_args(own)
     try:
         cls = load()
@@ -861,12 +913,21 @@ def main(load: Callable[[], type[ComponentNode]], package: str, params_file_name
         return 2
     params = None if opts.no_default_params else default_params_file(package, params_file_name)
     ros_argv = [argv[0], *(["--ros-args", "--params-file", params, "--"] if params else []), *argv[1:]]
+    parent = _standby_parent()
+    told = _standby_signal() if opts.standby else None
     rclpy.init(args=ros_argv)
     node: ComponentNode | None = None
     executor: MultiThreadedExecutor | None = None
     try:
         with _quiet_exit():
+            spare = None
+            if told is not None:
+                spare = _standby_node()
+                if not _until_told(told, parent):
+                    return 0
             node = cls()
+            if spare is not None:
+                spare.destroy_node()  # after the component's node: the participant stays up between the two
             node.get_logger().info(f"parameter file: {params}" if params else "parameter file: none installed")
             executor = MultiThreadedExecutor(num_threads=node.executor_threads())
             executor.add_node(node)
