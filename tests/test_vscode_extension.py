@@ -67,37 +67,48 @@ def test_graph_fixture_of_the_unit_tests_is_what_the_server_answers() -> None:
         f"regenerate it: iface-lsp graph {' '.join(files)} --format json > {fixture.relative_to(ROOT)}")
 
 
+#: The step whose first attempt the e2e run fails (``--fail-once``), to show that it is tried once more.
+FAIL_ONCE = "compatibility-command-shows-the-report"
+
+
+@pytest.fixture(scope="module")
+def e2e_run() -> subprocess.CompletedProcess[str]:
+    """One ``npm run e2e`` (real VS Code in code-server, headless Chromium) with ``--fail-once=FAIL_ONCE``: every
+    step is checked, that one also when it is tried again (one editor run for both tests below)."""
+    if os.environ.get("IFACE_E2E") != "1":
+        pytest.skip("set IFACE_E2E=1 to run the VS Code end-to-end test")
+    npm = _npm()
+    _ensure_node_modules(npm)
+    artifacts = EXTENSION / "e2e" / "artifacts"
+    for old in [*artifacts.glob(f"failed-{FAIL_ONCE}*"), artifacts / "iface-e2e.png"]:
+        old.unlink(missing_ok=True)
+    return _run([npm, "run", "e2e", "--", f"--fail-once={FAIL_ONCE}"], timeout=2400)
+
+
 @pytest.mark.e2e
-@pytest.mark.skipif(os.environ.get("IFACE_E2E") != "1", reason="set IFACE_E2E=1 to run the VS Code end-to-end test")
-def test_vscode_e2e() -> None:
-    """The extension in real VS Code (code-server) with headless Chromium.
+def test_vscode_e2e(e2e_run: subprocess.CompletedProcess[str]) -> None:
+    """The extension in real VS Code (code-server) with headless Chromium: every step passes, each at its first
+    attempt but the one ``--fail-once`` fails.
 
     IFACE_E2E_SERVER picks the language server: auto (default; iface-lsp from
     PATH, server checks skipped without it), real, mock or none.
     """
-    npm = _npm()
-    _ensure_node_modules(npm)
-    result = _run([npm, "run", "e2e"], timeout=2400)
-    output = result.stdout + result.stderr
-    assert result.returncode == 0, f"npm run e2e failed:\n{output[-8000:]}"
+    output = e2e_run.stdout + e2e_run.stderr
+    assert e2e_run.returncode == 0, f"npm run e2e failed:\n{output[-8000:]}"
+    assert " 0 failed" in output and output.count("(passed when tried again)") == 1, output[-8000:]
     assert (EXTENSION / "e2e" / "artifacts" / "iface-e2e.png").is_file()
 
 
-@pytest.mark.skipif(os.environ.get("IFACE_E2E") != "1", reason="set IFACE_E2E=1 to run the VS Code end-to-end test")
-def test_vscode_a_failed_step_is_tried_once_more_and_its_evidence_kept_and_named() -> None:
+@pytest.mark.e2e
+def test_vscode_a_failed_step_is_tried_once_more_and_its_evidence_kept_and_named(
+        e2e_run: subprocess.CompletedProcess[str]) -> None:
     """--fail-once=STEP fails the step's first attempt: it passes when tried again from a reset workbench,
     and the screenshot, code-server's log and the language server's log of the failure are kept and named."""
-    npm = _npm()
-    _ensure_node_modules(npm)
-    step = "compatibility-command-shows-the-report"
-    artifacts = EXTENSION / "e2e" / "artifacts"
-    for old in artifacts.glob(f"failed-{step}*"):
-        old.unlink()
-    result = _run([npm, "run", "e2e", "--", f"--fail-once={step}"], timeout=2400)
-    output = result.stdout + result.stderr
-    assert result.returncode == 0, f"npm run e2e failed:\n{output[-8000:]}"
+    output = e2e_run.stdout + e2e_run.stderr
+    assert e2e_run.returncode == 0, f"npm run e2e failed:\n{output[-8000:]}"
     assert "PASS  compatibility command shows the report" in output and "(passed when tried again)" in output
-    kept = [artifacts / f"failed-{step}{suffix}" for suffix in (".png", "-code-server.log", "-iface-lsp.log")]
+    artifacts = EXTENSION / "e2e" / "artifacts"
+    kept = [artifacts / f"failed-{FAIL_ONCE}{suffix}" for suffix in (".png", "-code-server.log", "-iface-lsp.log")]
     tried_again = next(line for line in output.splitlines() if "trying once more. Kept:" in line)
     for path in kept:
         assert path.is_file() and path.stat().st_size > 0, path
