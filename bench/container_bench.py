@@ -274,26 +274,6 @@ instance tally : tally (container = "box", after = "ticker"{standby})
 """
 
 
-def ready_standby(node: str, timeout: float = 60.0) -> int:
-    """The pid of ``node``'s standby once it takes its signal (a handler for SIGUSR1, the manager's test)."""
-    import signal
-
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        for entry in os.listdir("/proc"):
-            try:
-                cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
-                status = Path(f"/proc/{entry}/status").read_text()
-            except OSError:
-                continue
-            if b"--standby" in cmd and f"__node:={node}".encode() in cmd:
-                caught = next(line.split()[1] for line in status.splitlines() if line.startswith("SigCgt:"))
-                if int(caught, 16) >> (signal.SIGUSR1 - 1) & 1:
-                    return int(entry)
-        time.sleep(0.05)
-    raise TimeoutError(f"no standby of {node} ready within {timeout:g} s")
-
-
 def _logged_at(log: Path, line: str, after: float) -> float | None:
     """The wall time (ROS log stamp, s) of the first manager log line containing ``line`` stamped after ``after``."""
     for text in log.read_text(errors="replace").splitlines():
@@ -356,6 +336,8 @@ def kill_figure(cfg: dict[str, Any], probe: Any, standby: bool) -> int:
             count = json.loads(ticker_file.read_text())["values"]["count"]
             pid = status()["ticker"].pid
             if standby:
+                from tests.ros_harness.standby_probe import ready_standby
+
                 ready_standby("box")
                 time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
             killed, start = time.time(), time.monotonic()

@@ -129,24 +129,6 @@ def phases(logs: dict[str, Path], killed: float) -> dict[str, float]:
     return found
 
 
-def ready_standby(node: str, timeout: float = 60.0) -> int:
-    """The pid of ``node``'s standby once it takes its signal (a handler for SIGUSR1, the manager's test)."""
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        for entry in os.listdir("/proc"):
-            try:
-                cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
-                status = Path(f"/proc/{entry}/status").read_text()
-            except OSError:
-                continue
-            if b"--standby" in cmd and f"__node:={node}".encode() in cmd:
-                caught = next(line.split()[1] for line in status.splitlines() if line.startswith("SigCgt:"))
-                if int(caught, 16) >> (signal.SIGUSR1 - 1) & 1:
-                    return int(entry)
-        time.sleep(0.05)
-    raise TimeoutError(f"no standby of {node} ready within {timeout:g} s")
-
-
 def start_manager(cfg: dict[str, Any], system: str, state: str, log: Path) -> subprocess.Popen[bytes]:
     argv = [cfg["python"], "-m", "iface", "manager", system, "--state-dir", state, "--max-restarts", "1000",
             "--grace", "1"]
@@ -220,6 +202,8 @@ class Bench:
         for run in range(self.cfg["runs"]):
             old = self.status()["thermostat"]
             if standby:
+                from tests.ros_harness.standby_probe import ready_standby
+
                 ready_standby("thermostat")
                 time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
             killed, start = time.time(), time.monotonic()

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import random
+from dataclasses import fields, is_dataclass
 
 from iface.forms.dump import dump_interface
-from iface.model.source import Source
+from iface.model.source import Source, Span
 from iface.semantics.compile import Workspace, compile_source
 
 from .helpers import DATA
@@ -170,22 +172,27 @@ def test_line_edits_of_a_file_with_cycles_and_duplicates_match_fresh_compiles() 
         assert list(got.interface.symbols) == list(fresh.interface.symbols), f"step {step}"
 
 
+#: Fields not followed by ``_spans``: cross references, and the table a parsed node keeps its spans in (where its
+#: chunk starts, not a span of the node).
+_NOT_FOLLOWED = ("target", "source", "included", "spliced", "_t")
+
+
+@functools.cache
+def _followed(cls: type) -> tuple[str, ...]:
+    """The fields of a model class that ``_spans`` looks into (none for a class that is no dataclass)."""
+    return tuple(f.name for f in fields(cls) if f.name not in _NOT_FOLLOWED) if is_dataclass(cls) else ()
+
+
 def _spans(node: object, out: list[tuple[str, int, int]], path: str = "", depth: int = 0) -> list:
     """Every span under a model node (name spans too), by where it is; cross references are not followed."""
-    from dataclasses import fields, is_dataclass
-
-    from iface.model.source import Span
-
     if isinstance(node, Span):
         out.append((path, node.start, node.end))
     elif isinstance(node, (list, tuple)):
         for i, x in enumerate(node):
             _spans(x, out, f"{path}[{i}]", depth + 1)
-    elif is_dataclass(node) and depth < 40:
-        for f in fields(node):
-            # the table a parsed node keeps its spans in is where its chunk starts, not a span of the node
-            if f.name not in ("target", "source", "included", "spliced", "_t"):
-                _spans(getattr(node, f.name), out, f"{path}.{f.name}", depth + 1)
+    elif depth < 40:
+        for name in _followed(type(node)):
+            _spans(getattr(node, name), out, f"{path}.{name}", depth + 1)
     return out
 
 

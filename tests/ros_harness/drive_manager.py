@@ -22,6 +22,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 from tests.ros_harness.probe import ManagerStatus, Probe, Report, check, import_interface
+from tests.ros_harness.standby_probe import ready_standby
 
 SYSTEM_KEYS = {"instances", "findings"}
 INSTANCE_KEYS = {"name", "node", "component", "state", "pid", "restarts", "interface_hash", "last_snapshot",
@@ -90,16 +91,6 @@ def node_processes(node: str, standby: bool | None = False) -> list[int]:
         if OWN and OWN.encode() in environ:
             found.append(int(entry))
     return found
-
-
-def catches(pid: int, signum: int) -> bool:
-    """Whether ``pid`` has a handler for ``signum`` (``SigCgt``: the manager's test that a standby is ready)."""
-    try:
-        text = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    mask = next((line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), "0")
-    return bool(int(mask, 16) >> (signum - 1) & 1)
 
 
 def command_line(pid: int) -> str:
@@ -343,16 +334,8 @@ def main() -> int:
         report.step("replace by another implementation with an interface package of another name",
                     lambda: replaced_by("eco", "thermostat_4"))
 
-        def ready_standby(node: str, other_than: tuple[int, ...] = ()) -> int:
-            """The one standby of ``node`` (not one of ``other_than``), once it takes its signal (the manager's test
-            of ready)."""
-            def one() -> int | None:
-                found = [p for p in node_processes(node, standby=True) if p not in other_than]
-                return found[0] if len(found) == 1 and catches(found[0], signal.SIGUSR1) else None
-            return int(probe.wait_until(one, 60, f"one standby of {node}, ready"))
-
         def crash_standby() -> str:
-            spare_pid = ready_standby("sensor")
+            spare_pid = ready_standby("sensor", OWN)
             log = managers[-1].log()
             check(f"sensor: started standby pid {spare_pid}" in log, f"standby {spare_pid} not the manager's: {log[-1500:]}")
             code, out, err = cli("snapshot", cfg["system"], "sensor")
@@ -371,7 +354,7 @@ def main() -> int:
             readings = saved("/sensor")["readings"]
             check(readings >= kept, f"readings {readings} after the restart, {kept} in the last snapshot")
             check(not node_processes("sensor"), f"a process started for the sensor: {node_processes('sensor')}")
-            following = ready_standby("sensor", other_than=(spare_pid,))
+            following = ready_standby("sensor", OWN, other_than=(spare_pid,))
             return (f"standby pid {spare_pid} active as /sensor after {took:.2f} s with readings {readings} (snapshot "
                     f"{kept}); next standby pid {following}")
 

@@ -33,6 +33,7 @@ from iface.live.link import Link
 from iface.operate.containers import mapped_files
 from iface.operate.in_container import ContainerCalls
 from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, StepFailed, check
+from tests.ros_harness.standby_probe import ready_standby
 
 ORDER = ("sensor", "ticker", "tally")
 
@@ -42,9 +43,8 @@ def gaps(values: list[int]) -> list[tuple[int, int]]:
     return [(a, b) for a, b in itertools.pairwise(values) if b != a + 1]
 
 
-def own_processes(own: str, node: str, standby: bool | None = None) -> list[int]:
-    """The pids of this test's processes (their environment names ``own``) started with ``__node:=node``: standbys
-    (``--standby``) too, only them (``standby=True``) or none (``False``)."""
+def own_processes(own: str, node: str) -> list[int]:
+    """The pids of this test's processes (their environment names ``own``) started with ``__node:=node``."""
     found = []
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
@@ -54,23 +54,11 @@ def own_processes(own: str, node: str, standby: bool | None = None) -> list[int]
             state = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[0]
             if f"__node:={node}".encode() not in cmd or state == "Z":
                 continue
-            if standby is not None and (b"--standby" in cmd) != standby:
-                continue
             if own.encode() in Path(f"/proc/{entry}/environ").read_bytes():
                 found.append(int(entry))
         except OSError:
             continue
     return found
-
-
-def catches(pid: int, signum: int) -> bool:
-    """Whether ``pid`` has a handler for ``signum`` (``SigCgt``: the manager's test that a standby is ready)."""
-    try:
-        text = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    mask = next((line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), "0")
-    return bool(int(mask, 16) >> (signum - 1) & 1)
 
 
 def main() -> int:
@@ -196,9 +184,7 @@ def main() -> int:
                         Path(f).parent.name)), strict=True)}
             s = status()
             pid, restarts = s["ticker"].pid, (s["ticker"].restarts, s["tally"].restarts, s["sensor"].restarts)
-            spare = probe.wait_until(lambda: next((p for p in own_processes(cfg["own"], "box", standby=True)
-                                                   if catches(p, signal.SIGUSR1)), None), 60,
-                                     "the container's standby (the tally says standby), ready")
+            spare = ready_standby("box", cfg["own"])  # the tally says standby: its container keeps one
             check(f"container box: started standby pid {spare}" in manager_log(), "the standby is not the manager's")
             counts_past(snap["ticker"]["count"] + 300, 10, "300 ticks more")
             mark = len(ticks)

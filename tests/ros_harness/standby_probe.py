@@ -19,6 +19,19 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+
+def catches(pid: int, signum: int) -> bool:
+    """Whether ``pid`` has a handler for ``signum`` (``SigCgt``): the manager's test that a standby is ready
+    (``iface.operate.processes.catches``, which this file cannot import: it runs in the ROS environment, which has
+    none of iface's dependencies)."""
+    try:
+        text = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    mask = next((line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), "0")
+    return bool(int(mask, 16) >> (signum - 1) & 1)
+
+
 #: What this probe prints for a standby that keeps its contract.
 SAYS = ("ready True", "standby node seen True", "component node before told False", "component node after told True",
         "standby node gone True", "alive after a second SIGUSR1 True", "exit after SIGTERM 0", "orphan ready True",
@@ -36,14 +49,36 @@ def findings(venv: Path, env: dict[str, str], node: str, command: list[str], log
     return said
 
 
-def catches(pid: int, signum: int) -> bool:
-    """Whether ``pid`` has a handler for ``signum`` (``SigCgt``)."""
-    try:
-        text = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    mask = next((line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), "0")
-    return bool(int(mask, 16) >> (signum - 1) & 1)
+def standbys(node: str, own: str = "") -> list[int]:
+    """Processes started as standbys of ``node`` (``--standby`` and ``__node:=node`` on their command line), only
+    those whose environment holds ``own`` (a test's folder: another test may run a node of that name)."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
+            if b"--standby" not in cmd or f"__node:={node}".encode() not in cmd or not running(int(entry)):
+                continue
+            if own.encode() in Path(f"/proc/{entry}/environ").read_bytes():
+                found.append(int(entry))
+        except OSError:
+            continue
+    return found
+
+
+def ready_standby(node: str, own: str = "", timeout: float = 60.0, other_than: tuple[int, ...] = ()) -> int:
+    """The pid of the one standby of ``node`` (``own``: see ``standbys``; not one of ``other_than``: one that became
+    the node keeps its command line) once it takes its signal, the manager's test of ready; TimeoutError after
+    ``timeout`` seconds."""
+    end = time.monotonic() + timeout
+    while True:
+        found = [p for p in standbys(node, own) if p not in other_than]
+        if len(found) == 1 and catches(found[0], signal.SIGUSR1):
+            return found[0]
+        if time.monotonic() >= end:
+            raise TimeoutError(f"no one standby of {node} ready within {timeout:g} s: {found}")
+        time.sleep(0.05)
 
 
 def running(pid: int) -> bool:

@@ -50,15 +50,20 @@ def _spec(standby: bool = True) -> SimpleNamespace:
                            container=None, runtime="rclpy", plugin=None, intra_process=False, standby=standby)
 
 
-@pytest.fixture
-def manager(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Manager]:
-    """A manager of one instance whose executable is the stand-in; bring-up marks it active without ROS."""
-    exe = tmp_path / "prefix" / "lib" / "room_sensor" / "room_sensor"
+def _stand_in(tmp_path: Path, package: str, executable: str) -> dict[str, str]:
+    """The stand-in installed as ``lib/<package>/<executable>`` of a prefix; an environment that finds it."""
+    exe = tmp_path / "prefix" / "lib" / package / executable
     exe.parent.mkdir(parents=True)
     exe.write_text(f"#!{sys.executable}\n{STAND_IN}", encoding="utf-8")
     exe.chmod(0o755)
     (tmp_path / "told").mkdir()
-    env = {**os.environ, "AMENT_PREFIX_PATH": str(tmp_path / "prefix"), "TOLD": str(tmp_path / "told")}
+    return {**os.environ, "AMENT_PREFIX_PATH": str(tmp_path / "prefix"), "TOLD": str(tmp_path / "told")}
+
+
+@pytest.fixture
+def manager(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Manager]:
+    """A manager of one instance whose executable is the stand-in; bring-up marks it active without ROS."""
+    env = _stand_in(tmp_path, "room_sensor", "room_sensor")
     system = SimpleNamespace(name="room", instances=(_spec(),))
     mgr = Manager(system, Options(state_dir=tmp_path / "state"), env)
     mgr.log = lambda message: None  # type: ignore[method-assign]
@@ -187,12 +192,7 @@ def test_a_container_of_an_instance_with_a_standby_has_a_standby_container_that_
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """In a container, ``standby = "true"`` is the container's: a spare container process (``--standby``,
     ``__node:=`` the container's name) told to start when the container ends, instead of a process started."""
-    exe = tmp_path / "prefix" / "lib" / "iface_runtime_cpp" / "iface_container"
-    exe.parent.mkdir(parents=True)
-    exe.write_text(f"#!{sys.executable}\n{STAND_IN}", encoding="utf-8")
-    exe.chmod(0o755)
-    (tmp_path / "told").mkdir()
-    env = {**os.environ, "AMENT_PREFIX_PATH": str(tmp_path / "prefix"), "TOLD": str(tmp_path / "told")}
+    env = _stand_in(tmp_path, "iface_runtime_cpp", "iface_container")
     specs = [SimpleNamespace(**{**vars(_spec(standby=standby)), "name": name, "node": name, "container": "box",
                                 "runtime": "rclcpp"}) for name, standby in (("ticker", False), ("tally", True))]
     mgr = Manager(SimpleNamespace(name="plant", instances=tuple(specs)), Options(state_dir=tmp_path / "state"), env)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 from typing import Any
 
@@ -51,6 +52,12 @@ def _range(span: Span, src: Source) -> str:
     return f"{l1 + 1}:{c1 + 1}-{l2 + 1}:{c2 + 1}"
 
 
+@functools.cache
+def _written(cls: type) -> tuple[str, ...]:
+    """The fields of a node class the dump writes: not skipped, not derived (computed from the rest)."""
+    return tuple(f.name for f in dataclasses.fields(cls) if f.name not in _SKIP and not f.metadata.get("derived"))
+
+
 def _node(node: Any, src: Source) -> Any:
     if isinstance(node, Span):
         return _range(node, src)
@@ -61,15 +68,13 @@ def _node(node: Any, src: Source) -> Any:
     if not dataclasses.is_dataclass(node):
         return node
     out: dict[str, Any] = {"node": type(node).__name__}
-    for f in dataclasses.fields(node):
-        if f.name in _SKIP or f.metadata.get("derived"):  # derived: computed from the rest, not written
-            continue
-        value = getattr(node, f.name)
-        if isinstance(node, m.Include) and f.name == "resolved" and value:
+    for name in _written(type(node)):
+        value = getattr(node, name)
+        if isinstance(node, m.Include) and name == "resolved" and value:
             value = os.path.relpath(value, os.path.dirname(src.path))  # stable wherever the tree lives
-        if value is None or value == [] or value == () or value is False or (f.name == "implicit" and not value):
+        if value is None or value == [] or value == () or value is False or (name == "implicit" and not value):
             continue
-        out[f.name] = _node(value, src)
+        out[name] = _node(value, src)
     kind = getattr(type(node), "kind", None)
     if isinstance(kind, str):  # a kind every node of the class has is kept on the class, not on each node
         out["kind"] = kind
