@@ -140,6 +140,17 @@ class Component:
         self._log.close()
 
 
+
+class LockedActionClient(ActionClient):
+    """rclpy's ActionClient, its lock made first: Kilted's adds the client to its node before it makes the lock
+    ``get_num_entities`` takes, and this probe's executor thread, building its wait set meanwhile, ended with an
+    AttributeError (a CI run's every later call then timed out). The runtime's class of the same name, for the
+    same race; this file does not import the runtime."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self._lock = threading.Lock()
+        super().__init__(*args, **kwargs)
+
 class Probe:
     """The test's own node, spun by a background executor; every wait bounded."""
 
@@ -194,7 +205,7 @@ class Probe:
         rclpy.try_shutdown()
 
     def action_client(self, action_type: Any, name: str) -> Any:
-        client = ActionClient(self.node, action_type, name)
+        client = LockedActionClient(self.node, action_type, name)
         self._action_clients.append(client)
         return client
 

@@ -67,8 +67,9 @@ def _node(node: Any, src: Source) -> Any:
         return [_node(x, src) for x in node]
     if not dataclasses.is_dataclass(node):
         return node
-    out: dict[str, Any] = {"node": type(node).__name__}
-    for name in _written(type(node)):
+    cls: type = type(node)
+    out: dict[str, Any] = {"node": cls.__name__}
+    for name in _written(cls):
         value = getattr(node, name)
         if isinstance(node, m.Include) and name == "resolved" and value:
             value = os.path.relpath(value, os.path.dirname(src.path))  # stable wherever the tree lives
