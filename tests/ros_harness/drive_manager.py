@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
+from tests.ros_harness import ros2cli
 from tests.ros_harness.probe import ManagerStatus, Probe, Report, check, import_interface
 from tests.ros_harness.standby_probe import ready_standby
 
@@ -72,25 +73,9 @@ OWN = ""
 
 
 def node_processes(node: str, standby: bool | None = False) -> list[int]:
-    """The pids of this test's processes whose command line names ``__node:=node``: not standbys (``--standby``),
-    only standbys (``standby=True``) or both (``None``)."""
-    found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
-            state = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[0]
-            if f"__node:={node}".encode() not in cmd or state == "Z":
-                continue
-            if standby is not None and (b"--standby" in cmd) != standby:
-                continue
-            environ = Path(f"/proc/{entry}/environ").read_bytes()
-        except OSError:
-            continue
-        if OWN and OWN.encode() in environ:
-            found.append(int(entry))
-    return found
+    """The pids of this test's processes started for ``node``: not standbys (``--standby``), only standbys
+    (``standby=True``) or both (``None``)."""
+    return ros2cli.node_processes(node, OWN, standby) if OWN else []
 
 
 def command_line(pid: int) -> str:

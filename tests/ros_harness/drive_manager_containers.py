@@ -33,6 +33,7 @@ from iface.live.link import Link
 from iface.operate.containers import mapped_files
 from iface.operate.in_container import ContainerCalls
 from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, StepFailed, check
+from tests.ros_harness.ros2cli import node_processes
 from tests.ros_harness.standby_probe import ready_standby
 
 ORDER = ("sensor", "ticker", "tally")
@@ -41,24 +42,6 @@ ORDER = ("sensor", "ticker", "tally")
 def gaps(values: list[int]) -> list[tuple[int, int]]:
     """Pairs of successive counts that are not one apart (a count lost or repeated)."""
     return [(a, b) for a, b in itertools.pairwise(values) if b != a + 1]
-
-
-def own_processes(own: str, node: str) -> list[int]:
-    """The pids of this test's processes (their environment names ``own``) started with ``__node:=node``."""
-    found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
-            state = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[0]
-            if f"__node:={node}".encode() not in cmd or state == "Z":
-                continue
-            if own.encode() in Path(f"/proc/{entry}/environ").read_bytes():
-                found.append(int(entry))
-        except OSError:
-            continue
-    return found
 
 
 def main() -> int:
@@ -322,7 +305,7 @@ def main() -> int:
             at = [log.find(f"{n}: down") for n in ("tally", "ticker", "sensor")]
             check(-1 not in at and at == sorted(at), f"not down in reverse order: {at}")
             check(log.find("container box: stopped") > at[1], "the container stopped before its instances were down")
-            left = {n: own_processes(cfg["own"], n) for n in ("box", "box_3", "sensor", "ticker", "tally")}
+            left = {n: node_processes(n, cfg["own"]) for n in ("box", "box_3", "sensor", "ticker", "tally")}
             check(not any(left.values()), f"still running: {left}")
             return f"down in reverse order (log offsets {at}), the container stopped; manager exit 0; nothing left"
 
@@ -333,7 +316,7 @@ def main() -> int:
                 os.killpg(manager.pid, signal.SIGKILL)
                 manager.wait(timeout=30)
         for node in ("box", "box_3", "sensor", "ticker", "tally"):
-            for pid in own_processes(cfg["own"], node):
+            for pid in node_processes(node, cfg["own"]):
                 os.kill(pid, signal.SIGKILL)
         probe.close()
     return 0 if all(s["ok"] for s in report.steps.values()) else 1

@@ -162,6 +162,29 @@ def cmdline(pid: int) -> list[str]:
         return []
 
 
+def node_processes(node: str, own: str = "", standby: bool | None = None) -> list[int]:
+    """The running processes started for the node ``node`` (``__node:=node`` on their command line) whose
+    environment holds ``own`` (a test's own folder: another test may run a node of that name): all of them, only
+    standbys (``standby=True``: ``--standby`` on the command line, which one that became the node keeps) or none
+    (``False``)."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        pid = int(entry)
+        line = cmdline(pid)
+        if f"__node:={node}" not in line or proc_start(pid) is None:
+            continue
+        if standby is not None and ("--standby" in line) != standby:
+            continue
+        try:
+            if own.encode() in Path(f"/proc/{pid}/environ").read_bytes():
+                found.append(pid)
+        except OSError:
+            continue
+    return found
+
+
 def still_running(seen: dict[int, int]) -> list[int]:
     """The pids of ``seen`` that still run (the same process: same start time)."""
     return [pid for pid, start in seen.items() if proc_start(pid) == start]

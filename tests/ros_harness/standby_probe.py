@@ -19,6 +19,9 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout, when run as a script
+from tests.ros_harness.ros2cli import node_processes, proc_start
+
 
 def catches(pid: int, signum: int) -> bool:
     """Whether ``pid`` has a handler for ``signum`` (``SigCgt``): the manager's test that a standby is ready
@@ -49,44 +52,18 @@ def findings(venv: Path, env: dict[str, str], node: str, command: list[str], log
     return said
 
 
-def standbys(node: str, own: str = "") -> list[int]:
-    """Processes started as standbys of ``node`` (``--standby`` and ``__node:=node`` on their command line), only
-    those whose environment holds ``own`` (a test's folder: another test may run a node of that name)."""
-    found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            cmd = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
-            if b"--standby" not in cmd or f"__node:={node}".encode() not in cmd or not running(int(entry)):
-                continue
-            if own.encode() in Path(f"/proc/{entry}/environ").read_bytes():
-                found.append(int(entry))
-        except OSError:
-            continue
-    return found
-
-
 def ready_standby(node: str, own: str = "", timeout: float = 60.0, other_than: tuple[int, ...] = ()) -> int:
-    """The pid of the one standby of ``node`` (``own``: see ``standbys``; not one of ``other_than``: one that became
-    the node keeps its command line) once it takes its signal, the manager's test of ready; TimeoutError after
-    ``timeout`` seconds."""
+    """The pid of the one standby of ``node`` (``own``: see ``ros2cli.node_processes``; not one of ``other_than``:
+    one that became the node keeps its command line) once it takes its signal, the manager's test of ready;
+    TimeoutError after ``timeout`` seconds."""
     end = time.monotonic() + timeout
     while True:
-        found = [p for p in standbys(node, own) if p not in other_than]
+        found = [p for p in node_processes(node, own, standby=True) if p not in other_than]
         if len(found) == 1 and catches(found[0], signal.SIGUSR1):
             return found[0]
         if time.monotonic() >= end:
             raise TimeoutError(f"no one standby of {node} ready within {timeout:g} s: {found}")
         time.sleep(0.05)
-
-
-def running(pid: int) -> bool:
-    """Whether ``pid`` runs (not gone, not a zombie)."""
-    try:
-        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] not in ("Z", "X")
-    except OSError:
-        return False
 
 
 def until(predicate: Callable[[], bool], timeout: float) -> bool:
@@ -144,12 +121,12 @@ def main() -> int:
         print("orphan ready", until(lambda: catches(orphan, signal.SIGUSR1), 60), flush=True)
         parent.kill()
         parent.wait(timeout=10)
-        print("orphan ended with its parent", until(lambda: not running(orphan), 15), flush=True)
+        print("orphan ended with its parent", until(lambda: proc_start(orphan) is None, 15), flush=True)
     finally:
         if parent.poll() is None:
             parent.kill()
             parent.wait(timeout=10)
-        if orphan and running(orphan):
+        if orphan and proc_start(orphan) is not None:
             os.killpg(orphan, signal.SIGKILL)
     probe.destroy_node()
     rclpy.shutdown()
