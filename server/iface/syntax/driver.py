@@ -53,8 +53,17 @@ def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Redu
         build = fn
     else:
         build = partial(Tree, name)
-    if size == 1 and expand1 and len(keep) == 1 and not spliced:
-        return partial(_pass_through, goto)  # a ``?rule`` of one child: the child itself
+    if expand1 and len(keep) == 1 and not spliced:
+        if size == 1:
+            return partial(_pass_through, goto)  # a ``?rule`` of one child: the child itself
+        return partial(_pick, goto, size, keep[0][0])  # a ``?rule`` that keeps one of its children
+    if size == 1 and len(keep) == 1:
+        if spliced:
+            return partial(_splice_one, goto, expand1, build)  # the children of one ``_rule``
+        if not expand1:
+            return partial(_wrap_one, goto, build)  # one kept child
+    if size == 2 and [sp for _, sp in keep] == [True, False] and build is None and not expand1:
+        return partial(_append, goto)  # a helper list and one more item: ``_items: _items item``
     if not spliced and len(keep) == size > 1 and not expand1:
         return partial(_reduce_all, goto, size, build)  # every child kept as it is
     return partial(_reduce, goto, size, tuple(keep), spliced, expand1, build)
@@ -62,6 +71,47 @@ def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Redu
 
 def _pass_through(goto: dict[int, int], states: list[int], values: list[Any]) -> int:
     """A rule whose value is its one child: only the state changes."""
+    s = states[-1] = goto[states[-2]]
+    return s
+
+
+def _pick(goto: dict[int, int], size: int, index: int, states: list[int], values: list[Any]) -> int:
+    """A ``?rule`` whose one kept child (at ``index`` of its ``size``) is its value."""
+    value = values[index - size]
+    del values[1 - size:]
+    del states[1 - size:]
+    values[-1] = value
+    s = states[-1] = goto[states[-2]]
+    return s
+
+
+def _wrap_one(goto: dict[int, int], build: Callable[[list[Any]], Any] | None, states: list[int],
+              values: list[Any]) -> int:
+    """A rule of one kept child: the list of it, or what ``build`` makes of that list."""
+    k = [values[-1]]
+    values[-1] = k if build is None else build(k)
+    s = states[-1] = goto[states[-2]]
+    return s
+
+
+def _splice_one(goto: dict[int, int], expand1: bool, build: Callable[[list[Any]], Any] | None,
+                states: list[int], values: list[Any]) -> int:
+    """A rule whose one child is a ``_rule``: that rule's list is its children (one child of a ``?rule``:
+    that child)."""
+    k = values[-1]
+    if expand1 and len(k) == 1:
+        values[-1] = k[0]
+    elif build is not None:
+        values[-1] = build(k)
+    s = states[-1] = goto[states[-2]]
+    return s
+
+
+def _append(goto: dict[int, int], states: list[int], values: list[Any]) -> int:
+    """A helper rule of a helper list and one more kept child: the list, grown by it (taken over, as lark does)."""
+    item = values.pop()
+    values[-1].append(item)
+    states.pop()
     s = states[-1] = goto[states[-2]]
     return s
 
