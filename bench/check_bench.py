@@ -96,7 +96,7 @@ def paused(fn: Callable[[], object]) -> object:
 
 def main() -> None:
     bare = build_parser(None)
-    rounds = int(os.environ.get("BENCH_REPEAT", "5"))
+    rounds = int(os.environ.get("BENCH_REPEAT", "9"))
     texts = {n: generate(n) for n in SIZES}
     for text in texts.values():
         comp = compile_source(Source("bench.thrift", text))
