@@ -338,7 +338,7 @@ def kill_figure(cfg: dict[str, Any], probe: Any, standby: bool) -> int:
             if standby:
                 from tests.ros_harness.standby_probe import ready_standby
 
-                ready_standby("box")
+                ready_standby("box", other_than=(pid,))  # a standby told before is the container now
                 time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
             killed, start = time.time(), time.monotonic()
             os.kill(pid, signal.SIGKILL)

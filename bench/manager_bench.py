@@ -204,7 +204,7 @@ class Bench:
             if standby:
                 from tests.ros_harness.standby_probe import ready_standby
 
-                ready_standby("thermostat")
+                ready_standby("thermostat", other_than=(old.pid,))  # a standby told before is the instance now
                 time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
             killed, start = time.time(), time.monotonic()
             os.kill(old.pid, signal.SIGKILL)
