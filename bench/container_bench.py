@@ -1,6 +1,7 @@
 """Components in one process, measured on loopback (docs/system.md, "Containers: figures"; issue 37's goals):
 
     python bench/container_bench.py [--runs 20] [--seconds 5] [--kills 20] [--only replace|throughput|kill] [--keep DIR]
+                                     [--threads N]
 
 1. the silence on a 1 kHz topic, and on a 100 Hz one, across a replacement inside the container: an
    ``iface_container`` holds ticker 1.0 and the tally (tests/runtime/data); each run loads ticker 1.1
@@ -9,9 +10,9 @@
    ``iface.operate.in_container`` (the calls the component manager makes). Median and p95 over ``--runs``
    (goals <= 2 / 3 ms at 1 kHz, <= 11 / 12 ms at 100 Hz) from the publish times (``source_timestamp``) of
    OLD's last count and NEW's first; the arrival times too, the longer of NEW's next two periods (a late
-   second tick shows there) and every other period (the container's own jitter), the container's critical
-   section and pause, and
-   counts lost or repeated (0 expected, at the bench's subscriber over DDS and at the tally in the process);
+   second tick shows there), every other period (the container's own jitter), the counts per second over
+   the run (fewer than the rate when the ticker misses periods), the container's critical section and
+   pause, and counts lost or repeated (0 expected, at the bench's subscriber over DDS and at the tally in the process);
 2. messages per second from the ticker (1 kHz, 50 a tick) to the tally: in one container with intra-process
    communication, in one container without it, and as two processes; the ratios.
 
@@ -95,6 +96,7 @@ def prepare(args: argparse.Namespace) -> int:
                                                                          FLOOD.items()), encoding="utf-8")
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "server"), env.get("PYTHONPATH", "")])
     cfg = {"root": str(root), "ws": str(ws["ws"]), "ws_v1_1": str(ws["ws_v1_1"]), "runs": args.runs,
+           "threads": args.threads,
            "seconds": args.seconds, "kills": args.kills, "only": args.only or ""}
     (root / "config.json").write_text(json.dumps(cfg))
     print(f"{load()} (before); commit {commit()}; logs in {root}", flush=True)
@@ -154,7 +156,8 @@ def inner(config: Path) -> int:
     container_exe = ws / "install" / "iface_runtime_cpp" / "lib" / "iface_runtime_cpp" / "iface_container"
 
     def container() -> Component:
-        c = Component("box", logs, [str(container_exe)])
+        threads = ("-p", f"executor_threads:={cfg['threads']}") if cfg.get("threads") else ()
+        c = Component("box", logs, [str(container_exe)], threads)
         probe.wait_until(lambda: "/box/_container/load_node" in probe.services_of("box"), 30, "the container")
         return c
 
@@ -209,6 +212,8 @@ def inner(config: Path) -> int:
             lost = sum(max(0, b - a - 1) for a, b in itertools.pairwise(values))
             repeated = sum(1 for a, b in itertools.pairwise(values) if b <= a)
             tallied = calls.save("tally")["values"]
+            span = ticks.seen[first:]
+            per_second = (span[-1][0] - span[0][0]) / (span[-1][1] - span[0][1]) * 1000  # counts over publish time
             twice = (tallied["received"] - before["received"]) - (tallied["last"] - before["last"] - tallied["missed"]
                                                                   + before["missed"])
             print(f"{rate:g} Hz: silence across a replacement inside the container (publish times): median "
@@ -218,7 +223,8 @@ def inner(config: Path) -> int:
                   f"{statistics.median(critical):.3f} ms, p95 {percentile(critical, 0.95):.3f} ms; NEW's next two "
                   f"periods, the longer: median {statistics.median(after):.2f} ms, p95 {percentile(after, 0.95):.2f} "
                   f"ms; every other period (publish times): median {statistics.median(steady):.2f} ms, p95 "
-                  f"{percentile(steady, 0.95):.2f} ms, p99 {percentile(steady, 0.99):.2f} ms; pause median "
+                  f"{percentile(steady, 0.95):.2f} ms, p99 {percentile(steady, 0.99):.2f} ms; counts per second over the run "
+                  f"{per_second:.0f}; pause median "
                   f"{statistics.median(pauses):.2f} ms; lost {lost}, repeated {repeated} (bench, over DDS), missed "
                   f"{tallied['missed'] - before['missed']}, received twice {twice} (the tally, in the process); {load()}", flush=True)
         finally:
@@ -380,6 +386,7 @@ def main() -> int:
     ap.add_argument("--seconds", type=float, default=5.0, help="how long each throughput is measured")
     ap.add_argument("--kills", type=int, default=20, help="container kills the manager restarts (0: not measured)")
     ap.add_argument("--only", choices=("replace", "throughput", "kill"), help="measure one figure only")
+    ap.add_argument("--threads", type=int, help="the container's executor_threads (default: iface_container's, 16)")
     ap.add_argument("--keep", type=Path, help="keep the run's folder (workspace views, logs) here")
     ap.add_argument("--inner", type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args()
