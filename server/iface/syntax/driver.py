@@ -66,10 +66,8 @@ def reducer(rule: Any, transformer: object | None, goto: dict[int, int]) -> Redu
         return partial(_append, goto)  # a helper list and one more item: ``_items: _items item``
     if size == 2 and [sp for _, sp in keep] == [True, True] and build is None and not expand1:
         return partial(_extend, goto)  # two helper lists joined: ``_items: _items _more``
-    if not spliced and len(keep) == size > 1 and not expand1:
-        return partial(_reduce_all, goto, size, build)  # every child kept as it is
-    if not spliced and not expand1 and 0 < len(keep) < size and [i for i, _ in keep] == list(range(len(keep))):
-        return partial(_keep_first, goto, size, len(keep), build)  # its first children kept, the rest dropped
+    if not spliced and not expand1 and size > 1 and keep and [i for i, _ in keep] == list(range(len(keep))):
+        return partial(_keep_first, goto, size, len(keep), build)  # its first children kept (all, or up to tokens)
     return partial(_reduce, goto, size, tuple(keep), spliced, expand1, build)
 
 
@@ -131,19 +129,10 @@ def _extend(goto: dict[int, int], states: list[int], values: list[Any]) -> int:
 
 def _keep_first(goto: dict[int, int], size: int, count: int, build: Callable[[list[Any]], Any] | None,
                 states: list[int], values: list[Any]) -> int:
-    """A rule that keeps the first ``count`` of its ``size`` children (the others are filtered tokens)."""
-    k = values[-size:count - size]
-    del values[1 - size:]
-    del states[1 - size:]
-    values[-1] = k if build is None else build(k)
-    s = states[-1] = goto[states[-2]]
-    return s
-
-
-def _reduce_all(goto: dict[int, int], size: int, build: Callable[[list[Any]], Any] | None,
-                states: list[int], values: list[Any]) -> int:
-    """A rule that keeps each of its ``size`` children as it is: the popped slice is the list."""
-    k = values[-size:]
+    """A rule that keeps the first ``count`` of its ``size`` children as they are (the others are filtered
+    tokens): the popped slice is the list."""
+    start = len(values) - size
+    k = values[start:start + count]
     del values[1 - size:]
     del states[1 - size:]
     values[-1] = k if build is None else build(k)
