@@ -66,6 +66,10 @@ def ready_standby(node: str, own: str = "", timeout: float = 60.0, other_than: t
         time.sleep(0.05)
 
 
+#: How long a driver waits at most for a log line about what it has just seen happen (a bound, not a figure).
+LOG_WAIT = 10.0
+
+
 def until(predicate: Callable[[], bool], timeout: float) -> bool:
     end = time.monotonic() + timeout
     while not predicate():

@@ -4,6 +4,7 @@ reason for a second container, and the status's ``container`` field."""
 
 from __future__ import annotations
 
+import os
 import threading
 from pathlib import Path
 from types import SimpleNamespace
@@ -24,6 +25,7 @@ from iface.operate.container_host import (
     second_container_name,
 )
 from iface.operate.manager import Manager, Options
+from iface.operate.processes import ProcessRecord
 
 
 def _spec(name: str, container: str | None, restart: str = "on-failure") -> SimpleNamespace:
@@ -207,3 +209,64 @@ def test_a_container_that_does_not_answer_a_load_is_stopped(tmp_path: Path, monk
     with pytest.raises(LinkError, match="does not answer"):
         mgr._load(ticker)
     assert hung.stopped and ticker.loaded is None and ticker.state == "starting"
+
+
+class _Answers:
+    """A link whose every call and transition succeeds, and container calls whose load does."""
+
+    def forget(self, node: str) -> None:
+        pass
+
+    def call(self, *args: Any, **kwargs: Any) -> Any:
+        return SimpleNamespace(success=True, message="ok")
+
+    def transition(self, *args: Any, **kwargs: Any) -> None:
+        pass
+
+    def load(self, *args: Any, **kwargs: Any) -> Any:
+        return SimpleNamespace(unique_id=1, full_node_name="/ticker")
+
+    def control(self, *args: Any, **kwargs: Any) -> Any:
+        return SimpleNamespace(lifecycle_state=manager_module.ACTIVE)
+
+
+class _Running:
+    pid = 4343
+
+    def alive(self) -> bool:
+        return True
+
+
+def _logged_with_state(mgr: Manager) -> list[tuple[str, str]]:
+    """Each line the manager logs, with its instance's state when the line was written."""
+    lines: list[tuple[str, str]] = []
+    mgr.log = lambda message: lines.append((message, mgr.instances[0].state))  # type: ignore[method-assign]
+    return lines
+
+
+@pytest.mark.parametrize("container", [None, "box", "adopted"])
+def test_an_instance_is_reported_active_only_after_the_log_says_so(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, container: str | None) -> None:
+    """Status is read without the manager's lock: a client that saw every instance active and then read the log
+    found no "spare: active" line in it (the state was set, the line not yet written)."""
+    mgr = _manager(tmp_path, [_spec("ticker", None if container == "adopted" else container)])
+    mgr.link = _Answers()  # type: ignore[assignment]
+    lines = _logged_with_state(mgr)
+    ticker = mgr.instances[0]
+    if container is None:
+        mgr._bring_up(ticker, _Running())  # type: ignore[arg-type]
+    elif container == "adopted":
+        record = ProcessRecord("ticker", "/ticker", os.getpid(), 1, (), "/p", "ticker.iface", "sha256:x", 1)
+        monkeypatch.setattr(mgr.records, "load", lambda name: record)
+        monkeypatch.setattr(manager_module.processes, "running", lambda r: True)
+        monkeypatch.setattr(mgr, "_watched", lambda process: process)
+        assert mgr._adopt(ticker)
+    else:
+        mgr.hosts["box"] = Host("box", {}, process=_Running(), calls=_Answers())  # type: ignore[arg-type]
+        monkeypatch.setattr(manager_module, "component_of", lambda *a: SimpleNamespace(plugin="ticker::Ticker",
+                                                                                        prefix=Path("/p")))
+        monkeypatch.setattr(mgr, "_environment", lambda package_dir: {})
+        mgr._load(ticker)
+    active = [(line, state) for line, state in lines if line.startswith(("ticker: active", "ticker: adopted"))]
+    assert len(active) == 1 and active[0][1] != "active", lines
+    assert ticker.state == "active"
