@@ -45,6 +45,22 @@ def gaps(values: list[int]) -> list[tuple[int, int]]:
 SAVES = 100
 
 
+#: Callback groups of an iface component: its work, action, client, Δ and control groups and rclcpp's default one.
+GROUPS = 6
+
+
+def threads_named(pid: int) -> dict[str, int]:
+    """How many threads of process ``pid`` bear each name."""
+    names: dict[str, int] = {}
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        try:
+            name = (task / "comm").read_text().strip()
+        except OSError:
+            continue  # ended meanwhile
+        names[name] = names.get(name, 0) + 1
+    return names
+
+
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("config", type=Path)
@@ -87,6 +103,9 @@ def main() -> int:
             states = {n: protocol_of.control(n, protocol.STATUS).lifecycle_state for n in ("ticker", "tally")}
             check(states == {"ticker": 3, "tally": 3}, f"lifecycle states {states}")
             probe.wait_until(lambda: len(ticks) >= 500, 30, "500 ticks from ticker 1.0")
+            named = threads_named(container.proc.pid)
+            check(named.get("ticker", 0) >= GROUPS and named.get("tally", 0) >= GROUPS,
+                  f"each callback group of each node on a thread of its own, named as the node: {named}")
             log = container.log()
             check("[ticker]: intra-process communication: publisher /tick" in log, "ticker 1.0 not intra-process")
             check("[tally]: intra-process communication: subscription /tick" in log, "the tally not intra-process")
@@ -184,6 +203,9 @@ def main() -> int:
             values = [v for v, _ in ticks]
             check(not gaps(values), f"counts lost or repeated: {gaps(values)[:5]}")
             check(container.proc.poll() is None, "the container has exited")
+            named = threads_named(container.proc.pid)
+            check("ticker" not in named and named.get("ticker_next", 0) >= GROUPS,
+                  f"ticker 1.0's threads end with its unload, 1.1's run: {named}")
             container.stop()
             return f"ticker 1.0 unloaded, 1.1 goes on ({values[-1]}); the container stopped: {container.proc.returncode}"
 

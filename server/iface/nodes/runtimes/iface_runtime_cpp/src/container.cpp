@@ -1,5 +1,5 @@
-// iface_container: a component container (rclcpp_components' ComponentManager on a multi-threaded executor) that
-// also
+// iface_container: a component container (rclcpp_components' ComponentManager) that runs each callback group of
+// each node it loads on an executor and threads of its own, and that also
 // - hands over between two iface components it holds, in the process (~/handover, iface_msgs/srv/HandOver:
 //   ComponentNode::hand_over_to, no DDS round trip in the critical section);
 // - loads a package by the absolute path of its ament index entry, <prefix>/share/ament_index/resource_index/
@@ -7,12 +7,16 @@
 // - takes more extra arguments in LoadNode: "params_files" (parameter files, read as --params-file), "configure",
 //   "state" (a state document restored after configure) and "activate": a component brought up in one request.
 // docs/runtime.md, "The hand-over inside a container".
+#include <pthread.h>
+
 #include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "iface_msgs/srv/hand_over.hpp"
@@ -28,9 +32,9 @@ namespace iface_runtime
 namespace
 {
 
-//! Threads of the executor when the parameter executor_threads gives none: each component may keep a few busy
-//! while they wait (its work, control, Δ and client groups), the container one for its own services.
-constexpr int64_t DEFAULT_THREADS = 16;
+//! Threads of the container's own executor (its services: load, unload, list, hand-over) when the parameter
+//! executor_threads gives none; the nodes it loads run on threads of their own (add_node_to_executor).
+constexpr int64_t DEFAULT_THREADS = 2;
 constexpr const char * INDEX = "/share/ament_index/resource_index/";
 
 std::vector<std::string> split(const std::string & text, char separator)
@@ -104,6 +108,15 @@ public:
       });
   }
 
+  ~Container() override
+  {
+    for (auto & entry : executors_) {
+      stop(entry.second);
+    }
+    // ComponentManager's destructor would remove each node from the container's executor, which has none of them
+    node_wrappers_.clear();
+  }
+
   //! A package by name (the ament index of this process), or by the absolute path of its index entry: the
   //! entry's lines with their libraries in the entry's prefix.
   std::vector<ComponentResource> get_component_resources(
@@ -136,6 +149,50 @@ public:
   }
 
 protected:
+  //! Each callback group of a loaded node on an executor and threads of its own, named as the node: a
+  //! single-threaded executor for a mutually exclusive group, a multi-threaded one (the threads the component asks
+  //! for) for a reentrant group; one more single-threaded executor takes the groups the node makes after its load. rclcpp's multi-threaded
+  //! executor collects every entity it holds again after each callback of a mutually exclusive group and wakes
+  //! its threads for each event: one for the whole container ticked a 1 kHz timer ~570 times a second
+  //! (docs/system.md, "Each callback group on a thread of its own").
+  void add_node_to_executor(uint64_t node_id) override
+  {
+    const auto base = node_wrappers_[node_id].get_node_base_interface();
+    const auto component = ComponentNode::of(base.get());
+    const std::size_t threads = component ? std::max<std::size_t>(2, component->executor_threads()) : 2;
+    Dedicated & own = executors_[node_id];
+    base->for_each_callback_group([&own, &base, threads](const rclcpp::CallbackGroup::SharedPtr & group) {
+        if (!group->automatically_add_to_executor_with_node()) {
+          return;  // a group its node adds to an executor of its own
+        }
+        if (group->type() == rclcpp::CallbackGroupType::Reentrant) {
+          own.executors.push_back(
+            std::make_shared<rclcpp::executors::MultiThreadedExecutor>(rclcpp::ExecutorOptions(), threads));
+        } else {
+          own.executors.push_back(std::make_shared<rclcpp::executors::SingleThreadedExecutor>());
+        }
+        own.executors.back()->add_callback_group(group, base);
+      });
+    own.executors.push_back(std::make_shared<rclcpp::executors::SingleThreadedExecutor>());
+    own.executors.back()->add_node(base);
+    const std::string name = std::string(base->get_name()).substr(0, 15);  // what top -H shows of the node
+    for (const auto & executor : own.executors) {
+      own.threads.emplace_back([executor, name] {
+          pthread_setname_np(pthread_self(), name.c_str());
+          executor->spin();
+        });
+    }
+  }
+
+  void remove_node_from_executor(uint64_t node_id) override
+  {
+    const auto found = executors_.find(node_id);
+    if (found != executors_.end()) {
+      stop(found->second);
+      executors_.erase(found);
+    }
+  }
+
   rclcpp::NodeOptions create_node_options(const std::shared_ptr<LoadNode::Request> request) override
   {
     const BringUp asked = bring_up_of(*request);
@@ -240,7 +297,33 @@ private:
     response.after_tick = answer.after_tick;
   }
 
+  //! A loaded node's executors and their threads.
+  struct Dedicated
+  {
+    std::vector<std::shared_ptr<rclcpp::Executor>> executors;
+    std::vector<std::thread> threads;
+  };
+
+  //! Cancel each executor once it spins (a cancel before its spin started would be lost) and wait for its thread.
+  void stop(Dedicated & own)
+  {
+    const auto context = get_node_base_interface()->get_context();
+    for (std::size_t i = 0; i < own.executors.size() && i < own.threads.size(); ++i) {
+      while (own.threads[i].joinable() && !own.executors[i]->is_spinning() && rclcpp::ok(context)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      own.executors[i]->cancel();
+    }
+    for (auto & thread : own.threads) {
+      if (thread.joinable()) {
+        thread.join();
+      }
+    }
+    own.threads.clear();
+  }
+
   rclcpp::Service<iface_msgs::srv::HandOver>::SharedPtr hand_over_;
+  std::map<uint64_t, Dedicated> executors_;
 };
 
 }  // namespace iface_runtime
@@ -275,7 +358,8 @@ int main(int argc, char ** argv)
   auto node = std::make_shared<iface_runtime::Container>(rclcpp::NodeOptions());
   spare.reset();  // after the container's node: the participant stays up between the two
   rcl_interfaces::msg::ParameterDescriptor threads;
-  threads.description = "threads of the container's multi-threaded executor";
+  threads.description = "threads of the executor of the container's own services (each loaded node's callback "
+    "groups run on threads of their own)";
   threads.read_only = true;
   const int64_t count = std::max<int64_t>(
     2, node->declare_parameter("executor_threads", iface_runtime::DEFAULT_THREADS, threads));

@@ -701,7 +701,6 @@ ComponentNode::CallbackReturn ComponentNode::on_activate(const rclcpp_lifecycle:
   if (result != CallbackReturn::SUCCESS) {
     return result;
   }
-  continue_schedule();
   active_ = true;
   try {
     on_active();
@@ -710,6 +709,8 @@ ComponentNode::CallbackReturn ComponentNode::on_activate(const rclcpp_lifecycle:
     failed("activate", e.what());
     return CallbackReturn::FAILURE;
   }
+  // Last: on an executor of its own the first tick may come before this returns, and must find the node active.
+  continue_schedule();
   return result;
 }
 
