@@ -1,11 +1,12 @@
 """The ``ros2`` command as the tests run it, and the processes ``ros2 launch`` and ``ros2 run`` start.
 
 A graph query runs with ``--no-daemon`` (the ros2 daemon is a detached process that would outlive the
-test, with no handle of ours to stop it, and answers from a graph it cached) and ``--spin-time 2``:
+test, with no handle of ours to stop it, and answers from a graph it cached) and ``--spin-time``:
 without the daemon each command discovers the graph itself during its spin time, and the default
 0.5 s missed running nodes on this machine under load (../shared/ros2-runtime/README.md). A query
 that does not see its node yet (``Node not found``, ``Unable to find node``) is asked again, within a
-bound. ``Launched`` starts ``ros2 launch``/``ros2 run`` from Python with a handle of its own (a shell's
+bound; a question to one node (its lifecycle state, a parameter) looks longer each time (0.5, 1, 2 s), any
+other query 2 s, as it prints what it discovered in its spin time. ``Launched`` starts ``ros2 launch``/``ros2 run`` from Python with a handle of its own (a shell's
 ``&`` would start it with SIGINT ignored), knows the processes under it, and stops it with one SIGINT.
 """
 
@@ -21,6 +22,12 @@ from pathlib import Path
 HARNESS = Path(__file__).parent
 #: Seconds a ros2 graph query looks at the graph.
 SPIN_TIME = 2.0
+#: Seconds the first try of a question to one node looks (see ``spin_time``).
+FIRST_SPIN = 0.5
+#: Questions to one node, answered by its services once it is seen: they say so when they do not see it
+#: (``NOT_SEEN``), and a node they see gets the whole answer. (``node info`` is no such question: it prints what
+#: it has discovered of the node so far.)
+NODE_QUESTIONS = (("lifecycle", "get"), ("lifecycle", "set"), ("param", "get"), ("param", "describe"))
 #: Releases whose ``ros2 service call`` the runtime cannot run (Kilted's ros2service on Jazzy's rclpy).
 NO_SERVICE_CALL = ("jazzy",)
 #: What a query says about a node it has not discovered (yet).
@@ -41,17 +48,28 @@ class Answer:
         return f"$ {' '.join(self.argv)}\nexit {self.code} after {self.tries} tries\n{self.out}{self.err}"
 
 
+def spin_time(args: tuple[str, ...], tries: int) -> float:
+    """The spin time of try ``tries`` of ``ros2 ARGS``: a question to one node (``NODE_QUESTIONS``) looks
+    ``FIRST_SPIN`` s first, twice as long at each try after, up to ``SPIN_TIME``: a miss says so and costs a
+    try. Any other query looks ``SPIN_TIME`` s, as what it prints is what it discovered in that time."""
+    if args[:2] not in NODE_QUESTIONS:
+        return SPIN_TIME
+    return min(SPIN_TIME, FIRST_SPIN * 2 ** (tries - 1))
+
+
 def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 25.0, within: float = 60.0,
-         until: str | None = None) -> Answer:
-    """``ros2 ARGS`` (with ``--no-daemon --spin-time 2`` when ``graph``), asked again while it does not see its
-    node, or (with ``until``) while its output lacks ``until``, or it gave no answer within ``timeout`` (a
-    ``ros2`` command can hang at its own exit), for at most ``within`` seconds. A command that is not a query
-    (a transition, a goal, a service call) is asked once: ``within=0``, or ``transition``."""
-    argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{SPIN_TIME:g}") if graph else ()))
+         until: str | None = None, first_try: int = 1) -> Answer:
+    """``ros2 ARGS`` (with ``--no-daemon --spin-time S`` when ``graph``: ``spin_time``), asked again while it
+    does not see its node, or (with ``until``) while its output lacks ``until``, or it gave no answer within
+    ``timeout`` (a ``ros2`` command can hang at its own exit), for at most ``within`` seconds. A command that is
+    not a query (a transition, a goal, a service call) is asked once: ``within=0``, or ``transition``, which
+    counts its tries from ``first_try``."""
     end = time.monotonic() + within
     tries = 0
     while True:
         tries += 1
+        spin = spin_time(args, first_try + tries - 1)
+        argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{spin:g}") if graph else ()))
         try:
             done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=timeout, check=False,
                                   stdin=subprocess.DEVNULL)
@@ -80,8 +98,10 @@ def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0
     down, 1 run of ~40 on a loaded machine): killed at ``timeout``, an answer that printed ``Transitioning
     successful`` still counts; the caller checks the state the node reached."""
     end = time.monotonic() + within
+    tries = 0
     while True:
-        answer = ros2(env, "lifecycle", "set", node, label, timeout=timeout, within=0)
+        tries += 1
+        answer = ros2(env, "lifecycle", "set", node, label, timeout=timeout, within=0, first_try=tries)
         if not any(s in answer.out + answer.err for s in NOT_SEEN) or time.monotonic() >= end:
             break
         time.sleep(0.5)

@@ -11,7 +11,8 @@
   replacement goes through; ``iface-lsp system status`` answers throughout.
 - Every time, one SIGINT to ``ros2 launch``: it exits 0 and no process it (or the manager) started runs.
 
-``ros2`` graph queries run with ``--no-daemon --spin-time 2`` and bounded retries (ros_harness/ros2cli.py);
+``ros2`` graph queries run with ``--no-daemon`` and bounded retries, a question to one node looking 0.5 s first
+and longer when asked again, any other query 2 s (ros_harness/ros2cli.py);
 processes are started from Python with their own handles. The components come from the session's workspace
 (conftest.py), built once per release.
 """

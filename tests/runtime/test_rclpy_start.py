@@ -4,8 +4,9 @@ The README's "From the interface to a running node" blocks are run as written (i
 holds the examples; the runtime's ros2-env.sh where the block names the default one; the folder the colcon
 build made is kept in the test cache and used again while the lines and what they build stay the same): the
 first builds and starts the node with `ros2 run`, the second looks at it with `ros2 node info`, `ros2 lifecycle get` and
-`ros2 param describe`, each given `--no-daemon --spin-time 2` and asked again within a bound while it does
-not see the node yet (ros_harness/ros2cli.py). Loopback only, a random ROS_DOMAIN_ID, every wait bounded,
+`ros2 param describe`, each given `--no-daemon` and asked again within a bound while it does not see the node
+yet (`node info` with a spin time of 2 s, the others 0.5 s first and longer when asked again:
+ros_harness/ros2cli.py). Loopback only, a random ROS_DOMAIN_ID, every wait bounded,
 every process stopped by its own handle.
 """
 

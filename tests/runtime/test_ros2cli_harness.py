@@ -11,7 +11,7 @@ import os
 import sys
 from pathlib import Path
 
-from ..ros_harness.ros2cli import NOT_SEEN, TRANSITION_DONE, ros2, transition
+from ..ros_harness.ros2cli import NOT_SEEN, SPIN_TIME, TRANSITION_DONE, ros2, transition
 
 #: A stand-in ``ros2``: its behaviour per call comes from SCRIPT (one line per call, the last one repeated),
 #: each call counted in CALLS.
@@ -21,6 +21,8 @@ folder = pathlib.Path(__file__).parent
 calls = folder / "CALLS"
 n = int(calls.read_text()) if calls.exists() else 0
 calls.write_text(str(n + 1))
+with (folder / "ARGV").open("a") as f:
+    f.write(" ".join(sys.argv[1:]) + "\\n")
 lines = (folder / "SCRIPT").read_text().splitlines()
 what = lines[min(n, len(lines) - 1)]
 if what == "unseen":
@@ -68,3 +70,23 @@ def test_a_hang_with_no_answer_is_a_failure(tmp_path: Path) -> None:
 def test_a_query_is_asked_again_while_its_output_lacks_what_it_waits_for(tmp_path: Path) -> None:
     answer = ros2(_env(tmp_path, "unseen", "ok"), "node", "list", until=TRANSITION_DONE, within=20)
     assert answer.code == 0 and answer.tries == 2, answer
+
+
+def _spins(tmp_path: Path) -> list[float]:
+    lines = (tmp_path / "bin" / "ARGV").read_text().splitlines()
+    return [float(line.split("--spin-time ")[1]) for line in lines]
+
+
+def test_a_question_to_one_node_looks_longer_at_each_try_and_a_graph_query_looks_long(tmp_path: Path) -> None:
+    """A miss costs a short try (0.5, 1, 2 s), not a long look every time; a transition counts its own tries."""
+    env = _env(tmp_path, "unseen", "unseen", "unseen", "unseen", "ok")
+    assert ros2(env, "param", "get", "/n", "rate", within=30).tries == 5
+    assert _spins(tmp_path) == [0.5, 1.0, 2.0, 2.0, 2.0]
+    (tmp_path / "bin" / "ARGV").unlink()
+    (tmp_path / "bin" / "CALLS").unlink()
+    assert transition(env, "/n", "configure", within=30).code == 0
+    assert _spins(tmp_path) == [0.5, 1.0, 2.0, 2.0, 2.0]
+    (tmp_path / "bin" / "ARGV").unlink()
+    ros2(env, "node", "list")
+    ros2(env, "node", "info", "/n", until=TRANSITION_DONE)
+    assert _spins(tmp_path) == [SPIN_TIME, SPIN_TIME]  # they print what they saw: a short look would print less
