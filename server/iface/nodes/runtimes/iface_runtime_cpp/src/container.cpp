@@ -7,8 +7,6 @@
 // - takes more extra arguments in LoadNode: "params_files" (parameter files, read as --params-file), "configure",
 //   "state" (a state document restored after configure) and "activate": a component brought up in one request.
 // docs/runtime.md, "The hand-over inside a container".
-#include <pthread.h>
-
 #include <algorithm>
 #include <atomic>
 #include <fstream>
@@ -16,10 +14,10 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "iface_msgs/srv/hand_over.hpp"
+#include "iface_runtime_cpp/group_executors.hpp"
 #include "iface_runtime_cpp/iface_runtime.hpp"
 #include "iface_runtime_cpp/standby.hpp"
 #include "lifecycle_msgs/msg/state.hpp"
@@ -110,9 +108,7 @@ public:
 
   ~Container() override
   {
-    for (auto & entry : executors_) {
-      stop(entry.second);
-    }
+    executors_.clear();  // stops them
     // ComponentManager's destructor would remove each node from the container's executor, which has none of them
     node_wrappers_.clear();
   }
@@ -149,48 +145,18 @@ public:
   }
 
 protected:
-  //! Each callback group of a loaded node on an executor and threads of its own, named as the node: a
-  //! single-threaded executor for a mutually exclusive group, a multi-threaded one (the threads the component asks
-  //! for) for a reentrant group; one more single-threaded executor takes the groups the node makes after its load. rclcpp's multi-threaded
-  //! executor collects every entity it holds again after each callback of a mutually exclusive group and wakes
-  //! its threads for each event: one for the whole container ticked a 1 kHz timer ~570 times a second
-  //! (docs/system.md, "Each callback group on a thread of its own").
+  //! Each callback group of a loaded node on an executor and threads of its own (GroupExecutors): one
+  //! multi-threaded executor for the whole container ticked a 1 kHz timer ~570 times a second.
   void add_node_to_executor(uint64_t node_id) override
   {
     const auto base = node_wrappers_[node_id].get_node_base_interface();
     const auto component = ComponentNode::of(base.get());
-    const std::size_t threads = component ? std::max<std::size_t>(2, component->executor_threads()) : 2;
-    Dedicated & own = executors_[node_id];
-    base->for_each_callback_group([&own, &base, threads](const rclcpp::CallbackGroup::SharedPtr & group) {
-        if (!group->automatically_add_to_executor_with_node()) {
-          return;  // a group its node adds to an executor of its own
-        }
-        if (group->type() == rclcpp::CallbackGroupType::Reentrant) {
-          own.executors.push_back(
-            std::make_shared<rclcpp::executors::MultiThreadedExecutor>(rclcpp::ExecutorOptions(), threads));
-        } else {
-          own.executors.push_back(std::make_shared<rclcpp::executors::SingleThreadedExecutor>());
-        }
-        own.executors.back()->add_callback_group(group, base);
-      });
-    own.executors.push_back(std::make_shared<rclcpp::executors::SingleThreadedExecutor>());
-    own.executors.back()->add_node(base);
-    const std::string name = std::string(base->get_name()).substr(0, 15);  // what top -H shows of the node
-    for (const auto & executor : own.executors) {
-      own.threads.emplace_back([executor, name] {
-          pthread_setname_np(pthread_self(), name.c_str());
-          executor->spin();
-        });
-    }
+    executors_[node_id] = std::make_unique<GroupExecutors>(base, component ? component->executor_threads() : 2);
   }
 
   void remove_node_from_executor(uint64_t node_id) override
   {
-    const auto found = executors_.find(node_id);
-    if (found != executors_.end()) {
-      stop(found->second);
-      executors_.erase(found);
-    }
+    executors_.erase(node_id);  // stops them
   }
 
   rclcpp::NodeOptions create_node_options(const std::shared_ptr<LoadNode::Request> request) override
@@ -297,33 +263,8 @@ private:
     response.after_tick = answer.after_tick;
   }
 
-  //! A loaded node's executors and their threads.
-  struct Dedicated
-  {
-    std::vector<std::shared_ptr<rclcpp::Executor>> executors;
-    std::vector<std::thread> threads;
-  };
-
-  //! Cancel each executor once it spins (a cancel before its spin started would be lost) and wait for its thread.
-  void stop(Dedicated & own)
-  {
-    const auto context = get_node_base_interface()->get_context();
-    for (std::size_t i = 0; i < own.executors.size() && i < own.threads.size(); ++i) {
-      while (own.threads[i].joinable() && !own.executors[i]->is_spinning() && rclcpp::ok(context)) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      }
-      own.executors[i]->cancel();
-    }
-    for (auto & thread : own.threads) {
-      if (thread.joinable()) {
-        thread.join();
-      }
-    }
-    own.threads.clear();
-  }
-
   rclcpp::Service<iface_msgs::srv::HandOver>::SharedPtr hand_over_;
-  std::map<uint64_t, Dedicated> executors_;
+  std::map<uint64_t, std::unique_ptr<GroupExecutors>> executors_;
 };
 
 }  // namespace iface_runtime

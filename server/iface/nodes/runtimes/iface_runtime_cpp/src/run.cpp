@@ -13,6 +13,7 @@
 
 
 #include "ament_index_cpp/get_package_share_directory.hpp"
+#include "iface_runtime_cpp/group_executors.hpp"
 #include "iface_runtime_cpp/node.hpp"
 #include "iface_runtime_cpp/standby.hpp"
 #include "rclcpp/rclcpp.hpp"
@@ -116,13 +117,11 @@ int run(int argc, char ** argv, const std::string & package, const std::string &
     }
     RCLCPP_INFO(node->get_logger(), "%s", params.empty() ? "parameter file: none installed" :
       ("parameter file: " + params).c_str());
-    rclcpp::executors::MultiThreadedExecutor executor(rclcpp::ExecutorOptions(), node->executor_threads());
-    executor.add_node(node->get_node_base_interface());
+    GroupExecutors executors(node->get_node_base_interface(), node->executor_threads());
     if (activate) {
       node->configure();
       node->activate();
     }
-    std::thread spinner([&executor] {executor.spin();});
     while (rclcpp::ok() && !node->finalized() && !g_stop) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
@@ -131,9 +130,7 @@ int run(int argc, char ** argv, const std::string & package, const std::string &
     } else if (rclcpp::ok()) {
       node->shutdown();  // stopped by a signal: leave through the lifecycle (teardown runs)
     }
-    executor.cancel();
-    spinner.join();
-    executor.remove_node(node->get_node_base_interface());
+    executors.stop();
   }
   rclcpp::shutdown();
   return code;

@@ -12,11 +12,13 @@
 // - client_group (reentrant): service and action clients, so a handler can wait for an answer;
 // - diagnostics_group: the /diagnostics timer and the Δ services;
 // - control_group: ~/control, ~/save_state, ~/restore_state.
-// The multi-threaded executor has a thread for each, so diagnostics and control are answered
+// Each group runs on an executor and a thread of its own (group_executors.hpp; a reentrant group on several),
+// so diagnostics and control are answered while the work runs.
 //
 // The parts, each its own header: protocol.hpp (the protocol's constants), json.hpp, state.hpp (the
-// state document), params.hpp, gate.hpp (work transactions), node.hpp (ComponentNode), run.hpp (what an
-// executable's main calls), component.hpp (a container's factory). A generated component includes this one.
+// state document), params.hpp, gate.hpp (work transactions), node.hpp (ComponentNode),
+// group_executors.hpp (its groups' threads), run.hpp (what an executable's main calls), component.hpp
+// (a container's factory). A generated component includes this one.
 #ifndef IFACE_RUNTIME_CPP__IFACE_RUNTIME_HPP_
 #define IFACE_RUNTIME_CPP__IFACE_RUNTIME_HPP_
 

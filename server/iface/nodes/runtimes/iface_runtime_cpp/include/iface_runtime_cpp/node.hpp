@@ -168,7 +168,7 @@ public:
   //! Work transactions in user code (a thread of its own): Transaction t(gate()) throws Paused while paused.
   Gate & gate() {return gate_;}
   bool is_active() const {return active_;}
-  //! Threads the executor needs so no group waits for another.
+  //! Threads of the executor of each reentrant group (action and client groups): none waits for another.
   std::size_t executor_threads() const {return info_.executor_threads;}
   //! True once the node has shut down.
   bool finalized() const {return finalized_;}
