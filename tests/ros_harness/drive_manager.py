@@ -23,7 +23,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 from tests.ros_harness import ros2cli
 from tests.ros_harness.probe import ManagerStatus, Probe, Report, check, import_interface
-from tests.ros_harness.standby_probe import LOG_WAIT, ready_standby, until
+from tests.ros_harness.standby_probe import logged, ready_standby
 
 SYSTEM_KEYS = {"instances", "findings"}
 INSTANCE_KEYS = {"name", "node", "component", "state", "pid", "restarts", "interface_hash", "last_snapshot",
@@ -45,10 +45,6 @@ class Manager:
     def log(self) -> str:
         self._log.flush()
         return self.log_path.read_text(errors="replace")
-
-    def logged(self, text: str) -> bool:
-        """Whether its log says ``text`` within a few seconds (a line comes after what it tells of)."""
-        return until(lambda: text in self.log(), LOG_WAIT)
 
     def kill(self) -> None:
         os.kill(self.proc.pid, signal.SIGKILL)
@@ -325,7 +321,7 @@ def main() -> int:
 
         def crash_standby() -> str:
             spare_pid = ready_standby("sensor", OWN)
-            check(managers[-1].logged(f"sensor: started standby pid {spare_pid}"),
+            check(logged(managers[-1].log, f"sensor: started standby pid {spare_pid}"),
                   f"standby {spare_pid} not the manager's: {managers[-1].log()[-1500:]}")
             code, out, err = cli("snapshot", cfg["system"], "sensor")
             check(code == 0, f"snapshot exit {code}: {err}")

@@ -34,7 +34,7 @@ from iface.operate.containers import mapped_files
 from iface.operate.in_container import ContainerCalls
 from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, StepFailed, check
 from tests.ros_harness.ros2cli import node_processes
-from tests.ros_harness.standby_probe import LOG_WAIT, ready_standby, until
+from tests.ros_harness.standby_probe import logged, ready_standby
 
 ORDER = ("sensor", "ticker", "tally")
 
@@ -74,10 +74,6 @@ def main() -> int:
 
     def manager_log() -> str:
         return managers[-1][1].read_text(errors="replace")
-
-    def logged(text: str) -> bool:
-        """Whether the manager's log says ``text`` within a few seconds (a line comes after what it tells of)."""
-        return until(lambda: text in manager_log(), LOG_WAIT)
 
     start_manager()
 
@@ -172,7 +168,7 @@ def main() -> int:
             s = status()
             pid, restarts = s["ticker"].pid, (s["ticker"].restarts, s["tally"].restarts, s["sensor"].restarts)
             spare = ready_standby("box", cfg["own"])  # the tally says standby: its container keeps one
-            check(logged(f"container box: started standby pid {spare}"), "the standby is not the manager's")
+            check(logged(manager_log, f"container box: started standby pid {spare}"), "the standby is not the manager's")
             counts_past(snap["ticker"]["count"] + 300, 10, "300 ticks more")
             mark = len(ticks)
             os.kill(pid, signal.SIGKILL)

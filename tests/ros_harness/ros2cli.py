@@ -6,8 +6,9 @@ without the daemon each command discovers the graph itself during its spin time,
 0.5 s missed running nodes on this machine under load (../shared/ros2-runtime/README.md). A query
 that does not see its node yet (``Node not found``, ``Unable to find node``) is asked again, within a
 bound; a question to one node (its lifecycle state, a parameter) looks longer each time (0.5, 1, 2 s), any
-other query 2 s, as it prints what it discovered in its spin time. ``Launched`` starts ``ros2 launch``/``ros2 run`` from Python with a handle of its own (a shell's
-``&`` would start it with SIGINT ignored), knows the processes under it, and stops it with one SIGINT.
+other query 2 s, as it prints what it discovered in its spin time. ``Launched`` starts ``ros2 launch``/``ros2
+run`` from Python with a handle of its own (a shell's ``&`` would start it with SIGINT ignored), knows the
+processes under it, and stops it with one SIGINT.
 """
 
 from __future__ import annotations

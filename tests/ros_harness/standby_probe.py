@@ -70,6 +70,12 @@ def ready_standby(node: str, own: str = "", timeout: float = 60.0, other_than: t
 LOG_WAIT = 10.0
 
 
+def logged(read: Callable[[], str], text: str) -> bool:
+    """Whether the log ``read`` returns says ``text`` within ``LOG_WAIT`` seconds (a line comes after what it
+    tells of)."""
+    return until(lambda: text in read(), LOG_WAIT)
+
+
 def until(predicate: Callable[[], bool], timeout: float) -> bool:
     end = time.monotonic() + timeout
     while not predicate():

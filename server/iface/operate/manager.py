@@ -330,10 +330,7 @@ class Manager:
             self.log(f"{m.name}: {m.findings[-1]}")
             m.process.stop(5.0)
             return False
-        self.log(f"{m.name}: adopted pid {record.pid} ({m.path}, {m.impl.component}, active)")
-        m.heartbeat_ok = time.monotonic()
-        m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
-        m.state = "active"  # after its log line: status, read without the lock, never runs ahead of the log
+        self._active(m, f"{m.name}: adopted pid {record.pid} ({m.path}, {m.impl.component}, active)")
         return True
 
     # ---- starting an instance ------------------------------------------------------------------------
@@ -402,10 +399,15 @@ class Manager:
         self.link.transition(m.path, ACTIVATE, t, alive=proc.alive)
         if not proc.alive():
             raise LinkError(f"{m.path} ended while it was activated")
-        self.log(f"{m.name}: active (pid {proc.pid})")
+        self._active(m, f"{m.name}: active (pid {proc.pid})")
+
+    def _active(self, m: Managed, line: str) -> None:
+        """``m`` is active: ``line`` logged, its heartbeat and snapshot clocks started, and its state set last, as
+        status is read without the lock and must never run ahead of the log."""
+        self.log(line)
         m.heartbeat, m.heartbeat_ok = None, time.monotonic()
         m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
-        m.state = "active"  # after its log line: status, read without the lock, never runs ahead of the log
+        m.state = "active"
 
     def _until_answers(self, node: str, proc: InstanceProcess) -> None:
         """Wait until ``node`` answers ``~/control``: asked every ``FIRST_ANSWER_RESEND`` s, so the first answer
@@ -587,11 +589,8 @@ class Manager:
                 host.process.stop(2.0)
             raise
         restored = f", snapshot {latest.sequence} restored" if latest is not None else ""
-        self.log(f"{m.name}: active in container {host.name} (pid {host.pid}, {component.plugin} from "
-                 f"{component.prefix}{restored})")
-        m.heartbeat, m.heartbeat_ok = None, time.monotonic()
-        m.next_snapshot = time.monotonic() + (m.spec.snapshot_period or 0)
-        m.state = "active"  # after its log line: status, read without the lock, never runs ahead of the log
+        self._active(m, f"{m.name}: active in container {host.name} (pid {host.pid}, {component.plugin} from "
+                        f"{component.prefix}{restored})")
 
     def _unload(self, m: Managed) -> None:
         """Unload ``m`` from its container when it is loaded there and the container runs."""
