@@ -23,7 +23,7 @@
    with their last snapshot restored and activated); median, p95, max (goal <= 1 s median), and the same as
    seen by ``/iface_manager/status`` polled every 20 ms; then the same with ``standby = "true"`` on the tally
    (the manager keeps a spare container process, told to start instead of a process started; each kill once
-   the standby is ready, as a crash that comes a while after the last one).
+   the manager has discovered the standby (its log says so), as a crash that comes a while after the last one).
 
 Builds the ticker (1.0 and 1.1) and the tally (rclcpp) once, in the test cache (tests/ros_harness/cpp.py
 ``ticker_workspaces``; ``--keep DIR`` keeps the run's folder), then runs itself in the ROS 2 environment. The
@@ -185,6 +185,7 @@ def inner(config: Path) -> int:
             time.sleep(1.0)
             silences, arrivals, critical, pauses, after = [], [], [], [], []
             lasts: list[int] = []
+            said: list[tuple[float, str]] = []
             first = len(ticks.seen)
             before = calls.save("tally")["values"]
             for run in range(1, runs + 1):
@@ -202,6 +203,7 @@ def inner(config: Path) -> int:
                                  10, "NEW's counts")
                 at = {v: (s, r) for v, s, r in ticks.seen}
                 silences.append(at[last + 1][0] - at[last][0])
+                said.append((silences[-1], done.message))
                 after.append(max(at[v + 1][0] - at[v][0] for v in range(last + 1, last + 3)))  # NEW's next two
                 arrivals.append(at[last + 1][1] - at[last][1])
                 critical.append(done.critical_ms)
@@ -229,6 +231,8 @@ def inner(config: Path) -> int:
                   f"{per_second:.0f}; pause median "
                   f"{statistics.median(pauses):.2f} ms; lost {lost}, repeated {repeated} (bench, over DDS), missed "
                   f"{tallied['missed'] - before['missed']}, received twice {twice} (the tally, in the process); {load()}", flush=True)
+            for silence, message in sorted(said, reverse=True)[:3]:
+                print(f"  a long one: {silence:.2f} ms of silence; the container said: {message}", flush=True)
         finally:
             box_proc.stop()
     if only == "replace":
@@ -344,10 +348,14 @@ def kill_figure(cfg: dict[str, Any], probe: Any, standby: bool) -> int:
             count = json.loads(ticker_file.read_text())["values"]["count"]
             pid = status()["ticker"].pid
             if standby:
-                from tests.ros_harness.standby_probe import ready_standby
+                from tests.ros_harness.standby_probe import logged as said, ready_standby
 
-                ready_standby("box", other_than=(pid,))  # a standby told before is the container now
-                time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
+                spare = ready_standby("box", other_than=(pid,))  # a standby told before is the container now
+                # as for a crash a while after the last one: the manager has seen the standby's node
+                if not said(lambda: log.read_text(encoding="utf-8", errors="replace"),
+                              f"container box: standby pid {spare} discovered"):
+                    print(f"container_bench: the manager did not see standby {spare} in its graph", file=sys.stderr)
+                    return 1
             killed, start = time.time(), time.monotonic()
             os.kill(pid, signal.SIGKILL)
             back(pid, 60)

@@ -7,8 +7,8 @@
    (goal: median <= 1.5 s, p95 <= 2.5 s over 10 on a quiet machine), and where the time went: each phase
    from the kill (death noticed, process started, its node up, its services answering, configured,
    restored, active) as the manager's log and the instance's log time them; ``standby``: the same with
-   ``standby = "true"`` (its standby told instead of a process started; each kill once the standby is
-   ready, as a crash that comes a while after the last one);
+   ``standby = "true"`` (its standby told instead of a process started; each kill once the manager has
+   discovered the standby (its log says so), as a crash that comes a while after the last one);
 2. ``replace``: the silence on a 10 Hz topic across a managed replacement (``/iface_manager/replace``;
    goal p95 <= 250 ms);
 3. ``idle``: the manager's CPU with N idle instances (percent of one core over ``--idle`` seconds).
@@ -202,10 +202,14 @@ class Bench:
         for run in range(self.cfg["runs"]):
             old = self.status()["thermostat"]
             if standby:
-                from tests.ros_harness.standby_probe import ready_standby
+                from tests.ros_harness.standby_probe import logged, ready_standby
 
-                ready_standby("thermostat", other_than=(old.pid,))  # a standby told before is the instance now
-                time.sleep(1.0)  # its participant discovered, as for a crash a while after the last one
+                spare = ready_standby("thermostat", other_than=(old.pid,))  # a standby told before is the instance now
+                # as for a crash a while after the last one: the manager has seen the standby's node
+                if not logged(lambda: logs["manager"].read_text(encoding="utf-8", errors="replace"),
+                              f"thermostat: standby pid {spare} discovered"):
+                    print(f"manager_bench: the manager did not see standby {spare} in its graph", file=sys.stderr)
+                    return False
             killed, start = time.time(), time.monotonic()
             os.kill(old.pid, signal.SIGKILL)
             self.until(lambda s, old=old: s["thermostat"].state == "active"

@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -180,6 +181,12 @@ def main() -> int:
             check(values[since] <= carried, f"the first count after the request, {values[since]}, is past {carried}")
             at = dict(ticks)
             silence = at[carried + 1] - at[carried]
+            steps = r"\(saved [\d.]+, restored [\d.]+, first tick set [\d.]+, active [\d.]+ ms\)"
+            check(re.search(steps, done.message), f"no steps of the critical section in {done.message!r}")
+            # OLD is deactivated (and the switch logged) after NEW's first tick, so that nothing of OLD runs beside it
+            logged = re.search(r"\[INFO\] \[([\d.]+)\] \[ticker\]: handed over: NEW /ticker_next", container.log())
+            check(logged is not None and float(logged.group(1)) * 1000 >= at[carried + 1],
+                  f"OLD logged the switch before NEW's first count ({at[carried + 1]:.3f} ms): {logged}")
             states = {n: Protocol(probe).control(n, protocol.STATUS).lifecycle_state for n in ("ticker", "ticker_next")}
             check(states == {"ticker": 2, "ticker_next": 3}, f"lifecycle states after the switch {states}")
             tallied = Protocol(probe).save("tally")["values"]

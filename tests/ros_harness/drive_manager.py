@@ -323,6 +323,8 @@ def main() -> int:
             spare_pid = ready_standby("sensor", OWN)
             check(logged(managers[-1].log, f"sensor: started standby pid {spare_pid}"),
                   f"standby {spare_pid} not the manager's: {managers[-1].log()[-1500:]}")
+            check(logged(managers[-1].log, f"sensor: standby pid {spare_pid} discovered"),
+                  f"the manager did not see standby {spare_pid} in its graph: {managers[-1].log()[-1500:]}")
             code, out, err = cli("snapshot", cfg["system"], "sensor")
             check(code == 0, f"snapshot exit {code}: {err}")
             kept = json.loads(Path(json.loads(out)["files"][0]).read_text())["values"]["readings"]

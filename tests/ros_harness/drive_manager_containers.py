@@ -169,6 +169,8 @@ def main() -> int:
             pid, restarts = s["ticker"].pid, (s["ticker"].restarts, s["tally"].restarts, s["sensor"].restarts)
             spare = ready_standby("box", cfg["own"])  # the tally says standby: its container keeps one
             check(logged(manager_log, f"container box: started standby pid {spare}"), "the standby is not the manager's")
+            check(logged(manager_log, f"container box: standby pid {spare} discovered"),
+                  f"the manager did not see standby {spare} in its graph")
             counts_past(snap["ticker"]["count"] + 300, 10, "300 ticks more")
             mark = len(ticks)
             os.kill(pid, signal.SIGKILL)

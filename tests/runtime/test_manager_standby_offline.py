@@ -128,6 +128,38 @@ def test_an_active_instance_gets_a_standby_which_becomes_it_when_its_process_end
     assert m.standby.process is None and standby is not None and standby.wait(BOUND)
 
 
+def test_the_manager_says_once_when_its_graph_first_shows_a_standby(manager: Manager) -> None:
+    """A standby is discovered when the manager's graph shows its hidden node (``_iface_standby_<pid>``): said
+    once, in the log, for each standby; another node's name does not count."""
+    m = manager.instances[0]
+    said: list[str] = []
+    names: list[str] = []
+    manager.log = said.append  # type: ignore[method-assign]
+    manager.node = SimpleNamespace(get_node_names_and_namespaces=lambda: [(n, "/") for n in names])
+    manager._start(m)
+    manager._keep_standby(m)
+    spare = m.standby.process
+    assert spare is not None
+    names.extend(["sensor", "_iface_standby_1", f"_iface_standby_{spare.pid}0"])
+    manager._keep_standby(m)
+    assert not [x for x in said if "discovered" in x]
+    names.append(f"_iface_standby_{spare.pid}")
+    manager._keep_standby(m)
+    manager._keep_standby(m)
+    seen = [x for x in said if "discovered" in x]
+    assert len(seen) == 1 and seen[0].startswith(f"sensor: standby pid {spare.pid} discovered ")
+    assert seen[0].endswith(" s after it started")
+    spare.stop(5.0)
+    manager._keep_standby(m)  # it ended before it was told: another one, not seen yet
+    following = m.standby.process
+    assert following is not None and following.pid != spare.pid
+    manager._keep_standby(m)
+    assert len([x for x in said if "discovered" in x]) == 1
+    names.append(f"_iface_standby_{following.pid}")
+    manager._keep_standby(m)
+    assert [x for x in said if "discovered" in x][-1].startswith(f"sensor: standby pid {following.pid} discovered ")
+
+
 def test_a_standby_made_for_what_the_instance_ran_before_a_replacement_is_not_taken(manager: Manager) -> None:
     m = manager.instances[0]
     manager._start(m)

@@ -146,6 +146,8 @@ class Manager:
         self.wake = threading.Event()
         self.watcher = ExitWatcher()
         self.log_dir = options.state_dir / "logs"
+        #: ``/iface_manager`` (rclpy), made by ``open``.
+        self.node: Any = None
         self._envs: dict[str, dict[str, str]] = {}
         #: The container processes, by node name.
         self.hosts: dict[str, Host] = {}
@@ -380,6 +382,9 @@ class Manager:
         if said is not None:
             m.note(said)
             self.log(f"{m.name}: {said}")
+        seen = m.standby.seen(self._node_names)
+        if seen is not None:
+            self.log(f"{m.name}: {seen}")
 
     def _bring_up(self, m: Managed, proc: InstanceProcess) -> None:
         """Configure, restore the last snapshot, activate; each step logged as it ends."""
@@ -552,6 +557,13 @@ class Manager:
         said = host.standby.keep(lambda: self._launch_host(host, standby=True))
         if said is not None:
             self.log(f"container {host.name}: {said}")
+        seen = host.standby.seen(self._node_names)
+        if seen is not None:
+            self.log(f"container {host.name}: {seen}")
+
+    def _node_names(self) -> set[str]:
+        """The names of the nodes in the manager's graph, hidden ones too (none before ``open``)."""
+        return set() if self.node is None else {name for name, _ns in self.node.get_node_names_and_namespaces()}
 
     def _stop_host(self, host: Host) -> None:
         """Stop the container process of ``host`` (its instances unloaded before) and its standby, and forget it."""

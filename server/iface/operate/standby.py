@@ -5,7 +5,9 @@ SIGUSR1, sets a handler for it, starts ROS with a hidden node of no endpoints (i
 and discovered ahead) and waits; on SIGUSR1 it makes the component's (the container's) node and goes
 on as a process just started. ``Standby`` holds one such process and counts those that ended before
 they were told (after ``TRIES`` in a row, none is started again: a runtime without ``--standby``);
-``tell`` gives the signal, only to a standby that has its handler.
+``tell`` gives the signal, only to a standby that has its handler. ``seen`` tells once when the manager's
+graph first shows the standby's node: from then on its participant and its endpoints' discovery are up (a
+standby started within seconds of a crash may take that long to be discovered: docs/system.md).
 """
 
 from __future__ import annotations
@@ -13,13 +15,16 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
-from collections.abc import Callable
+import time
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 
 from .processes import InstanceProcess, StartError, catches
 
 #: Standbys that may end in a row before they are told, before none is started any more.
 TRIES = 3
+#: The hidden node a standby holds until it is told, and its pid (both runtimes).
+NODE = "_iface_standby_{pid}"
 #: The environment variable that tells a standby the process it ends with (the manager's pid: the runtimes'
 #: ``STANDBY_PARENT``).
 PARENT = "IFACE_STANDBY_PARENT"
@@ -37,6 +42,9 @@ class Standby:
     process: InstanceProcess | None = None
     #: Standbys that ended before they were told, since the last one that was.
     ended: int = 0
+    #: When the process was started (monotonic), and whether its node was seen in the graph since.
+    started: float = 0.0
+    discovered: bool = False
 
     def keep(self, launch: Callable[[], InstanceProcess]) -> str | None:
         """Start a standby with ``launch`` when none runs; what to report (one that ended before it was told,
@@ -54,10 +62,20 @@ class Standby:
             return said
         try:
             self.process = launch()
+            self.started, self.discovered = time.monotonic(), False
         except (StartError, OSError) as e:
             self.ended = TRIES
             return f"no standby: {e}"
         return said
+
+    def seen(self, nodes: Callable[[], Collection[str]]) -> str | None:
+        """What to report when the standby's node is in ``nodes()`` (the graph's node names) for the first time,
+        else None; the graph is read only while a running standby is not seen yet."""
+        spare = self.process
+        if spare is None or self.discovered or not spare.alive() or NODE.format(pid=spare.pid) not in nodes():
+            return None
+        self.discovered = True
+        return f"standby pid {spare.pid} discovered {time.monotonic() - self.started:.2f} s after it started"
 
     def take(self, usable: Callable[[InstanceProcess], bool] = lambda _p: True) -> InstanceProcess | None:
         """The standby, told to make its node, when it is ``usable`` and ready; else None (one there is stopped)."""
@@ -86,4 +104,4 @@ def tell(spare: InstanceProcess) -> bool:
     return False
 
 
-__all__ = ["PARENT", "TRIES", "Standby", "environment", "tell"]
+__all__ = ["NODE", "PARENT", "TRIES", "Standby", "environment", "tell"]

@@ -447,10 +447,17 @@ HandOverAnswer ComponentNode::switch_to(
     return answer;
   }
   std::string step = "save OLD's state";
+  Clock::time_point saved, restored_at;
+  next.schedule_set_ns_ = 0;
+  next.quiet_schedule_ = true;
+  next.schedule_notes_.clear();
+  const int64_t ticked_before = next.last_tick_ns();
   try {
     answer.state = save_state(timeout_sec);
+    saved = Clock::now();
     step = "restore the state into NEW";
     const Restored restored = next.restore_state(answer.state, timeout_sec);
+    restored_at = Clock::now();
     answer.restored = restored.restored;
     answer.kept = restored.kept;
     step = "activate NEW";
@@ -458,12 +465,34 @@ HandOverAnswer ComponentNode::switch_to(
       throw std::runtime_error(std::string(next.get_fully_qualified_name()) + " did not become active");
     }
   } catch (const std::exception & e) {
+    next.quiet_schedule_ = false;
     gate_.resume();
     answer.message = "could not " + step + ": " + e.what() + "; OLD goes on";
     RCLCPP_WARN(get_logger(), "hand-over to %s: %s", next.get_fully_qualified_name(), answer.message.c_str());
     return answer;
   }
-  answer.critical_ms = ms(Clock::now() - start);
+  const auto active_at = Clock::now();
+  answer.critical_ms = ms(active_at - start);
+  const int64_t set_ns = next.schedule_set_ns_;
+  char first[48] = "no schedule continued";
+  if (set_ns != 0) {
+    std::snprintf(first, sizeof first, "first tick set %.3f", ms(Clock::time_point(Clock::duration(set_ns)) - start));
+  }
+  char steps[160];
+  std::snprintf(steps, sizeof steps, " (saved %.3f, restored %.3f, %s, active %.3f ms)", ms(saved - start),
+    ms(restored_at - start), first, answer.critical_ms);
+  next.quiet_schedule_ = false;
+  if (set_ns != 0) {
+    // OLD's deactivation and the log lines wait for NEW's first tick: on two cores they delayed it by milliseconds
+    double period = 0.0;
+    for (const auto & entry : next.work_timers_) {
+      period = std::max(period, entry->period);
+    }
+    next.await_tick_after(ticked_before, std::min(1.0, 2 * period + 0.01));
+  }
+  for (const auto & line : next.schedule_notes_) {
+    RCLCPP_INFO(next.get_logger(), "%s", line.c_str());
+  }
   try {
     deactivate();
   } catch (const std::exception & e) {
@@ -471,9 +500,9 @@ HandOverAnswer ComponentNode::switch_to(
   }
   gate_.resume();
   answer.success = true;
-  char text[200];
-  std::snprintf(text, sizeof text, "NEW %s active %.3f ms after OLD paused%s%s", next.get_fully_qualified_name(),
-    answer.critical_ms, after.empty() ? "" : ", right after a tick of ", after.c_str());
+  char text[400];
+  std::snprintf(text, sizeof text, "NEW %s active %.3f ms after OLD paused%s%s%s", next.get_fully_qualified_name(),
+    answer.critical_ms, steps, after.empty() ? "" : ", right after a tick of ", after.c_str());
   answer.message = text;
   RCLCPP_INFO(get_logger(), "handed over: %s", text);
   return answer;
@@ -503,6 +532,23 @@ void ComponentNode::await_tick(double timeout_sec)
   const int64_t last = soonest->last_ns;
   ticked_.wait_for(lock, std::chrono::duration<double>(wait + std::min(soonest->period, ALIGN_SEC)),
     [&soonest, last] {return soonest->last_ns != last;});
+}
+
+int64_t ComponentNode::last_tick_ns()
+{
+  int64_t last = 0;
+  for (const auto & entry : work_timers_) {
+    last = std::max<int64_t>(last, entry->last_ns);
+  }
+  return last;
+}
+
+void ComponentNode::await_tick_after(int64_t since_ns, double timeout_sec)
+{
+  std::unique_lock<std::mutex> lock(tick_mutex_);
+  ticked_.wait_for(lock, std::chrono::duration<double>(timeout_sec), [this, since_ns] {
+      return last_tick_ns() > since_ns;
+    });
 }
 
 void ComponentNode::continue_schedule()
@@ -535,9 +581,16 @@ void ComponentNode::continue_schedule()
       continue;
     }
     entry->first->reset();
-    RCLCPP_INFO(get_logger(), "schedule: timer '%s' continues the restored state's '%s': last tick at %.6f, the "
-      "first tick due at %.6f (period %.6f s, in %.6f s)", entry->name.c_str(), found->first.c_str(), last, due,
+    schedule_set_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
+    char line[400];
+    std::snprintf(line, sizeof line, "schedule: timer '%s' continues the restored state's '%s': last tick at %.6f, "
+      "the first tick due at %.6f (period %.6f s, in %.6f s)", entry->name.c_str(), found->first.c_str(), last, due,
       entry->period, due - static_cast<double>(now) / 1e9);
+    if (quiet_schedule_) {
+      schedule_notes_.push_back(line);
+    } else {
+      RCLCPP_INFO(get_logger(), "%s", line);
+    }
   }
 }
 

@@ -56,7 +56,8 @@ void parse_reads_back_what_dump_writes()
   // spaces, escapes and a surrogate pair (😀), as Python writes with ensure_ascii=True
   const Json spaced = Json::parse(" { \"k\" : [ \"\\u00fc\\ud83d\\ude00\\/\" ] } ");
   CHECK_EQ(spaced.find("k")->items()[0].text(), std::string("\xc3\xbc\xf0\x9f\x98\x80/"));
-  CHECK_EQ(Json::parse("NaN").text(), std::string("nan"));  // a float JSON cannot hold, as the document writes it
+  const Json nan = Json::parse("NaN");  // held: text() is a reference into it
+  CHECK_EQ(nan.text(), std::string("nan"));  // a float JSON cannot hold, as the document writes it
 }
 
 void what_is_not_json_is_refused_with_pythons_reason()
@@ -64,6 +65,15 @@ void what_is_not_json_is_refused_with_pythons_reason()
   CHECK_THROWS(Json::parse("{\"a\":1,}"), StateError, "Expecting property name enclosed in double quotes");
   CHECK_THROWS(Json::parse("[1 2]"), StateError, "Expecting ',' delimiter");
   CHECK_THROWS(Json::parse(""), StateError, "the state is not JSON: Expecting value");
+  for (const char * number : {"0", "-0", "7", "-12", "3.25", "-0.5", "1e3", "2E-7", "6.5e+2", "123456789012345678901"}) {
+    const Json parsed = Json::parse(number);
+    CHECK_EQ(parsed.text(), std::string(number));
+  }
+  CHECK(Json::parse("[0, -3]").items()[1].is_integer() && !Json::parse("[1e2]").items()[0].is_integer());
+  CHECK_EQ(Json::parse("[-2.5e1]").items()[0].as_double(), -25.0);
+  for (const char * bad : {"-", "01", "1.", ".5", "1e", "1e+", "-x", "+1"}) {
+    CHECK_THROWS(Json::parse(bad), StateError, "");
+  }
   CHECK_THROWS(Json::parse("\"abc"), StateError, "Unterminated string");
   CHECK_THROWS(Json::parse("\"\\q\""), StateError, "Invalid \\escape");
   CHECK_THROWS(Json::parse("1 2"), StateError, "Extra data");

@@ -29,6 +29,12 @@ void types_parse_and_print()
   CHECK(t.is_message() && *t.size == 4);
   CHECK(!Type::parse("float64[3]").element().is_message());
   CHECK_THROWS(Type::parse("9lives"), StateError, "'9lives' is not a type");
+  for (const char * bad : {"", "a/", "a/9", "a<=", "a<=x", "a[", "a[3", "a[x]", "a[3]b", "a b", "a<=3<=4", "-a"}) {
+    CHECK_THROWS(Type::parse(bad), StateError, "'" + std::string(bad) + "' is not a type");
+  }
+  const Type u = Type::parse("string<=12[<=]");
+  CHECK(u.base == "string" && *u.bound == 12 && u.array == "bounded" && !u.size);
+  CHECK(Type::parse("x_1/Y_2[]").array == "unbounded" && Type::parse("uint8[16]").size == 16u);
 }
 
 //! Every cell of test/widening.txt: widens(row, column) is 'x'.

@@ -142,7 +142,8 @@ public:
   //! right after the next tick of a work timer of OLD when one is due within ALIGN_SEC (on the tick's thread,
   //! once its work transaction has ended), else at once between transactions: OLD pauses, its state document
   //! is restored into NEW, NEW is activated (its work timers continue OLD's schedule), OLD is deactivated and
-  //! its gate opened again. On a failure OLD is left as it was: active, not paused.
+  //! its gate opened again, once NEW's first tick has come (or its bound passed: two of its periods, at most 1 s),
+  //! so that nothing of OLD's runs beside that tick. On a failure OLD is left as it was: active, not paused.
   HandOverAnswer hand_over_to(ComponentNode & next, double timeout_sec);
 
   // ---- what the user may call or override
@@ -415,8 +416,13 @@ private:
   //! that a hand-over's silence on its topic holds the critical section only, not also part of a period.
   void await_tick(double timeout_sec);
   //! On activate after a restore: each work timer's first tick one period after the last tick of the node
-  //! that saved the state (its document's "schedule"), not one period after this activation.
+  //! that saved the state (its document's "schedule"), not one period after this activation. Its log line
+  //! waits in schedule_notes_ while quiet_schedule_ is set (a hand-over logs it after NEW's first tick).
   void continue_schedule();
+  //! The latest tick of any work timer (wall clock, ns; 0: none yet).
+  int64_t last_tick_ns();
+  //! Wait until a work timer ticks after since_ns, at most timeout_sec.
+  void await_tick_after(int64_t since_ns, double timeout_sec);
   //! Run body as a work transaction; false when it did not run (inactive or paused).
   bool work(const std::function<void()> & body, const std::string & what);
   void serve(
@@ -482,6 +488,10 @@ private:
   std::vector<std::string> over_dds_;
   //! The restored document's schedule, until the next activation continues from it.
   std::map<std::string, int64_t> restored_schedule_;
+  //! When continue_schedule last started a first tick (steady clock; 0: never): a hand-over's report.
+  std::atomic<int64_t> schedule_set_ns_{0};
+  bool quiet_schedule_ = false;
+  std::vector<std::string> schedule_notes_;
   std::vector<rclcpp::ServiceBase::SharedPtr> services_;
   std::mutex goals_mutex_;
   std::vector<std::thread> goals_;
