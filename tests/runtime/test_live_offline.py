@@ -399,3 +399,40 @@ def test_read_live_asks_node_by_node_only_for_a_name_the_graph_carries_with_anot
     assert sorted((f.node, f.message.split(",")[0]) for f in found) == [
         ("/other", "'/arm/move_to_pose': declared robot_arm_msgs/MoveToPose"),
         ("/other", "'/numbers': declared std_msgs/Int32")]
+
+
+@pytest.mark.parametrize(("no_describe", "describes", "whole"), [
+    (False, True, False),   # every node answers Describe: its own answer, not the graph
+    (False, False, True),   # a node without Describe is read off the graph
+    (True, True, True),     # --no-describe: read off the graph
+])
+def test_import_from_nodes_read_off_the_graph_waits_for_the_whole_graph_to_be_quiet(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, no_describe: bool, describes: bool, whole: bool) -> None:
+    """A node's endpoints are discovered one by one, with pauses under load: an import read off the graph
+    waits until the whole graph is quiet (``wait_for(whole=True)``), as verify does, not only for a moment
+    without change (a CI run imported /live_probe without two of its publishers)."""
+    import contextlib
+
+    from iface.live import graph as graph_module
+
+    waits: list[bool] = []
+
+    class Stand:
+        def wait_for(self, names: list[str], whole: bool = False, **_: Any) -> list[str]:
+            waits.append(whole)
+            return []
+
+        def describes(self, full: str) -> bool:
+            return describes
+
+        def read_nodes(self, names: list[str], describe: bool = True) -> dict[str, NodeReading]:
+            return {n: NodeReading(n) for n in names}
+
+    monkeypatch.setattr(graph_module, "open_graph", lambda timeout: contextlib.nullcontext(Stand()))
+    monkeypatch.setattr(graph_module, "ros_missing", lambda: None)  # no ROS needed: the graph is a stand-in
+    args = ["import", "--from", "node", "/talker", "--out", str(tmp_path), "-q", *(["--no-describe"] if no_describe else [])]
+    from tests.conftest import run_main
+
+    done = run_main(*args)
+    assert done.returncode == 0, done.stderr
+    assert waits == ([False, True] if whole else [False])

@@ -74,6 +74,11 @@ def import_nodes(args: argparse.Namespace) -> int:
         if args.all:
             names = sorted(set(names) | set(graph.wait_for_all()))
         absent = graph.wait_for(names)
+        present = [n for n in names if n not in absent]
+        if present and (args.no_describe or not all(graph.describes(n) for n in present)):
+            # read off the graph: wait until the whole graph is quiet, not only until these nodes' endpoints
+            # stop changing for a moment (endpoints are discovered one by one, with pauses under load)
+            graph.wait_for(present, whole=True)
         for name in absent:
             print(f"{prog}: {name}: no such node on the graph (waited {args.timeout:g} s)", file=sys.stderr)
         snaps = graph.read_nodes([n for n in names if n not in absent], describe=not args.no_describe)

@@ -187,6 +187,16 @@ class Graph:
         return last
 
     # ---- reading nodes -----------------------------------------------------------------------
+    def describes(self, full: str) -> bool:
+        """Whether the node ``full`` serves iface's ``Describe`` (as far as the graph shows now)."""
+        ns, _, name = full.rpartition("/")
+        try:
+            services = self.node.get_service_names_and_types_by_node(name, ns or "/")
+        except Exception:  # noqa: BLE001 - the node left the graph
+            return False
+        return any(NodeReading(full).relative(s) == DESCRIBE_SERVICE and list(t) == [DESCRIBE_TYPE]
+                   for s, t in services)
+
     def read_node(self, full: str) -> NodeReading:
         """Everything the graph tells of the node ``full`` (``/ns/name``)."""
         return self.read_nodes([full])[full]
