@@ -1,9 +1,11 @@
 """The ``ros2`` command as the tests run it, and the processes ``ros2 launch`` and ``ros2 run`` start.
 
 A graph query runs with ``--no-daemon`` (the ros2 daemon is a detached process that would outlive the
-test, with no handle of ours to stop it, and answers from a graph it cached) and ``--spin-time``:
-without the daemon each command discovers the graph itself during its spin time, and the default
-0.5 s missed running nodes on this machine under load (../shared/ros2-runtime/README.md). A query
+test, with no handle of ours to stop it) and ``--spin-time``: without the daemon each command discovers the
+graph itself during its spin time, and the default 0.5 s missed running nodes on this machine under load
+(../shared/ros2-runtime/README.md). A test that starts the daemon of its domain itself and stops it at its
+end (``ros2 daemon start``/``stop``: test_launch.py) asks it instead (``daemon=True``): it answers from the
+graph it keeps, a question in 1-2 s where a command that discovers the whole graph itself took 2-5 s. A query
 that does not see its node yet (``Node not found``, ``Unable to find node``) is asked again, within a
 bound; a question to one node (its lifecycle state, a parameter) looks longer each time (0.5, 1, 2 s), any
 other query 2 s, as it prints what it discovered in its spin time. ``Launched`` starts ``ros2 launch``/``ros2
@@ -49,6 +51,17 @@ class Answer:
         return f"$ {' '.join(self.argv)}\nexit {self.code} after {self.tries} tries\n{self.out}{self.err}"
 
 
+#: A file to which each ``ros2`` command the tests run adds a line: its seconds, its exit status and itself.
+TRACE_VARIABLE = "IFACE_TEST_ROS2_TRACE"
+
+
+def trace(argv: tuple[str, ...], code: int | None, seconds: float) -> None:
+    """One line for the command in the file ``$IFACE_TEST_ROS2_TRACE`` names, when it names one."""
+    if path := os.environ.get(TRACE_VARIABLE):
+        with open(path, "a", encoding="utf-8") as out:
+            out.write(f"{seconds:6.2f} s  exit {code}  {' '.join(argv)}\n")
+
+
 def spin_time(args: tuple[str, ...], tries: int) -> float:
     """The spin time of try ``tries`` of ``ros2 ARGS``: a question to one node (``NODE_QUESTIONS``) looks
     ``FIRST_SPIN`` s first, twice as long at each try after, up to ``SPIN_TIME``: a miss says so and costs a
@@ -59,8 +72,9 @@ def spin_time(args: tuple[str, ...], tries: int) -> float:
 
 
 def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 25.0, within: float = 60.0,
-         until: str | None = None, first_try: int = 1) -> Answer:
-    """``ros2 ARGS`` (with ``--no-daemon --spin-time S`` when ``graph``: ``spin_time``), asked again while it
+         until: str | None = None, first_try: int = 1, daemon: bool = False) -> Answer:
+    """``ros2 ARGS`` (with ``--no-daemon --spin-time S`` when ``graph``: ``spin_time``; as it is when ``daemon``:
+    the test runs the domain's ros2 daemon, ``Daemon``, which answers from the graph it keeps), asked again while it
     does not see its node, or (with ``until``) while its output lacks ``until``, or it gave no answer within
     ``timeout`` (a ``ros2`` command can hang at its own exit), for at most ``within`` seconds. A command that is
     not a query (a transition, a goal, a service call) is asked once: ``within=0``, or ``transition``, which
@@ -70,7 +84,8 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
     while True:
         tries += 1
         spin = spin_time(args, first_try + tries - 1)
-        argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{spin:g}") if graph else ()))
+        argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{spin:g}") if graph and not daemon else ()))
+        started = time.monotonic()
         try:
             done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=timeout, check=False,
                                   stdin=subprocess.DEVNULL)
@@ -78,6 +93,7 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
         except subprocess.TimeoutExpired as e:
             answer = Answer(argv, None, _text(e.stdout), _text(e.stderr) + f"\n(no answer within {timeout:g} s)",
                             tries)
+        trace(argv, answer.code, time.monotonic() - started)
         unseen = any(s in answer.out + answer.err for s in NOT_SEEN)
         missing = until is not None and until not in answer.out
         if not (unseen or missing or answer.code is None) or time.monotonic() >= end:
@@ -92,7 +108,8 @@ TRANSITION_TARGET = {"configure": "inactive", "activate": "active", "deactivate"
 TRANSITION_DONE = "Transitioning successful"
 
 
-def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0, within: float = 40.0) -> Answer:
+def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0, within: float = 40.0,
+               daemon: bool = False) -> Answer:
     """``ros2 lifecycle set NODE LABEL``, asked again only while it does not see the node (for at most
     ``within`` seconds): a transition is not idempotent (asked again after it was taken, it is refused). The
     command has been seen to hang at its own exit after printing its answer (rclpy/Fast DDS tearing its node
@@ -102,7 +119,8 @@ def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0
     tries = 0
     while True:
         tries += 1
-        answer = ros2(env, "lifecycle", "set", node, label, timeout=timeout, within=0, first_try=tries)
+        answer = ros2(env, "lifecycle", "set", node, label, timeout=timeout, within=0, first_try=tries,
+                      daemon=daemon)
         if not any(s in answer.out + answer.err for s in NOT_SEEN) or time.monotonic() >= end:
             break
         time.sleep(0.5)

@@ -11,9 +11,9 @@
   replacement goes through; ``iface-lsp system status`` answers throughout.
 - Every time, one SIGINT to ``ros2 launch``: it exits 0 and no process it (or the manager) started runs.
 
-``ros2`` graph queries run with ``--no-daemon`` and bounded retries, a question to one node looking 0.5 s first
-and longer when asked again, any other query 2 s (ros_harness/ros2cli.py);
-processes are started from Python with their own handles. The components come from the session's workspace
+``ros2`` graph queries ask the ros2 daemon of the test's domain, which each test starts and stops with ``ros2
+daemon start``/``stop`` (as a user's shell has one), with bounded retries (ros_harness/ros2cli.py); processes are
+started from Python with their own handles. The components come from the session's workspace
 (conftest.py), built once per release.
 """
 
@@ -84,9 +84,12 @@ class Setup:
 def setup(ros_workspace: Workspace, ros_release: str, tmp_path: Path) -> Iterator[Setup]:
     env = environment(ros_workspace.venv, ros_workspace.path, tmp_path / "ros-log")
     env["PATH"] = iface_lsp_on_path(tmp_path / "bin", ROOT, sys.executable) + os.pathsep + env["PATH"]
+    # the domain's ros2 daemon answers the graph queries from the graph it keeps: without it each `ros2` command
+    # discovers the whole graph itself (2-5 s a question here, the module 248 -> 167 s with it on Kilted). It is a
+    # detached process that would outlive the test: stopped by its own command
+    started = ros2(env, "daemon", "start", graph=False, within=0)
+    assert started.code == 0, started
     yield Setup(env, ros_release, ros_workspace, tmp_path)
-    # `ros2 action list` takes no --no-daemon: it starts the ros2 daemon of this domain, a detached process
-    # that would outlive the test; stopped by its own command
     stopped = ros2(env, "daemon", "stop", graph=False, within=0)
     assert stopped.code == 0, stopped
     assert "not running" in ros2(env, "daemon", "status", graph=False, within=0).out
@@ -116,17 +119,17 @@ def _ok(answer: object, *expected: str) -> str:
 
 def _state(setup: Setup, node: str, expected: str) -> None:
     """``ros2 lifecycle get NODE`` says ``expected`` (asked again while the node comes up, within a bound)."""
-    _ok(ros2(setup.env, "lifecycle", "get", node, until=f"{expected} [", within=UP), f"{expected} [")
+    _ok(ros2(setup.env, "lifecycle", "get", node, until=f"{expected} [", within=UP, daemon=True), f"{expected} [")
 
 
 def _transition(setup: Setup, node: str, label: str) -> None:
     """``ros2 lifecycle set NODE LABEL`` succeeds and the node is then in the transition's target state."""
-    _ok(transition(setup.env, node, label), TRANSITION_DONE)
+    _ok(transition(setup.env, node, label, daemon=True), TRANSITION_DONE)
     _state(setup, node, TRANSITION_TARGET[label])
 
 
 def _param(setup: Setup, node: str, name: str) -> str:
-    answer = ros2(setup.env, "param", "get", node, name)
+    answer = ros2(setup.env, "param", "get", node, name, daemon=True)
     return _ok(answer).strip()
 
 
@@ -149,7 +152,7 @@ def test_the_component_launch_file_starts_its_node_with_namespace_name_and_param
     launched = setup.launch("robot_arm", "robot_arm.launch.py", "namespace:=/lab", "node_name:=arm2",
                             f"params_file:={params}", "joint_state:=/lab/js", log="robot_arm")
     try:
-        _ok(ros2(setup.env, "node", "list", until="/lab/arm2", within=UP), "/lab/arm2")
+        _ok(ros2(setup.env, "node", "list", until="/lab/arm2", within=UP, daemon=True), "/lab/arm2")
         _state(setup, "/lab/arm2", "unconfigured")
         assert _param(setup, "/lab/arm2", "max_speed") == "Double value is: 2.5"  # the launch's file
         assert _param(setup, "/lab/arm2", "rate_hz") == "Double value is: 250.0"  # the installed file's
@@ -160,7 +163,8 @@ def test_the_component_launch_file_starts_its_node_with_namespace_name_and_param
                              "{transition: {id: 1}}")
         _ok(again, "success=False")
         _state(setup, "/lab/arm2", "inactive")
-        info = _ok(ros2(setup.env, "node", "info", "/lab/arm2", until="/lab/js"), "/lab/js: robot_arm_msgs/msg/JointState")
+        info = _ok(ros2(setup.env, "node", "info", "/lab/arm2", until="/lab/js", daemon=True),
+                   "/lab/js: robot_arm_msgs/msg/JointState")
         assert "/arm/joint_state" not in info, info
         _interrupted(launched)
     finally:
@@ -175,10 +179,9 @@ def test_an_action_remapped_by_the_component_launch_file_takes_goals_at_its_new_
         _state(setup, "/peer", "unconfigured")
         for label in ("configure", "activate"):
             _transition(setup, "/peer", label)
-        # `ros2 action list` takes neither --no-daemon nor --spin-time (it looks for 0.5 s): asked again instead
         actions = _ok(ros2(setup.env, "action", "list", graph=False, until="/far/travel"), "/far/travel")
         assert "/station/travel" not in actions, actions
-        services = _ok(ros2(setup.env, "service", "list", until="/far/work"), "/far/work")
+        services = _ok(ros2(setup.env, "service", "list", until="/far/work", daemon=True), "/far/work")
         assert "/station/work" not in services and "/station/travel/_action/send_goal" not in services, services
         goal = "{waypoints: [{x: 1.0, y: 2.0}, {x: 3.0, y: 4.0}]}"
         sent = ros2(setup.env, "action", "send_goal", "/far/travel", "every_member_msgs/action/Travel", goal,
@@ -213,7 +216,7 @@ def test_activate_false_and_a_namespace(setup: Setup, system: tuple[Path, Path])
         for node in ("/ns/sensor", "/ns/thermostat"):
             _state(setup, node, "unconfigured")
         assert _param(setup, "/ns/thermostat", "hysteresis") == "Double value is: 1.25"
-        nodes = _ok(ros2(setup.env, "node", "list"))
+        nodes = _ok(ros2(setup.env, "node", "list", daemon=True))
         assert not re.search(r"^/(sensor|thermostat)$", nodes, re.MULTILINE), nodes
         _interrupted(launched)
     finally:
