@@ -224,6 +224,41 @@ def node_processes(node: str, own: str = "", standby: bool | None = None) -> lis
     return found
 
 
+def processes_of(own: str) -> dict[int, int]:
+    """Every running process but this one whose environment holds ``own`` (a test's own folder, which its ROS
+    environment names in ``ROS_LOG_DIR``), by pid, with its start time: what the test started, at any depth or
+    session."""
+    found = {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit() or int(entry) == os.getpid():
+            continue
+        try:
+            held = own.encode() in Path(f"/proc/{entry}/environ").read_bytes()
+        except OSError:
+            continue
+        start = proc_start(int(entry))
+        if held and start is not None:
+            found[int(entry)] = start
+    return found
+
+
+def stop_leftovers(own: str, within: float = 10.0) -> list[str]:
+    """Kill what still runs of a test's processes (``processes_of``) after ``within`` seconds of letting them end;
+    each one killed, described. A test's cleanup: a failed test leaves what it started, which a later test of the
+    same domain would meet."""
+    end = time.monotonic() + within
+    while (left := processes_of(own)) and time.monotonic() < end:
+        time.sleep(0.2)
+    killed = []
+    for pid in still_running(left):
+        killed.append(f"{pid} {' '.join(cmdline(pid))[:300]}")
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    return killed
+
+
 def still_running(seen: dict[int, int]) -> list[int]:
     """The pids of ``seen`` that still run (the same process: same start time)."""
     return [pid for pid, start in seen.items() if proc_start(pid) == start]

@@ -42,6 +42,7 @@ from ..ros_harness.ros2cli import (
     iface_lsp_on_path,
     ros2,
     service_call,
+    stop_leftovers,
     transition,
 )
 from .conftest import Workspace
@@ -91,8 +92,12 @@ def setup(ros_workspace: Workspace, ros_release: str, tmp_path: Path) -> Iterato
     assert started.code == 0, started
     yield Setup(env, ros_release, ros_workspace, tmp_path)
     stopped = ros2(env, "daemon", "stop", graph=False, within=0)
+    # whatever the test started still running after it (a failed test: the manager's restart of an instance as
+    # launch took it down once outlived it for an hour): killed, and a failure of the test
+    left = stop_leftovers(f"{tmp_path}{os.sep}")
     assert stopped.code == 0, stopped
     assert "not running" in ros2(env, "daemon", "status", graph=False, within=0).out
+    assert not left, f"still running after the test, killed: {left}"
 
 
 @pytest.fixture

@@ -8,10 +8,11 @@
 from __future__ import annotations
 
 import os
+import subprocess
 import sys
 from pathlib import Path
 
-from ..ros_harness.ros2cli import NOT_SEEN, SPIN_TIME, TRANSITION_DONE, ros2, transition
+from ..ros_harness.ros2cli import NOT_SEEN, SPIN_TIME, TRANSITION_DONE, proc_start, ros2, stop_leftovers, transition
 
 #: A stand-in ``ros2``: its behaviour per call comes from SCRIPT (one line per call, the last one repeated),
 #: each call counted in CALLS.
@@ -90,3 +91,23 @@ def test_a_question_to_one_node_looks_longer_at_each_try_and_a_graph_query_looks
     ros2(env, "node", "list")
     ros2(env, "node", "info", "/n", until=TRANSITION_DONE)
     assert _spins(tmp_path) == [SPIN_TIME, SPIN_TIME]  # they print what they saw: a short look would print less
+
+
+def test_a_tests_leftovers_are_found_by_its_folder_in_their_environment_and_killed(tmp_path: Path) -> None:
+    """What a test started and left running (in a session of its own, as the manager starts instances) is killed
+    at its end; another test's process, whose folder only begins like this one's, is left alone."""
+    own, other = tmp_path / "test0", tmp_path / "test01"
+    env = {**os.environ, "ROS_LOG_DIR": f"{own}{os.sep}ros-log"}
+    left = subprocess.Popen(["sleep", "60"], env=env, start_new_session=True)
+    others = subprocess.Popen(["sleep", "60"], env={**os.environ, "ROS_LOG_DIR": f"{other}{os.sep}ros-log"},
+                              start_new_session=True)
+    try:
+        killed = stop_leftovers(f"{own}{os.sep}", within=0.5)
+        assert [k.split()[:3] for k in killed] == [[str(left.pid), "sleep", "60"]], killed
+        assert left.wait(timeout=5) == -9
+        assert proc_start(others.pid) is not None
+        assert stop_leftovers(f"{own}{os.sep}", within=0.2) == []
+    finally:
+        for proc in (left, others):
+            proc.kill()
+            proc.wait(timeout=5)
