@@ -74,7 +74,7 @@ def spin_time(args: tuple[str, ...], tries: int) -> float:
 def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 25.0, within: float = 60.0,
          until: str | None = None, first_try: int = 1, daemon: bool = False) -> Answer:
     """``ros2 ARGS`` (with ``--no-daemon --spin-time S`` when ``graph``: ``spin_time``; as it is when ``daemon``:
-    the test runs the domain's ros2 daemon, ``Daemon``, which answers from the graph it keeps), asked again while it
+    the test runs its domain's ros2 daemon, which answers from the graph it keeps), asked again while it
     does not see its node, or (with ``until``) while its output lacks ``until``, or it gave no answer within
     ``timeout`` (a ``ros2`` command can hang at its own exit), for at most ``within`` seconds. A command that is
     not a query (a transition, a goal, a service call) is asked once: ``within=0``, or ``transition``, which
@@ -207,20 +207,13 @@ def node_processes(node: str, own: str = "", standby: bool | None = None) -> lis
     standbys (``standby=True``: ``--standby`` on the command line, which one that became the node keeps) or none
     (``False``)."""
     found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        pid = int(entry)
+    for pid in processes_of(own):
         line = cmdline(pid)
-        if f"__node:={node}" not in line or proc_start(pid) is None:
+        if f"__node:={node}" not in line:
             continue
         if standby is not None and ("--standby" in line) != standby:
             continue
-        try:
-            if own.encode() in Path(f"/proc/{pid}/environ").read_bytes():
-                found.append(pid)
-        except OSError:
-            continue
+        found.append(pid)
     return found
 
 
