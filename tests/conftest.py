@@ -5,6 +5,8 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import resource
+import time
 import signal
 import subprocess
 import sys
@@ -145,3 +147,25 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         module = item.nodeid.split("::", 1)[0]
         item.add_marker(pytest.mark.xdist_group(f"{module}-{release}" if release else module))
     items.sort(key=lambda item: -LONG.get(item.nodeid.split("::", 1)[0], 0))  # stable: a module's order is kept
+
+
+def _cpu_seconds() -> float:
+    """User and system CPU of this process and of the children it has waited for."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None):
+    """With ``IFACE_TEST_CPU=FILE``, one line per test in FILE.<worker>: CPU seconds (the test's process and the
+    processes it started and waited for: nodes, ``ros2`` commands, builds), wall seconds, node id. A module's
+    fixtures count in the test that set them up or tore them down (docs/testing.md, "Running one part")."""
+    target = os.environ.get("IFACE_TEST_CPU")
+    if not target:
+        yield
+        return
+    cpu, wall = _cpu_seconds(), time.monotonic()
+    yield
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+    with open(f"{target}.{worker}", "a", encoding="utf-8") as out:
+        out.write(f"{_cpu_seconds() - cpu:.2f}\t{time.monotonic() - wall:.2f}\t{item.nodeid}\n")
