@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import hashlib
+import json
 import os
 import re
 import shutil
 import subprocess
 from pathlib import Path
+
+from ..ros_harness import cache
 
 IDLC = shutil.which("idlc")
 NO_IDLC = "idlc (Cyclone DDS's IDL compiler, Debian package cyclonedds-tools) is not installed: scripts/test.sh " \
@@ -46,10 +50,64 @@ def idlc_header(root: Path, idl: Path, out: Path) -> tuple[subprocess.CompletedP
 def fastddsgen(root: Path, files: list[Path], out: Path) -> subprocess.CompletedProcess[str]:
     """Fast-DDS-Gen with the options ArduPilot's libraries/AP_DDS/wscript gives microxrceddsgen.
 
-    Its preprocessed copies go to a folder of this call's own (``-t``): by default they go to /tmp
-    under the input file's name, and two test runs side by side then read each other's half-written
-    copy ("mismatched input '<EOF>'").
+    A run that succeeds is kept in the test cache (tests/ros_harness/cache.py) under the key of what it reads:
+    every file under ``root``, ``files``, the generator's launcher and jar, and Java. The same input then gives
+    what it gave (a JVM over a hundred files is 20 CPU-seconds); what it writes is copied into ``out``, and its
+    output names the cache's folders. A run that fails is never kept.
     """
+    inputs = [("root", root)] + [(f"file{i}", f) for i, f in enumerate(files)]
+    key = cache.key_of("fastddsgen", *_generator_identity(),
+                       *(f"{name}:{cache.digest_tree(path) if path.is_dir() else _digest(path)}" for name, path in inputs),
+                       *(f.relative_to(root).as_posix() if f.is_relative_to(root) else f.name for f in files))
+
+    def make(folder: Path) -> str | None:
+        source = folder / "in" / "root"
+        shutil.copytree(root, source)
+        copies = []
+        for f in files:
+            if f.is_relative_to(root):
+                copies.append(source / f.relative_to(root))
+            else:
+                copies.append(folder / "in" / f.name)
+                shutil.copyfile(f, copies[-1])
+        proc = _run_fastddsgen(source, copies, folder / "gen")
+        (folder / "result.json").write_text(json.dumps([proc.returncode, proc.stdout, proc.stderr]))
+        return None if proc.returncode == 0 else f"fastddsgen exited {proc.returncode}"
+
+    try:
+        folder = cache.entry(key, f"fastddsgen over {root} and {', '.join(map(str, files))}", make).path
+    except cache.BuildFailed:
+        folder = cache.root() / key
+    code, stdout, stderr = json.loads((folder / "result.json").read_text())
+    out.mkdir(parents=True, exist_ok=True)
+    if (folder / "gen").is_dir():
+        shutil.copytree(folder / "gen", out, dirs_exist_ok=True)
+    return subprocess.CompletedProcess(["fastddsgen", str(root), *map(str, files)], code, stdout, stderr)
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _generator_identity() -> list[str]:
+    """What names the generator that runs: its launcher, the jar the launcher names, and the Java it runs on."""
+    assert FASTDDSGEN is not None
+    launcher = Path(FASTDDSGEN).resolve()
+    parts = [f"{launcher}:{_digest(launcher)}"]
+    jar = re.search(r'^JAR="([^"]+)"', launcher.read_text(errors="replace"), re.M)
+    if jar and Path(jar.group(1)).is_file():
+        parts.append(f"{jar.group(1)}:{_digest(Path(jar.group(1)))}")
+    java = shutil.which("java")
+    if java:
+        real = Path(java).resolve()
+        parts.append(f"{real}:{real.stat().st_size}:{real.stat().st_mtime_ns}:{os.environ.get('JAVA_HOME', '')}")
+    return parts
+
+
+def _run_fastddsgen(root: Path, files: list[Path], out: Path) -> subprocess.CompletedProcess[str]:
+    """The generator itself. Its preprocessed copies go to a folder of this call's own (``-t``): by default they
+    go to /tmp under the input file's name, and two test runs side by side then read each other's half-written
+    copy ("mismatched input '<EOF>'")."""
     out.mkdir(parents=True, exist_ok=True)
     temp = out.parent / f"{out.name}-fastddsgen-tmp"
     temp.mkdir(exist_ok=True)
