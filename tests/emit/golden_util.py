@@ -21,7 +21,8 @@ def check_golden(target: str, case: str, files: list[GeneratedFile]) -> None:
             path = folder / f.path
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_bytes(f.text.encode("utf-8"))
-    expected = {p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    expected = {p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*")
+                if p.is_file() and "__pycache__" not in p.parts}  # bytecode of a golden .py is not a generated file
     actual = {f.path: f.text.encode("utf-8") for f in files}
     assert sorted(actual) == sorted(expected), f"golden {target}/{case}: file lists differ"
     for path, data in actual.items():
