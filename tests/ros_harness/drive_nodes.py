@@ -530,9 +530,26 @@ def every_member(report: Report, logs: Path) -> None:
 
         report.step("state: a restore from an incompatible interface is refused with a reason", refused_restore)
 
+        def shutdown_waits() -> str:
+            logged = len(peer.log())
+            work = probe.call_async(Work, "/peer/work", Work.Request(seconds=1.5))
+            time.sleep(0.4)  # the work transaction runs when the shutdown comes
+            start = time.monotonic()
+            probe.transition(peer.name, "shutdown")
+            took = time.monotonic() - start
+            answer = probe.wait(work, 10, "the Work in progress at the shutdown")
+            check(answer.done, "the Work in progress at the shutdown was not done")
+            code = peer.wait_exit(15)
+            check(code == 0, f"peer exit status {code}")
+            log = peer.log()[logged:]
+            check("members destroyed while" not in log and "ERROR" not in log, log[-2000:])
+            return f"the shutdown took {took:.1f} s: the Work in progress ended and was answered first; exit {code}"
+
+        report.step("lifecycle: shutdown waits for the work in progress, then destroys the members", shutdown_waits)
+
         def shutdown() -> str:
             out = []
-            for comp in (s, peer, s2):
+            for comp in (s, s2):
                 assert comp is not None
                 probe.transition(comp.name, "shutdown")
                 code = comp.wait_exit(15)

@@ -43,6 +43,7 @@ ROBOT_ARM = COMMON + [
     "lifecycle: cleanup withdraws the members",
 ]
 EVERY_MEMBER = COMMON + [
+    "lifecycle: shutdown waits for the work in progress, then destroys the members",
     "lifecycle: configure and activate",
     "qos: depth and durability (a late joiner gets the kept history)",
     "topic: subscriptions and publishers",

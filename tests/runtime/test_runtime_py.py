@@ -165,6 +165,28 @@ def test_a_snapshot_waits_for_the_work_in_progress_and_a_pause_refuses_the_work_
         assert entered == [False] and g.refused == 1
 
 
+
+def test_closing_waits_for_the_work_in_progress_and_lets_none_in_until_opened() -> None:
+    """Cleanup and shutdown close the gate before they destroy the members: a tick that began before a SIGTERM's
+    shutdown ends first, and one that comes after is turned away (not counted as refused, as a pause's is)."""
+    g = gate.Gate()
+    assert g.enter()
+    assert g.close(0.05) == (False, "1 work transaction(s) still running after 0.05 s")
+    assert g.closed and not g.enter() and g.refused == 0
+    threading.Timer(0.1, g.leave).start()
+    start = time.monotonic()
+    assert g.close(5.0) == (True, "closed") and time.monotonic() - start >= 0.09 and g.in_flight == 0
+    g.open()
+    with g.quiet(1.0):
+        thread, entered = _enter_in_thread(g)  # held by the snapshot
+        thread.join(0.1)
+        assert g.close(1.0) == (True, "closed")  # turns the held work away
+        thread.join(5.0)
+        assert entered == [False] and g.refused == 0
+    g.open()
+    assert g.enter() and not g.closed
+    g.leave()
+
 def test_the_handler_check_names_missing_mismatched_and_stale_handlers() -> None:
     class Base:
         def on_x(self, msg):

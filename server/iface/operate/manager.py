@@ -210,13 +210,14 @@ class Manager:
     def _spin(self) -> None:
         with contextlib.suppress(Exception):  # the context was shut down under the executor
             while self._rclpy.ok() and not self._closing:
-                self.executor.spin_once(timeout_sec=0.1)
+                self.executor.spin_once()  # woken by work, by ``close`` and by the context's shutdown
 
     _closing = False
 
     def close(self) -> None:
         """Stop spinning and destroy the node; stop watching the processes."""
         self._closing = True
+        self.executor.wake()
         self._spinner.join(timeout=5)
         self.executor.shutdown(timeout_sec=2.0)
         self.node.destroy_node()

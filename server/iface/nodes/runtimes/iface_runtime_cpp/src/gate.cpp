@@ -13,7 +13,10 @@ namespace iface_runtime
 bool Gate::enter()
 {
   std::unique_lock<std::mutex> lock(mutex_);
-  cond_.wait(lock, [this] {return holds_ == 0 || paused_;});
+  cond_.wait(lock, [this] {return holds_ == 0 || paused_ || closed_;});
+  if (closed_) {
+    return false;
+  }
   if (paused_) {
     ++refused_;
     return false;
@@ -61,6 +64,25 @@ std::pair<bool, std::string> Gate::resume()
   }
   paused_ = false;
   return {true, "resumed"};
+}
+
+std::pair<bool, std::string> Gate::close(double timeout)
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  closed_ = true;
+  cond_.notify_all();  // work waiting on a hold is turned away now
+  if (!cond_.wait_for(lock, std::chrono::duration<double>(timeout), [this] {return in_flight_ == 0;})) {
+    char g[64];
+    std::snprintf(g, sizeof g, "%g", timeout);
+    return {false, std::to_string(in_flight_) + " work transaction(s) still running after " + g + " s"};
+  }
+  return {true, "closed"};
+}
+
+void Gate::open()
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  closed_ = false;
 }
 
 Hold Gate::hold(double timeout)

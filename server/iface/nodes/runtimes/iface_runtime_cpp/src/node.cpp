@@ -641,8 +641,8 @@ void ComponentNode::serve(
     return;
   }
   if (is_work && !gate_.enter()) {
-    RCLCPP_WARN_THROTTLE(get_logger(), *get_clock(), 5000, "%s: called while paused: default response",
-      name.c_str());
+    RCLCPP_WARN_THROTTLE(get_logger(), *get_clock(), 5000, "%s: called while %s: default response",
+      name.c_str(), gate_.paused() ? "paused" : "its members are destroyed");
     return;
   }
   try {
@@ -725,6 +725,7 @@ ComponentNode::CallbackReturn ComponentNode::on_configure(const rclcpp_lifecycle
     in_process_.clear();
     over_dds_.clear();
   }
+  gate_.open();
   try {
     create_members();
     setup();
@@ -811,6 +812,11 @@ ComponentNode::CallbackReturn ComponentNode::on_error(const rclcpp_lifecycle::St
 
 void ComponentNode::end()
 {
+  // no work transaction runs on a member being destroyed (a tick that a signal's shutdown overtook)
+  const auto [closed, why] = gate_.close(kCloseTimeoutSec);
+  if (!closed) {
+    RCLCPP_WARN(get_logger(), "members destroyed while %s", why.c_str());
+  }
   if (!entities_.empty()) {
     try {
       teardown();

@@ -108,6 +108,35 @@ void a_pause_refuses_the_work_a_hold_made_wait_and_a_paused_gate_needs_no_hold()
   CHECK(!gate.enter());
 }
 
+void closing_waits_for_the_work_in_progress_and_lets_none_in_until_opened()
+{
+  Gate gate;
+  CHECK(gate.enter());
+  CHECK(gate.close(0.05) == std::make_pair(false, std::string("1 work transaction(s) still running after 0.05 s")));
+  CHECK(!gate.enter());
+  CHECK_EQ(gate.refused(), uint64_t{0});
+  std::thread worker([&gate] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      gate.leave();
+    });
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(gate.close(5.0) == std::make_pair(true, std::string("closed")));
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= 0.09);
+  worker.join();
+  gate.open();
+  CHECK(gate.hold(1.0).held);
+  std::atomic<int> entered{-1};
+  std::thread held([&] {entered = gate.enter() ? 1 : 0;});
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  CHECK(gate.close(1.0).first);  // turns the held work away
+  held.join();
+  CHECK_EQ(entered.load(), 0);
+  gate.release();
+  gate.open();
+  CHECK(gate.enter());
+  gate.leave();
+}
+
 }  // namespace
 
 int main()
@@ -117,5 +146,6 @@ int main()
   work_that_arrives_during_a_hold_waits_for_it_and_is_not_refused();
   a_hold_waits_for_the_work_in_progress_or_leaves_the_gate_as_it_was();
   a_pause_refuses_the_work_a_hold_made_wait_and_a_paused_gate_needs_no_hold();
+  closing_waits_for_the_work_in_progress_and_lets_none_in_until_opened();
   return check::done("gate");
 }

@@ -18,6 +18,8 @@ class Gate:
     no new transaction in and waits until the ones in progress have ended; a pause that does not
     get there in time leaves the gate as it was. ``quiet`` (a snapshot's moment) holds the gate:
     new work waits until the hold ends instead of being refused, so that a snapshot loses no message.
+    ``close`` (the members are about to be destroyed: cleanup, shutdown, error) lets no new transaction in and
+    waits for the ones in progress, so that none runs on a destroyed member; ``open`` (configure) undoes it.
     """
 
     def __init__(self) -> None:
@@ -27,11 +29,15 @@ class Gate:
         self.transactions = 0
         self.refused = 0
         self.holds = 0
+        self.closed = False
 
     def enter(self) -> bool:
-        """Start a transaction, after a hold if one is on; False (counted as refused) while paused."""
+        """Start a transaction, after a hold if one is on; False while closed, and (counted as refused) while
+        paused."""
         with self._cond:
-            self._cond.wait_for(lambda: self.holds == 0 or self.paused)
+            self._cond.wait_for(lambda: self.holds == 0 or self.paused or self.closed)
+            if self.closed:
+                return False
             if self.paused:
                 self.refused += 1
                 return False
@@ -66,6 +72,21 @@ class Gate:
                 return True, "not paused"
             self.paused = False
             return True, "resumed"
+
+    def close(self, timeout: float) -> tuple[bool, str]:
+        """Let no new transaction in and wait for the ones in progress to end (at most ``timeout`` s); the gate
+        stays closed either way."""
+        with self._cond:
+            self.closed = True
+            self._cond.notify_all()  # work waiting on a hold is turned away now
+            if not self._cond.wait_for(lambda: self.in_flight == 0, timeout):
+                return False, f"{self.in_flight} work transaction(s) still running after {timeout:g} s"
+            return True, "closed"
+
+    def open(self) -> None:
+        """Let transactions in again (a closed gate's members were made anew)."""
+        with self._cond:
+            self.closed = False
 
     @contextmanager
     def quiet(self, timeout: float) -> Iterator[None]:

@@ -81,6 +81,8 @@ from .state import StateCodec, StateError
 #: What ``Describe`` says this runtime is (its version: package.xml's).
 RUNTIME = "rclpy"
 RUNTIME_VERSION = __version__
+#: How long cleanup, shutdown and error wait for the work in progress before destroying the members.
+CLOSE_TIMEOUT_SEC = 5.0
 _LEVELS = {"ok": DiagnosticStatus.OK, "warn": DiagnosticStatus.WARN, "error": DiagnosticStatus.ERROR,
            "stale": DiagnosticStatus.STALE}
 
@@ -520,7 +522,8 @@ class ComponentNode(LifecycleNode):
                                           throttle_duration_sec=5.0)
                 return response
             if work and not self.gate.enter():
-                self.get_logger().warning(f"{name}: called while paused: default response", throttle_duration_sec=5.0)
+                why = "paused" if self.gate.paused else "its members are destroyed"
+                self.get_logger().warning(f"{name}: called while {why}: default response", throttle_duration_sec=5.0)
                 return response
             try:
                 answer = handler(request, response)
@@ -565,6 +568,7 @@ class ComponentNode(LifecycleNode):
             self.get_logger().error(f"cannot configure: no value for {', '.join(missing)} (set it in the "
                                     "parameter file or with --ros-args -p NAME:=VALUE)")
             return TransitionCallbackReturn.FAILURE
+        self.gate.open()
         try:
             self._create_members()
             self.setup()
@@ -609,6 +613,9 @@ class ComponentNode(LifecycleNode):
                 self._failed("shutdown", e)
         self._end()
         self.finalized.set()
+        executor = self.executor
+        if executor is not None:
+            executor.wake()  # ``main`` waits for work without a timeout: it looks at ``finalized`` now
         return super().on_shutdown(state)
 
     def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
@@ -617,6 +624,10 @@ class ComponentNode(LifecycleNode):
         return super().on_error(state)
 
     def _end(self) -> None:
+        # no work transaction runs on a member being destroyed (a tick that a signal's shutdown overtook)
+        closed, why = self.gate.close(CLOSE_TIMEOUT_SEC)
+        if not closed:
+            self.get_logger().warning(f"members destroyed while {why}")
         if self._entities:
             try:
                 self.teardown()
@@ -934,8 +945,10 @@ def main(load: Callable[[], type[ComponentNode]], package: str, params_file_name
             if opts.activate:
                 node.trigger_configure()
                 node.trigger_activate()
+            # no timeout: an idle node sleeps until work comes (its timers, a message, a request), the shutdown
+            # transition wakes it (``on_shutdown``), and so does SIGINT (rclpy's handler)
             while rclpy.ok() and not node.finalized.is_set():
-                executor.spin_once(timeout_sec=0.1)
+                executor.spin_once()
             end = time.monotonic() + 0.5  # let the answer to the shutdown transition go out
             while rclpy.ok() and time.monotonic() < end:
                 executor.spin_once(timeout_sec=0.05)

@@ -34,7 +34,7 @@ struct Hold
 class Gate
 {
 public:
-  //! Start a transaction, after a hold if one is on; false (counted as refused) while paused.
+  //! Start a transaction, after a hold if one is on; false while closed, and (counted as refused) while paused.
   bool enter();
   //! End a transaction.
   void leave();
@@ -45,6 +45,11 @@ public:
   Hold hold(double timeout);
   //! End a hold (Hold::held): the work that waited goes on.
   void release();
+  //! Let no new transaction in and wait (at most timeout s) for the ones in progress to end, before the members
+  //! they use are destroyed (cleanup, shutdown, error); the gate stays closed either way.
+  std::pair<bool, std::string> close(double timeout);
+  //! Let transactions in again (configure made the members anew).
+  void open();
   bool paused() const;
   uint64_t in_flight() const;
   uint64_t transactions() const;
@@ -55,6 +60,7 @@ private:
   std::condition_variable cond_;
   uint64_t in_flight_ = 0;
   bool paused_ = false;
+  bool closed_ = false;
   uint32_t holds_ = 0;
   uint64_t transactions_ = 0;
   uint64_t refused_ = 0;

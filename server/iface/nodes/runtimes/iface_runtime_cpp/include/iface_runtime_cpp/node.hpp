@@ -471,6 +471,8 @@ private:
   Info info_;
   std::vector<ParamSpec> params_;
   Gate gate_;
+  //! How long cleanup, shutdown and error wait for the work in progress before destroying the members.
+  static constexpr double kCloseTimeoutSec = 5.0;
   std::atomic<bool> active_{false};
   std::atomic<bool> finalized_{false};
   //! Set by quiesce(): the node is about to be deleted, its callbacks return at once.
