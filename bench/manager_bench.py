@@ -11,7 +11,8 @@
    discovered the standby (its log says so), as a crash that comes a while after the last one);
 2. ``replace``: the silence on a 10 Hz topic across a managed replacement (``/iface_manager/replace``;
    goal p95 <= 250 ms);
-3. ``idle``: the manager's CPU with N idle instances (percent of one core over ``--idle`` seconds).
+3. ``idle``: the manager's CPU with N idle instances, and the instances' own (percent of one core over
+   ``--idle`` seconds).
 
 Generates and builds the test system's packages once (tests/runtime; ``--workspace`` reuses a colcon
 workspace where they are built), then runs itself in the ROS 2 environment. Prints one line per figure
@@ -280,16 +281,19 @@ class Bench:
             time.sleep(3)
             tick = os.sysconf("SC_CLK_TCK")
 
-            def cpu() -> float:
-                fields = Path(f"/proc/{manager.pid}/stat").read_text().rsplit(")", 1)[1].split()
+            def cpu(pid: int) -> float:
+                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
                 return (int(fields[11]) + int(fields[12])) / tick
 
-            c0, t0 = cpu(), time.monotonic()
+            pids = [i.pid for i in s.values()]
+            c0, n0, t0 = cpu(manager.pid), [cpu(p) for p in pids], time.monotonic()
             time.sleep(self.cfg["idle"])
-            c1, t1 = cpu(), time.monotonic()
+            c1, n1, t1 = cpu(manager.pid), [cpu(p) for p in pids], time.monotonic()
             rss = int(Path(f"/proc/{manager.pid}/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+            each = sorted(100 * (b - a) / (t1 - t0) for a, b in zip(n0, n1, strict=True))
             print(f"manager CPU with {len(s)} idle instances: {100 * (c1 - c0) / (t1 - t0):.1f} % of one core over "
-                  f"{t1 - t0:.0f} s (RSS {rss:.0f} MB)", flush=True)
+                  f"{t1 - t0:.0f} s (RSS {rss:.0f} MB); the instances' own: {sum(each):.1f} % in all, "
+                  f"median {statistics.median(each):.2f} % each", flush=True)
         finally:
             stop_manager(manager)
 
