@@ -623,9 +623,25 @@ class ComponentNode(LifecycleNode):
         self._end()
         return super().on_error(state)
 
+    def _until_main_group_idle(self, timeout: float) -> tuple[bool, str]:
+        """Wait (at most ``timeout`` s) until no callback of the main group runs: rclpy sends a service's answer
+        after its callback returned, and so after the callback left the gate; a service destroyed meanwhile
+        never answers ("cannot use Destroyable because destruction was requested")."""
+        member = next((m for m in (ref() for ref in list(self.main_group.entities)) if m is not None), None)
+        if member is None:
+            return True, "closed"
+        end = time.monotonic() + timeout
+        while not self.main_group.can_execute(member):  # mutually exclusive: true when none of its callbacks runs
+            if time.monotonic() > end:
+                return False, f"a callback of the main group still running after {timeout:g} s"
+            time.sleep(0.002)
+        return True, "closed"
+
     def _end(self) -> None:
         # no work transaction runs on a member being destroyed (a tick that a signal's shutdown overtook)
         closed, why = self.gate.close(CLOSE_TIMEOUT_SEC)
+        if closed:
+            closed, why = self._until_main_group_idle(CLOSE_TIMEOUT_SEC)
         if not closed:
             self.get_logger().warning(f"members destroyed while {why}")
         if self._entities:
