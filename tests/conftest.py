@@ -6,10 +6,10 @@ import contextlib
 import io
 import os
 import resource
-import time
 import signal
 import subprocess
 import sys
+import time
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
