@@ -21,10 +21,12 @@ import re
 import subprocess
 import sys
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import IO
+from typing import IO, TypeVar
 
+T = TypeVar("T")
 ROOT = Path(__file__).resolve().parents[2]
 #: The test data of the runtime tests: interfaces and the user code put into generated packages.
 DATA = ROOT / "tests" / "runtime" / "data"
@@ -193,3 +195,15 @@ def run_bounded(cmd: list[str], env: dict[str, str], timeout: float, log: Path) 
                 os.killpg(proc.pid, 9)
                 proc.wait(timeout=15)
             return None
+
+
+def at_once(*calls: Callable[[], T]) -> list[T]:
+    """Each call in a thread of its own, all at the same time; their results in the order given.
+
+    For commands that spend their time waiting on the graph (discovery, a grace period for a missing node, a
+    spin time): one after another their waits add up, at the same time they overlap. Each call bounds its own
+    wait (``subprocess.run(timeout=...)``); the first exception a call raised is raised here.
+    """
+    with ThreadPoolExecutor(max_workers=len(calls)) as pool:
+        futures = [pool.submit(call) for call in calls]
+    return [f.result() for f in futures]

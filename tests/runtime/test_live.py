@@ -22,8 +22,8 @@ from typing import Any
 
 import pytest
 
+from ..ros_harness.ros import DATA, at_once, environment
 from .conftest import Workspace
-from ..ros_harness.ros import DATA, environment
 
 #: Run once per ROS 2 release (tests/runtime/conftest.py).
 PER_RELEASE = True
@@ -280,7 +280,8 @@ def test_a_node_not_declared_with_another_type_on_declared_names_is_found(live: 
                     break
             return done
 
-        done = verify("--format", "json")
+        # each run waits for the graph to settle: the three formats at once
+        done, text, sarif = at_once(lambda: verify("--format", "json"), verify, lambda: verify("--format", "sarif"))
         assert done.returncode == 1, done.stderr
         report = json.loads(done.stdout)
         found = sorted((f["line"], f["message"]) for f in report["findings"] if f["node"] == "/intruder")
@@ -295,12 +296,10 @@ def test_a_node_not_declared_with_another_type_on_declared_names_is_found(live: 
         ]), json.dumps(report, indent=1) + (live["root"] / "intruder.log").read_text(errors="replace")[-2000:]
         assert all(f["code"] == "live-type-mismatch" and f["path"].endswith("talker.iface")
                    for f in report["findings"] if f["node"] == "/intruder")
-        text = verify()
         assert text.returncode == 1, text.stderr
         assert any(line.endswith("error[live-type-mismatch]: '/chatter': declared std_msgs/String, /intruder "
                                  "publishes std_msgs/Int32 [/intruder]") for line in text.stdout.splitlines()), \
             text.stdout
-        sarif = verify("--format", "sarif")
         results = json.loads(sarif.stdout)["runs"][0]["results"]
         assert sum(r["message"]["text"].endswith("[/intruder]") for r in results) == 3, sarif.stdout
     finally:

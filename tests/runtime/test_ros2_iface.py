@@ -1,6 +1,7 @@
 """``ros2 iface``: iface's ros2cli extension, installed with the package, run by the real ``ros2`` command.
 
-The package is built into a wheel from this checkout and installed with ``pip install --no-deps --target DIR``;
+The package is built into a wheel from this checkout and installed with ``pip install --no-deps --target DIR``
+(once per content of the sources: a test cache entry);
 ``DIR`` goes first on the ``PYTHONPATH`` of the ``ros2`` process (the runtime's ``ros2``, with the runtime's
 Python), and iface's own requirements (jinja2, pygls…) are found where this Python has them, after the runtime's
 packages: what ``pip install .`` into the Python that runs ``ros2`` gives a user. This checkout's ``server/``
@@ -14,6 +15,7 @@ stopped by its own handle.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -28,7 +30,8 @@ from typing import Any
 
 import pytest
 
-from ..ros_harness.ros import ROOT, environment
+from ..ros_harness import cache
+from ..ros_harness.ros import ROOT, at_once, environment
 from .conftest import Workspace
 from .test_live import FAULTS, LIVE, STEP, _start, _stop, _wait_line
 
@@ -58,25 +61,40 @@ def _requirement_dirs(dist_info: Path) -> list[str]:
     return found
 
 
-@pytest.fixture(scope="module")
-def installed(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[str]]:
-    """iface installed from a wheel of this checkout into a folder of its own; that folder and the requirements'."""
-    root = tmp_path_factory.mktemp("ros2-iface-install")
-    src = root / "src"
+def _install(folder: Path) -> str | None:
+    """Build a wheel of this checkout and install it into ``folder/site`` (a test cache entry); None, or why not."""
+    src = folder / "src"
     src.mkdir()
     for name in ("pyproject.toml", "README.md"):
         shutil.copy(ROOT / name, src / name)
     shutil.copytree(ROOT / "server", src / "server",
                     ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "build"))
     wheel = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q",
-                            "-w", str(root / "wheel"), str(src)], capture_output=True, text=True, timeout=300,
+                            "-w", str(folder / "wheel"), str(src)], capture_output=True, text=True, timeout=300,
                            check=False)
-    assert wheel.returncode == 0, wheel.stdout + wheel.stderr
-    (whl,) = (root / "wheel").glob("iface-*.whl")
-    target = root / "site"
-    done = subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(target),
+    shutil.rmtree(src)
+    if wheel.returncode != 0:
+        return f"pip wheel: {wheel.stdout}{wheel.stderr}"
+    (whl,) = (folder / "wheel").glob("iface-*.whl")
+    done = subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(folder / "site"),
                            str(whl)], capture_output=True, text=True, timeout=300, check=False)
-    assert done.returncode == 0, done.stdout + done.stderr
+    return None if done.returncode == 0 else f"pip install: {done.stdout}{done.stderr}"
+
+
+@pytest.fixture(scope="module")
+def installed() -> tuple[Path, list[str]]:
+    """iface installed from a wheel of this checkout into a folder of its own; that folder and the requirements'.
+
+    The folder is a test cache entry (ros_harness/cache.py) under the key of the sources, pip and this Python:
+    built once per content of ``server/``, not once per run.
+    """
+    pip = subprocess.run([sys.executable, "-m", "pip", "--version"], capture_output=True, text=True, timeout=60,
+                         check=True).stdout.split(" from ")[0]
+    sources = [cache.digest_tree(ROOT / "server" / "iface"),
+               *(hashlib.sha256((ROOT / name).read_bytes()).hexdigest() for name in ("pyproject.toml", "README.md"))]
+    key = cache.key_of("iface wheel, pip install --target", sys.version, pip, *sources)
+    target = cache.entry(key, f"iface installed from a wheel of {ROOT} ({pip}, Python {sys.version.split()[0]})",
+                         _install).path / "site"
     (dist_info,) = target.glob("iface-*.dist-info")
     return target, _requirement_dirs(dist_info)
 
@@ -153,10 +171,12 @@ def test_ros2_iface_verify_finds_the_planted_faults_as_iface_lsp_verify_does(liv
         (folder / name).write_text(text, encoding="utf-8")
     files = ["talker.iface", "listener.iface", "ghost.iface"]
     daemon = ros2(live["ros2"], "daemon", "status").stdout
-    for fmt in ("text", "json"):
-        ours = ros2(live["ros2"], "iface", "verify", *files, "--format", fmt, "--spin-time", "60", "--no-daemon",
-                    cwd=folder)
-        theirs = iface_lsp(live["env"], "verify", *files, "--format", fmt, "--timeout", "60", cwd=folder)
+    # each run waits out the missing node's grace period: the four at once
+    runs = at_once(*(call for fmt in ("text", "json") for call in (
+        lambda fmt=fmt: ros2(live["ros2"], "iface", "verify", *files, "--format", fmt, "--spin-time", "60",
+                             "--no-daemon", cwd=folder),
+        lambda fmt=fmt: iface_lsp(live["env"], "verify", *files, "--format", fmt, "--timeout", "60", cwd=folder))))
+    for ours, theirs in (runs[:2], runs[2:]):
         assert (ours.returncode, theirs.returncode) == (1, 1), ours.stderr + theirs.stderr
         assert ours.stdout == theirs.stdout, (ours.stdout, theirs.stdout)
         assert ours.stderr == theirs.stderr == ""
@@ -184,10 +204,11 @@ def test_ros2_iface_import_writes_what_iface_lsp_import_from_node_writes(live: d
     ours, theirs = live["root"] / "import-ros2", live["root"] / "import-iface-lsp"
     ours.mkdir()
     theirs.mkdir()
-    a = ros2(live["ros2"], "iface", "import", *nodes, "--system", "room", "--out", "out", "--spin-time", "60",
-             "--no-daemon", cwd=ours)
-    b = iface_lsp(live["env"], "import", "--from", "node", *nodes, "--system", "room", "--out", "out", "--timeout",
-                  "60", cwd=theirs)
+    a, b = at_once(
+        lambda: ros2(live["ros2"], "iface", "import", *nodes, "--system", "room", "--out", "out", "--spin-time", "60",
+                     "--no-daemon", cwd=ours),
+        lambda: iface_lsp(live["env"], "import", "--from", "node", *nodes, "--system", "room", "--out", "out",
+                          "--timeout", "60", cwd=theirs))
     assert (a.returncode, b.returncode) == (0, 0), a.stderr + b.stderr
     assert a.stdout == b.stdout and a.stdout.count("wrote out/") == 4, (a.stdout, b.stdout)
     written = sorted(p.name for p in (ours / "out").iterdir())
@@ -217,10 +238,12 @@ def test_argcomplete_completes_verbs_options_nodes_and_instances(live: dict[str,
 
 def test_without_a_manager_the_manager_verbs_exit_2_in_one_line(live: dict[str, Any], tmp_path: Path) -> None:
     system = ROOT / "examples" / "living_room.iface"
-    for args in (["status", str(system)], ["snapshot", str(system), "sensor"],
-                 ["replace", str(system), "thermostat", "--new", str(ROOT / "examples" / "thermostat.iface"),
-                  "--package", str(tmp_path)]):
-        done = ros2(live["ros2"], "iface", *args, "--spin-time", "2")
+    cases = (["status", str(system)], ["snapshot", str(system), "sensor"],
+             ["replace", str(system), "thermostat", "--new", str(ROOT / "examples" / "thermostat.iface"),
+              "--package", str(tmp_path)])
+    # each one looks for a manager for its whole spin time: the three at once
+    answers = at_once(*(lambda args=args: ros2(live["ros2"], "iface", *args, "--spin-time", "2") for args in cases))
+    for args, done in zip(cases, answers, strict=True):
         assert done.returncode == 2, (args, done.stdout, done.stderr)
         assert done.stderr.count("\n") == 1 and done.stderr.startswith(f"ros2 iface {args[0]}: "), done.stderr
         assert "iface-lsp manager" in done.stderr  # how to start one
@@ -289,8 +312,9 @@ def _stop_manager(manager: subprocess.Popen[bytes], state: Path, root: Path) -> 
 def test_ros2_iface_status_and_snapshot_answer_as_iface_lsp_system_does(managed: dict[str, Any]) -> None:
     system, sysdir = managed["system"], managed["system"].parent
     for fmt in ("text", "json"):
-        ours = ros2(managed["ros2"], "iface", "status", system.name, "--format", fmt, cwd=sysdir)
-        theirs = iface_lsp(managed["env"], "system", "status", system.name, "--format", fmt, cwd=sysdir)
+        ours, theirs = at_once(
+            lambda fmt=fmt: ros2(managed["ros2"], "iface", "status", system.name, "--format", fmt, cwd=sysdir),
+            lambda fmt=fmt: iface_lsp(managed["env"], "system", "status", system.name, "--format", fmt, cwd=sysdir))
         assert (ours.returncode, theirs.returncode) == (0, 0), ours.stderr + theirs.stderr
         assert ours.stdout == theirs.stdout, (ours.stdout, theirs.stdout)
     saved = ros2(managed["ros2"], "iface", "snapshot", system.name, "--spin-time", "30", cwd=sysdir)
