@@ -202,7 +202,8 @@ def at_once(*calls: Callable[[], T]) -> list[T]:
 
     For commands that spend their time waiting on the graph (discovery, a grace period for a missing node, a
     spin time): one after another their waits add up, at the same time they overlap. Each call bounds its own
-    wait (``subprocess.run(timeout=...)``); the first exception a call raised is raised here.
+    wait (``subprocess.run(timeout=...)``). Every call ends before this returns; when calls raised, the
+    exception of the first of them (in the order given) is raised here.
     """
     with ThreadPoolExecutor(max_workers=len(calls)) as pool:
         futures = [pool.submit(call) for call in calls]
