@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 import os
 import re
@@ -57,7 +56,7 @@ def fastddsgen(root: Path, files: list[Path], out: Path) -> subprocess.Completed
     output names the cache's folders. A run that fails is never kept.
     """
     inputs = [("root", root)] + [(f"file{i}", f) for i, f in enumerate(files)]
-    digests = (f"{name}:{cache.digest_tree(path) if path.is_dir() else _digest(path)}" for name, path in inputs)
+    digests = (f"{name}:{cache.digest_tree(path) if path.is_dir() else cache.digest_file(path)}" for name, path in inputs)
     key = cache.key_of("fastddsgen", *_generator_identity(), *digests,
                        *(f.relative_to(root).as_posix() if f.is_relative_to(root) else f.name for f in files))
 
@@ -86,19 +85,15 @@ def fastddsgen(root: Path, files: list[Path], out: Path) -> subprocess.Completed
     return subprocess.CompletedProcess(["fastddsgen", str(root), *map(str, files)], code, stdout, stderr)
 
 
-def _digest(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
-
-
 @functools.cache
 def _generator_identity() -> tuple[str, ...]:
     """What names the generator that runs: its launcher, the jar the launcher names, and the Java it runs on."""
     assert FASTDDSGEN is not None
     launcher = Path(FASTDDSGEN).resolve()
-    parts = [f"{launcher}:{_digest(launcher)}"]
+    parts = [f"{launcher}:{cache.digest_file(launcher)}"]
     jar = re.search(r'^JAR="([^"]+)"', launcher.read_text(errors="replace"), re.MULTILINE)
     if jar and Path(jar.group(1)).is_file():
-        parts.append(f"{jar.group(1)}:{_digest(Path(jar.group(1)))}")
+        parts.append(f"{jar.group(1)}:{cache.digest_file(Path(jar.group(1)))}")
     java = shutil.which("java")
     if java:
         real = Path(java).resolve()

@@ -67,6 +67,11 @@ def key_of(*parts: str) -> str:
     return h.hexdigest()[:40]
 
 
+def digest_file(path: Path) -> str:
+    """The digest of one file's content."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
 def digest_tree(folder: Path) -> str:
     """The digest of every file under ``folder``: relative paths, contents and the executable bit."""
     h = hashlib.sha256()

@@ -97,7 +97,7 @@ def _version(tool: str, path: str) -> str:
 
 
 def _file(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else f"no {path.name}"
+    return cache.digest_file(path) if path.is_file() else f"no {path.name}"
 
 
 @functools.cache

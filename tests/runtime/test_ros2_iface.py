@@ -15,7 +15,6 @@ stopped by its own handle.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import shutil
@@ -91,7 +90,7 @@ def installed() -> tuple[Path, list[str]]:
     pip = subprocess.run([sys.executable, "-m", "pip", "--version"], capture_output=True, text=True, timeout=60,
                          check=True).stdout.split(" from ")[0]
     sources = [cache.digest_tree(ROOT / "server" / "iface"),
-               *(hashlib.sha256((ROOT / name).read_bytes()).hexdigest() for name in ("pyproject.toml", "README.md"))]
+               *(cache.digest_file(ROOT / name) for name in ("pyproject.toml", "README.md"))]
     key = cache.key_of("iface wheel, pip install --target", sys.version, pip, *sources)
     target = cache.entry(key, f"iface installed from a wheel of {ROOT} ({pip}, Python {sys.version.split()[0]})",
                          _install).path / "site"
