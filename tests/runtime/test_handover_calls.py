@@ -9,6 +9,7 @@ node is where the transition starts (the request was lost). The calls are the on
 
 from __future__ import annotations
 
+import re
 from types import SimpleNamespace
 from typing import Any
 
@@ -16,6 +17,7 @@ import pytest
 
 from iface.live import link as link_module
 from iface.live.link import Link, LinkError
+from iface.operate import handover as handover_module
 from iface.operate.handover import ACTIVATE, ACTIVE, INACTIVE, HandOver, Refused
 
 ACTIVATING = 13  # lifecycle_msgs/State TRANSITION_STATE_ACTIVATING
@@ -114,3 +116,45 @@ def test_a_refused_transition_is_refused(monkeypatch: pytest.MonkeyPatch) -> Non
     with pytest.raises(Refused, match="refused to activate"):
         h._transition("/new", ACTIVATE, "activate")
     assert change.sent == 1
+
+
+class Discovery:
+    """OLD's publisher of /tick matched by 3 subscriptions; NEW's by 2 until ``after`` seconds of a fake clock."""
+
+    def __init__(self, after: float) -> None:
+        self.after, self.now = after, 0.0
+
+    def monotonic(self) -> float:
+        return self.now
+
+    def pause(self, seconds: float, done: object = None) -> None:
+        self.now += seconds
+
+    def matched(self, node: str) -> dict[str, int]:
+        return {"/tick": 3 if node == "/old" or self.now >= self.after else 2}
+
+
+def awaited(monkeypatch: pytest.MonkeyPatch, after: float, timeout: float) -> HandOver:
+    discovery = Discovery(after)
+    h = make(monkeypatch, {}, timeout=timeout)
+    monkeypatch.setattr(handover_module, "time", discovery)
+    monkeypatch.setattr(h.calls, "pause", discovery.pause)
+    monkeypatch.setattr(h, "_matched", discovery.matched)
+    h._await_matches()
+    return h
+
+
+def test_a_subscriber_that_discovers_new_late_is_waited_for_within_the_timeout(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # a lost discovery announcement is sent again after seconds: 7 s is within the 10 s timeout
+    h = awaited(monkeypatch, after=7.0, timeout=10.0)
+    assert [(s.step, s.ok) for s in h.steps] == [("match", True)]
+    waited = re.fullmatch(r"NEW's publishers on /tick matched as OLD's are \((\d+) ms\)", h.steps[0].detail)
+    assert waited and 7000 <= int(waited.group(1)) <= 7100, h.steps[0].detail
+
+
+def test_a_match_that_never_comes_ends_the_wait_at_the_timeout_and_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    h = awaited(monkeypatch, after=float("inf"), timeout=10.0)
+    assert [s.step for s in h.steps] == ["match"]
+    assert h.steps[0].detail == ("after 10 s NEW's publishers still match fewer subscriptions than OLD's: "
+                                 "/tick 2 of 3; going on"), h.steps[0].detail

@@ -52,9 +52,6 @@ ACCEPTED = ("equivalent", "replaceable")
 UNCONFIGURED, INACTIVE, ACTIVE = 1, 2, 3
 STATE_LABELS = {0: "unknown", 1: "unconfigured", 2: "inactive", 3: "active", 4: "finalized"}
 CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
-#: At most this many seconds (and the timeout) for NEW's publishers to match the subscriptions OLD's have.
-MATCH_WAIT = 5.0
-
 _Step = TypeVar("_Step", bound=Callable[..., Any])
 
 
@@ -383,10 +380,12 @@ class HandOver:
         """Before OLD pauses: NEW's publishers matched by as many subscriptions as OLD's on the same topic.
 
         A NEW started a moment ago may not be discovered yet by every subscriber; what it published
-        before they match it would be lost, and the silence would last until discovery ends. Waited
-        for at most ``MATCH_WAIT`` s (and the timeout); then the hand-over goes on and says so.
+        before they match it would be lost, and the silence would last until discovery ends. Compat
+        has approved NEW's QoS (a publisher that may match fewer peers is ``qos-incompatible``), so
+        only discovery stands between: a lost announcement is sent again seconds later. Waited for at
+        most the timeout; then the hand-over goes on and says so.
         """
-        limit = min(self.timeout, MATCH_WAIT)
+        limit = self.timeout
         start = time.monotonic()
         while True:
             old, new = self._matched(self.old), self._matched(self.new)
