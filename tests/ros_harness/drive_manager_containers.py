@@ -112,8 +112,8 @@ def main() -> int:
         return fresh
 
     def replace(new_iface: str, package: str) -> tuple[int, dict[str, Any]]:
-        code, out, err = cli("replace", cfg["system"], "ticker", "--new", new_iface, "--package", package,
-                             "--timeout", "5")
+        # the default --timeout (10 s): NEW's publishers may take that long to be matched by every subscriber
+        code, out, err = cli("replace", cfg["system"], "ticker", "--new", new_iface, "--package", package)
         try:
             return code, json.loads(out)
         except ValueError:

@@ -22,7 +22,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--system", nargs="+", default=None, metavar="FILE",
                    help="the other components of the system: decides whether changed elements are used")
     p.add_argument("--timeout", type=float, default=10.0, metavar="S",
-                   help="how long each node may take to answer (default 10 s)")
+                   help="how long each node may take to answer, and NEW's publishers to be matched as OLD's are "
+                        "(default 10 s)")
     p.add_argument("--trust-store", type=Path, metavar="DIR",
                    help="a folder of trusted public keys (*.pub): NEW's package must be signed by one of them")
     p.add_argument("--new-package", type=Path, metavar="DIR",

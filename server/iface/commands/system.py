@@ -47,7 +47,8 @@ def add_replace_arguments(p: argparse.ArgumentParser) -> dict[str, argparse.Acti
              "package": p.add_argument("--package", required=True, type=Path, metavar="DIR",
                                        help="the replacement's install folder (ws/install/<package>)")}
     p.add_argument("--timeout", type=float, default=10.0, metavar="S",
-                   help="how long each node may take to answer (default 10 s)")
+                   help="how long each node may take to answer, and NEW's publishers to be matched as OLD's are "
+                        "(default 10 s)")
     found["manager_timeout"] = _manager_timeout(p)
     return found
 
