@@ -45,7 +45,7 @@ from .container_host import (
     second_container_name,
 )
 from .containers import CONTAINER_EXECUTABLE, CONTAINER_PACKAGE, ContainerError, sharing_problem
-from .handover import ACTIVE, INACTIVE, UNCONFIGURED, HandOver, Refused, decide
+from .handover import ACTIVE, INACTIVE, STATE_LABELS, UNCONFIGURED, HandOver, Refused, decide
 from .implementation import Implementation, NotStartable, Replacement, Replacements, of_instance, replacing
 from .in_container import ContainerCalls, Loaded
 from .processes import ExitWatcher, InstanceProcess, Records, StartError
@@ -61,6 +61,8 @@ REPLACE_SERVICE = f"/{NODE_NAME}/replace"
 #: lifecycle_msgs/Transition ids the manager uses beyond configure/activate/deactivate.
 CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
 SHUTDOWN_FROM = {UNCONFIGURED: 5, INACTIVE: 6, ACTIVE: 7}
+#: lifecycle_msgs/State FINALIZED: shut down, its process ending.
+FINALIZED = 4
 #: Findings kept per instance.
 FINDINGS_KEPT = 20
 #: Seconds between two requests for a just started instance's first answer: its services are found this soon.
@@ -250,23 +252,34 @@ class Manager:
             self.wake.wait(TICK)
 
     def down(self) -> None:
-        """Deactivate (with a snapshot) and shut down each instance, in reverse order."""
+        """Deactivate (with a snapshot) and shut down each instance, in reverse order.
+
+        An instance shut down (finalized) does nothing more: the next one is deactivated while its process
+        ends, and the processes' ends are then awaited in the same order. One whose shutdown was not
+        confirmed is awaited (and stopped) before the next one is deactivated.
+        """
+        ending = []
         for m in reversed(self.instances):
             with self.lock:
-                self._down(m)
+                if self._down(m):
+                    ending.append(m)
+        for m in ending:
+            with self.lock:
+                self._ended(m)
         with self.lock:
             for host in list(self.hosts.values()):
                 self._stop_host(host)
 
-    def _down(self, m: Managed) -> None:
+    def _down(self, m: Managed) -> bool:
+        """Deactivate and shut down ``m``; whether its process is left to end (it confirmed its shutdown)."""
         m.standby.stop()
         if m.container is not None:
             self._down_loaded(m)
-            return
+            return False
         if m.process is None or not m.process.alive():
             self.records.remove(m.name)
             m.state = "down" if m.state not in ("failed",) else m.state
-            return
+            return False
         t = self.options.call_timeout
         try:
             state = self.link.lifecycle_state(m.path, t)
@@ -276,9 +289,18 @@ class Manager:
                 self._snapshot(m, "deactivate")
             if state in SHUTDOWN_FROM:
                 self.link.transition(m.path, SHUTDOWN_FROM[state], t)
+                return True
+            if state == FINALIZED:
+                return True
+            m.note(f"down: {STATE_LABELS.get(state, state)}, not shut down")
         except LinkError as e:
             m.note(f"down: {e}")
-        if not m.process.wait(10.0):
+        self._ended(m)
+        return False
+
+    def _ended(self, m: Managed) -> None:
+        """Wait for the process of ``m`` to end (stopped after 10 s), and say it is down."""
+        if m.process is not None and not m.process.wait(10.0):
             m.process.stop(5.0)
         self.records.remove(m.name)
         m.state = "down"
