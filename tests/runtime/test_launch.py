@@ -33,7 +33,7 @@ from pathlib import Path
 
 import pytest
 
-from ..ros_harness.ros import ROOT, environment
+from ..ros_harness.ros import ROOT, at_once, environment
 from ..ros_harness.ros2cli import (
     TRANSITION_DONE,
     TRANSITION_TARGET,
@@ -122,9 +122,9 @@ def _ok(answer: object, *expected: str) -> str:
     return str(text)
 
 
-def _state(setup: Setup, node: str, expected: str) -> None:
+def _state(setup: Setup, node: str, expected: str) -> str:
     """``ros2 lifecycle get NODE`` says ``expected`` (asked again while the node comes up, within a bound)."""
-    _ok(ros2(setup.env, "lifecycle", "get", node, until=f"{expected} [", within=UP, daemon=True), f"{expected} [")
+    return _ok(ros2(setup.env, "lifecycle", "get", node, until=f"{expected} [", within=UP, daemon=True), f"{expected} [")
 
 
 def _transition(setup: Setup, node: str, label: str) -> None:
@@ -158,18 +158,21 @@ def test_the_component_launch_file_starts_its_node_with_namespace_name_and_param
                             f"params_file:={params}", "joint_state:=/lab/js", log="robot_arm")
     try:
         _ok(ros2(setup.env, "node", "list", until="/lab/arm2", within=UP, daemon=True), "/lab/arm2")
-        _state(setup, "/lab/arm2", "unconfigured")
-        assert _param(setup, "/lab/arm2", "max_speed") == "Double value is: 2.5"  # the launch's file
-        assert _param(setup, "/lab/arm2", "rate_hz") == "Double value is: 250.0"  # the installed file's
+        # the questions that change nothing are asked at once: each `ros2` command's wait overlaps the others'
+        _, launch_file, installed = at_once(lambda: _state(setup, "/lab/arm2", "unconfigured"),
+                                            lambda: _param(setup, "/lab/arm2", "max_speed"),
+                                            lambda: _param(setup, "/lab/arm2", "rate_hz"))
+        assert launch_file == "Double value is: 2.5"  # the launch's file
+        assert installed == "Double value is: 250.0"  # the installed file's
         _transition(setup, "/lab/arm2", "configure")
         # the same transition again (as a caller sends it after a lost answer): refused, the node lives on (Jazzy's
         # rclpy 7.1 lets the state machine's error end the process; the runtime answers success: false)
         again = service_call(setup.env, setup.release, "/lab/arm2/change_state", "lifecycle_msgs/srv/ChangeState",
                              "{transition: {id: 1}}")
         _ok(again, "success=False")
-        _state(setup, "/lab/arm2", "inactive")
-        info = _ok(ros2(setup.env, "node", "info", "/lab/arm2", until="/lab/js", daemon=True),
-                   "/lab/js: robot_arm_msgs/msg/JointState")
+        _, info = at_once(lambda: _state(setup, "/lab/arm2", "inactive"),
+                          lambda: _ok(ros2(setup.env, "node", "info", "/lab/arm2", until="/lab/js", daemon=True),
+                                      "/lab/js: robot_arm_msgs/msg/JointState"))
         assert "/arm/joint_state" not in info, info
         _interrupted(launched)
     finally:
@@ -184,9 +187,10 @@ def test_an_action_remapped_by_the_component_launch_file_takes_goals_at_its_new_
         _state(setup, "/peer", "unconfigured")
         for label in ("configure", "activate"):
             _transition(setup, "/peer", label)
-        actions = _ok(ros2(setup.env, "action", "list", graph=False, until="/far/travel"), "/far/travel")
+        actions, services = at_once(
+            lambda: _ok(ros2(setup.env, "action", "list", graph=False, until="/far/travel"), "/far/travel"),
+            lambda: _ok(ros2(setup.env, "service", "list", until="/far/work", daemon=True), "/far/work"))
         assert "/station/travel" not in actions, actions
-        services = _ok(ros2(setup.env, "service", "list", until="/far/work", daemon=True), "/far/work")
         assert "/station/work" not in services and "/station/travel/_action/send_goal" not in services, services
         goal = "{waypoints: [{x: 1.0, y: 2.0}, {x: 3.0, y: 4.0}]}"
         sent = ros2(setup.env, "action", "send_goal", "/far/travel", "every_member_msgs/action/Travel", goal,
@@ -205,10 +209,11 @@ def test_the_system_launch_file_brings_every_instance_up_with_its_parameters(set
     _, launch_file = system
     launched = setup.launch(str(launch_file), log="system")
     try:
-        for node in ("/sensor", "/thermostat"):
-            _state(setup, node, "active")
-        assert _param(setup, "/sensor", "rate_hz") == "Double value is: 5.0"
-        assert _param(setup, "/thermostat", "hysteresis") == "Double value is: 1.25"
+        at_once(lambda: _state(setup, "/sensor", "active"), lambda: _state(setup, "/thermostat", "active"))
+        rate, hysteresis = at_once(lambda: _param(setup, "/sensor", "rate_hz"),
+                                   lambda: _param(setup, "/thermostat", "hysteresis"))
+        assert rate == "Double value is: 5.0"
+        assert hysteresis == "Double value is: 1.25"
         _interrupted(launched)
     finally:
         launched.stop()
@@ -218,10 +223,11 @@ def test_activate_false_and_a_namespace(setup: Setup, system: tuple[Path, Path])
     _, launch_file = system
     launched = setup.launch(str(launch_file), "activate:=false", "namespace:=/ns", log="system-ns")
     try:
-        for node in ("/ns/sensor", "/ns/thermostat"):
-            _state(setup, node, "unconfigured")
-        assert _param(setup, "/ns/thermostat", "hysteresis") == "Double value is: 1.25"
-        nodes = _ok(ros2(setup.env, "node", "list", daemon=True))
+        at_once(lambda: _state(setup, "/ns/sensor", "unconfigured"),
+                lambda: _state(setup, "/ns/thermostat", "unconfigured"))
+        hysteresis, nodes = at_once(lambda: _param(setup, "/ns/thermostat", "hysteresis"),
+                                    lambda: _ok(ros2(setup.env, "node", "list", daemon=True)))
+        assert hysteresis == "Double value is: 1.25"
         assert not re.search(r"^/(sensor|thermostat)$", nodes, re.MULTILINE), nodes
         _interrupted(launched)
     finally:
@@ -280,8 +286,9 @@ def test_manager_true_gives_a_supervised_system_that_one_sigint_takes_down(setup
         up = _until(setup, system_file, "every instance active",
                     lambda code, s: code == 0 and all(i["state"] == "active" for i in s.values()))
         launched.watch()
-        _state(setup, "/thermostat", "active")
-        assert _param(setup, "/thermostat", "hysteresis") == "Double value is: 1.25"
+        _, hysteresis = at_once(lambda: _state(setup, "/thermostat", "active"),
+                                lambda: _param(setup, "/thermostat", "hysteresis"))
+        assert hysteresis == "Double value is: 1.25"
         _ok(service_call(setup.env, setup.release, "/thermostat/set_point", "thermostat_msgs/srv/SetPoint",
                          "{celsius: 23.5}"), "accepted=True")
         assert _saved(setup, system_file, "thermostat")["set_point"] == 23.5
@@ -292,8 +299,9 @@ def test_manager_true_gives_a_supervised_system_that_one_sigint_takes_down(setup
                       lambda code, s: code == 0 and s["thermostat"]["restarts"] == 1
                       and s["thermostat"]["pid"] not in (0, up["thermostat"]["pid"]))
         launched.watch()
-        assert _saved(setup, system_file, "thermostat")["set_point"] == 23.5
-        _state(setup, "/thermostat", "active")
+        set_point, _ = at_once(lambda: _saved(setup, system_file, "thermostat")["set_point"],
+                               lambda: _state(setup, "/thermostat", "active"))
+        assert set_point == 23.5
 
         # kill -9 of the manager: launch starts a new one, which adopts every instance (none started twice)
         managers = _manager_pids(launched)
@@ -321,8 +329,9 @@ def test_manager_true_gives_a_supervised_system_that_one_sigint_takes_down(setup
         replaced = _until(setup, system_file, "the replacement active",
                           lambda code, s: code == 0 and s["thermostat"]["node"] == "/thermostat_2")
         launched.watch()
-        assert _saved(setup, system_file, "thermostat")["set_point"] == 23.5
-        _state(setup, "/thermostat_2", "active")
+        set_point, _ = at_once(lambda: _saved(setup, system_file, "thermostat")["set_point"],
+                               lambda: _state(setup, "/thermostat_2", "active"))
+        assert set_point == 23.5
         assert replaced["sensor"]["pid"] == back["sensor"]["pid"]
 
         # one SIGINT: the manager takes the system down in reverse order, a snapshot of each, and exits
