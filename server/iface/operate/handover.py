@@ -52,6 +52,7 @@ ACCEPTED = ("equivalent", "replaceable")
 UNCONFIGURED, INACTIVE, ACTIVE = 1, 2, 3
 STATE_LABELS = {0: "unknown", 1: "unconfigured", 2: "inactive", 3: "active", 4: "finalized"}
 CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
+
 _Step = TypeVar("_Step", bound=Callable[..., Any])
 
 
