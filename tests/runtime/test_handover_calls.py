@@ -5,6 +5,9 @@ drops the reply. Idempotent requests are sent again; a lifecycle transition is j
 state: done when ``get_state`` shows its goal, waited for while it runs, sent again only while the
 node is where the transition starts (the request was lost). The calls are the one client's
 (``iface.live.link``), which the hand-over, the manager and the ``system`` commands share.
+
+Discovery, too, takes its time: before OLD pauses, the hand-over waits (up to its timeout, on a fake
+clock here) until NEW's publishers are matched by as many subscriptions as OLD's.
 """
 
 from __future__ import annotations
