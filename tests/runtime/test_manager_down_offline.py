@@ -11,23 +11,22 @@ import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 
 from iface.live.link import LinkError
-from iface.operate.handover import ACTIVE
+from iface.nodes.system import InstanceSpec, SystemSpec
+from iface.operate.handover import ACTIVE, DEACTIVATE
 from iface.operate.manager import Manager, Options
 
 #: Seconds a stand-in takes to end once it is told to (a process tearing down its node).
 ENDING = 0.5
 
 
-def _spec(name: str, after: tuple[str, ...] = ()) -> SimpleNamespace:
-    return SimpleNamespace(name=name, node=name, component="room_sensor", iface_file="s.iface",
-                           interface_hash="sha256:x", package="room_sensor", executable="room_sensor",
-                           restart="on-failure", snapshot_period=None, parameters=None, after=after, line=1,
-                           container=None, runtime="rclpy", plugin=None, intra_process=False, standby=False)
+def _spec(name: str, after: tuple[str, ...] = ()) -> InstanceSpec:
+    return InstanceSpec(name=name, node=name, component="room_sensor", iface_file=Path("s.iface"),
+                        interface_hash="sha256:x", package="room_sensor", executable="room_sensor",
+                        restart="on-failure", snapshot_period=None, after=after, parameters=None, line=1)
 
 
 class Lifecycle:
@@ -45,8 +44,8 @@ class Lifecycle:
         return ACTIVE
 
     def transition(self, node: str, transition: int, timeout: float) -> None:
-        self._event(f"{'deactivate' if transition == 4 else 'shutdown'} {node}")
-        if transition != 4:
+        self._event(f"{'deactivate' if transition == DEACTIVATE else 'shutdown'} {node}")
+        if transition != DEACTIVATE:
             self._end_later(node)
             if node == self.failing:
                 raise LinkError(f"{node}/change_state: no answer")
@@ -81,7 +80,8 @@ def manager(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, logged: list[str]) 
     exe.write_text(f"#!{sys.executable}\nimport time\ntime.sleep(120)\n", encoding="utf-8")
     exe.chmod(0o755)
     env = {**os.environ, "AMENT_PREFIX_PATH": str(tmp_path / "prefix")}
-    system = SimpleNamespace(name="room", instances=(_spec("sensor"), _spec("thermostat", ("sensor",))))
+    system = SystemSpec(name="room", version=None, file=tmp_path / "room.iface",
+                        instances=(_spec("sensor"), _spec("thermostat", ("sensor",))))
     mgr = Manager(system, Options(state_dir=tmp_path / "state"), env)
     mgr.log = logged.append  # type: ignore[method-assign,assignment]
     monkeypatch.setattr(mgr, "_snapshot", lambda m, why: None)

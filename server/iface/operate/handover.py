@@ -49,7 +49,7 @@ from .trust import TrustError, verify
 #: Verdicts under which a hand-over may go on.
 ACCEPTED = ("equivalent", "replaceable")
 #: lifecycle_msgs/State ids and Transition ids.
-UNCONFIGURED, INACTIVE, ACTIVE = 1, 2, 3
+UNCONFIGURED, INACTIVE, ACTIVE, FINALIZED = 1, 2, 3, 4
 STATE_LABELS = {0: "unknown", 1: "unconfigured", 2: "inactive", 3: "active", 4: "finalized"}
 CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
 

@@ -45,7 +45,7 @@ from .container_host import (
     second_container_name,
 )
 from .containers import CONTAINER_EXECUTABLE, CONTAINER_PACKAGE, ContainerError, sharing_problem
-from .handover import ACTIVE, INACTIVE, STATE_LABELS, UNCONFIGURED, HandOver, Refused, decide
+from .handover import ACTIVE, FINALIZED, INACTIVE, STATE_LABELS, UNCONFIGURED, HandOver, Refused, decide
 from .implementation import Implementation, NotStartable, Replacement, Replacements, of_instance, replacing
 from .in_container import ContainerCalls, Loaded
 from .processes import ExitWatcher, InstanceProcess, Records, StartError
@@ -61,8 +61,6 @@ REPLACE_SERVICE = f"/{NODE_NAME}/replace"
 #: lifecycle_msgs/Transition ids the manager uses beyond configure/activate/deactivate.
 CONFIGURE, ACTIVATE, DEACTIVATE = 1, 3, 4
 SHUTDOWN_FROM = {UNCONFIGURED: 5, INACTIVE: 6, ACTIVE: 7}
-#: lifecycle_msgs/State FINALIZED: shut down, its process ending.
-FINALIZED = 4
 #: Findings kept per instance.
 FINDINGS_KEPT = 20
 #: Seconds between two requests for a just started instance's first answer: its services are found this soon.
