@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from ..compat.report import render_text
+from ..live.stdout import native_output_to_stderr
 from .common import UsageError, display_path
 from .load import load_checked
 
@@ -34,6 +35,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when NEW took over, 1 when the hand-over was refused (OLD untouched), 2 on a usage error."""
+    with native_output_to_stderr():  # Fast DDS logs to descriptor 1 (live/stdout.py)
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     if args.timeout <= 0:
         print("iface-lsp handover: --timeout must be more than 0", file=sys.stderr)
         return 2

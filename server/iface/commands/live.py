@@ -64,13 +64,14 @@ def import_nodes(args: argparse.Namespace) -> int:
         print(f"{prog}: --timeout must be more than 0 seconds", file=sys.stderr)
         return 2
     from ..live.graph import open_graph
+    from ..live.stdout import native_output_to_stderr
     from ..live.to_iface import component_name, node_iface
 
     names = [n if n.startswith("/") else "/" + n for n in args.inputs]
     out = args.out or "."
     files: list[GeneratedFile] = []
     instances: list[tuple[str, str, str]] = []
-    with open_graph(args.timeout) as graph:
+    with native_output_to_stderr(), open_graph(args.timeout) as graph:  # Fast DDS logs to descriptor 1
         if args.all:
             names = sorted(set(names) | set(graph.wait_for_all()))
         absent = graph.wait_for(names)

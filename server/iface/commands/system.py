@@ -19,6 +19,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from ..live.stdout import native_output_to_stderr
 from .common import display_path
 
 
@@ -70,6 +71,11 @@ def _manager_timeout(p: argparse.ArgumentParser) -> argparse.Action:
 def run(args: argparse.Namespace) -> int:
     """See the module's docstring for the exit codes; messages start with ``args.prog`` (``iface-lsp system``,
     ``ros2 iface status``)."""
+    with native_output_to_stderr():  # Fast DDS logs to descriptor 1 (live/stdout.py)
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     from ..nodes.system import SystemFileError, system_spec
 
     def _fail(message: str) -> int:

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from .. import __version__
+from ..live.stdout import native_output_to_stderr
 from ..semantics.compile import Compilation
 from .common import UsageError, check_suffix, compile_files, display_path, gather, print_diagnostics
 from .live import ros_missing_line
@@ -27,6 +28,11 @@ def add_arguments(p: argparse.ArgumentParser) -> dict[str, argparse.Action]:
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every node conforms, 1 on findings (warnings included), 2 on usage, I/O or no ROS 2; messages
     start with ``args.prog`` (``iface-lsp verify``, ``ros2 iface verify``)."""
+    with native_output_to_stderr():  # Fast DDS logs to descriptor 1 (live/stdout.py)
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     if args.timeout <= 0:
         print(f"{args.prog}: --timeout must be more than 0 seconds", file=sys.stderr)
         return 2

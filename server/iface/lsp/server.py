@@ -20,6 +20,7 @@ from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol, lsp_method
 
 from .. import __version__
+from ..live.stdout import real_stdout_for_good
 from .convert import ENCODINGS, UTF16
 from .project import Project
 
@@ -164,7 +165,9 @@ def serve(tcp: str | None = None) -> int:
     sys.setswitchinterval(0.001)
     server = build()
     if tcp is None:
-        server.start_io()
+        # the messages go to the real stdout; what anything else writes there (Fast DDS's log, while a command
+        # reads the ROS graph) goes to stderr
+        server.start_io(sys.stdin.buffer, real_stdout_for_good())
         return 0
     host, sep, port = tcp.rpartition(":")
     if not sep or not port.isdigit():
