@@ -29,7 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: te
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
 
-from tests.ros_harness.probe import Component, Probe, Protocol, Report, check  # noqa: E402
+from tests.ros_harness.probe import Component, Probe, Protocol, Report, check, run  # noqa: E402
 
 CONTAINER = "iface_container"
 
@@ -61,7 +61,7 @@ def main() -> int:
     started: list[Component] = []
     counts: list[tuple[float, int]] = []
     qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
-    probe.node.create_subscription(Count, "/count", lambda m: counts.append((time.monotonic(), m.value)), qos)
+    probe.subscribe(Count, "/count", lambda m: counts.append((time.monotonic(), m.value)), qos)
     base = f"/{CONTAINER}/_container"
     loaded: dict[str, int] = {}
 
@@ -212,4 +212,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run(main)

@@ -21,7 +21,7 @@ import itertools
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from tests.ros_harness.probe import Component, Probe, Report, check  # noqa: E402
+from tests.ros_harness.probe import Component, Probe, Report, check, run  # noqa: E402
 
 OLD, NEW = "counter", "counter_new"
 
@@ -42,8 +42,8 @@ def main() -> int:
     counts: list[int] = []
     parities: list[Any] = []
     qos = QoSProfile(reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST, depth=1000)
-    probe.node.create_subscription(Count, "/count", lambda m: counts.append(m.value), qos)
-    probe.node.create_subscription(Parity, "/parity", parities.append, 10)
+    probe.subscribe(Count, "/count", lambda m: counts.append(m.value), qos)
+    probe.subscribe(Parity, "/parity", parities.append, 10)
     old = Component(OLD, a.logs, [cfg["ros_python"], "-m", "counter", "--activate"], env=cfg["env_old"])
     new = Component(NEW, a.logs, [cfg["ros_python"], "-m", "counter"], env=cfg["env_new"])
 
@@ -176,4 +176,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run(main)

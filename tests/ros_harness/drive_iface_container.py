@@ -32,7 +32,7 @@ from iface.live.link import Link
 from iface.nodes import protocol
 from iface.operate.containers import ContainerError, component_in, mapped_files, sharing_problem
 from iface.operate.in_container import ContainerCalls
-from tests.ros_harness.probe import Component, Probe, Protocol, Report, check
+from tests.ros_harness.probe import Component, Probe, Protocol, Report, check, run
 
 CONTAINER = "box"
 
@@ -225,4 +225,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run(main)

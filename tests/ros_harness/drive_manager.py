@@ -22,7 +22,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 from tests.ros_harness import ros2cli
-from tests.ros_harness.probe import ManagerStatus, Probe, Report, check, import_interface
+from tests.ros_harness.probe import ManagerStatus, Probe, Report, check, import_interface, run
 from tests.ros_harness.standby_probe import logged, ready_standby
 
 SYSTEM_KEYS = {"instances", "findings"}
@@ -400,4 +400,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run(main)

@@ -32,7 +32,7 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from iface.live.link import Link
 from iface.operate.containers import mapped_files
 from iface.operate.in_container import ContainerCalls
-from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, StepFailed, check
+from tests.ros_harness.probe import ManagerStatus, Probe, Protocol, Report, StepFailed, check, run
 from tests.ros_harness.ros2cli import node_processes
 from tests.ros_harness.standby_probe import logged, ready_standby
 
@@ -327,4 +327,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run(main)

@@ -24,7 +24,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: tests.ros_harness
 
 from iface.nodes import remap  # noqa: E402 - this checkout's (the environment puts its server/ first)
-from tests.ros_harness.probe import Component, Probe, Protocol, Report, check, entry_point, incompatible  # noqa: E402
+from tests.ros_harness.probe import Component, Probe, Protocol, Report, check, entry_point, incompatible, run  # noqa: E402
 
 #: Seconds between a publisher seeing its subscriber and publishing: DDS matches the two ends one after the
 #: other, and a reliable volatile sample sent before the subscriber has matched the publisher is not delivered.
@@ -583,4 +583,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run(main)

@@ -26,7 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the checkout: te
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
 
-from tests.ros_harness.probe import Component, Probe, Protocol, Report, check, incompatible  # noqa: E402
+from tests.ros_harness.probe import Component, Probe, Protocol, Report, check, incompatible, run  # noqa: E402
 
 
 def main() -> int:
@@ -119,7 +119,7 @@ def main() -> int:
         counts: list[int] = []
 
         def qos_and_topic() -> str:
-            probe.node.create_subscription(Count, "/count", lambda m: counts.append(m.value), QoSProfile(
+            probe.subscribe(Count, "/count", lambda m: counts.append(m.value), QoSProfile(
                 depth=1000, history=HistoryPolicy.KEEP_LAST, reliability=ReliabilityPolicy.RELIABLE))
             pub = probe.endpoint_qos("/count", node, publisher=True)
             check(pub.reliability == ReliabilityPolicy.RELIABLE, f"/count reliability {pub.reliability}")
@@ -311,4 +311,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run(main)

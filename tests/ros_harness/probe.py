@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import inspect
 import json
+import os
 import shutil
 import signal
 import subprocess
@@ -19,7 +20,7 @@ import time
 import traceback
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
@@ -31,6 +32,8 @@ from rclpy.executors import MultiThreadedExecutor
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.qos import QoSProfile
 
+from . import dds_deadlock
+
 TRANSITIONS = {"configure": Transition.TRANSITION_CONFIGURE, "activate": Transition.TRANSITION_ACTIVATE,
                "deactivate": Transition.TRANSITION_DEACTIVATE, "cleanup": Transition.TRANSITION_CLEANUP,
                "shutdown": Transition.TRANSITION_UNCONFIGURED_SHUTDOWN}
@@ -38,6 +41,27 @@ GOAL = {"configure": "inactive", "activate": "active", "deactivate": "inactive",
 SHUTDOWN_FROM = {"inactive": Transition.TRANSITION_INACTIVE_SHUTDOWN,
                  "active": Transition.TRANSITION_ACTIVE_SHUTDOWN,
                  "unconfigured": Transition.TRANSITION_UNCONFIGURED_SHUTDOWN}
+
+
+#: The participants of probes that deadlocked (``Probe.revived``), kept so that nothing destroys them.
+ABANDONED: list[Any] = []
+
+
+def run(main: Callable[[], int]) -> NoReturn:
+    """End a driver with ``main()``'s code (1 where it raised). Where a probe left a deadlocked participant the
+    process ends at once (``os._exit``): destroying that participant, as Python's own exit does, waits forever."""
+    try:
+        code = main()
+    except SystemExit as e:  # a signal handler's sys.exit
+        code = e.code if isinstance(e.code, int) else 1
+    except BaseException:  # noqa: BLE001 - printed, and the driver's exit code says it
+        traceback.print_exc()
+        code = 1
+    if ABANDONED:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    sys.exit(code)
 
 
 class StepFailed(Exception):
@@ -65,7 +89,7 @@ class Report:
             ok = False
             detail = f"{type(e).__name__}: {e}" if isinstance(e, (StepFailed, TimeoutError)) else \
                 traceback.format_exc().strip().splitlines()[-1]
-            detail += Component.status_of_all()
+            detail += Component.status_of_all() + dds_deadlock.note()
         self.steps[name] = {"ok": ok, "detail": str(detail or ""), "seconds": round(time.monotonic() - start, 2)}
         self.path.write_text(json.dumps(self.steps, indent=1))
         print(f"{'PASS' if ok else 'FAIL'} {name}: {detail}", flush=True)
@@ -151,19 +175,62 @@ class LockedActionClient(ActionClient):
         self._lock = threading.Lock()
         super().__init__(*args, **kwargs)
 
+def until(predicate: Callable[[], Any], timeout: float, what: str) -> Any:
+    """The first true value of ``predicate``, asked every 50 ms, within ``timeout`` seconds."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise TimeoutError(f"{what}: not seen within {timeout:g} s")
+
+
 class Probe:
-    """The test's own node, spun by a background executor; every wait bounded."""
+    """The test's own node, spun by a background executor; every wait bounded.
+
+    Its participant may deadlock inside Fast DDS (``dds_deadlock``): a call or wait that ends without an answer
+    then looks, and where it finds this process's event thread stuck, the probe opens a new participant in
+    its place (its subscriptions made again) and asks once more. The stuck one is never destroyed (that waits
+    forever): a driver ends through ``run``."""
 
     def __init__(self) -> None:
-        rclpy.init()
-        self.node = rclpy.create_node("iface_probe")
-        self.executor = MultiThreadedExecutor(num_threads=4)
+        self._subscriptions: list[tuple[Any, str, Callable[..., None], QoSProfile | int]] = []
+        self._fast_specs: list[tuple[Any, str, Callable[..., None], QoSProfile]] = []
+        self._stuck: set[int] = set()
+        self.revivals = 0
+        self._open()
+
+    def _open(self) -> None:
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node("iface_probe", context=self.context)
+        self.executor = MultiThreadedExecutor(num_threads=4, context=self.context)
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self.executor.spin, daemon=True)
         self._thread.start()
         self._clients: dict[tuple[Any, str], Any] = {}
         self._action_clients: list[Any] = []
         self._fast: list[tuple[Any, threading.Event, threading.Thread]] = []
+        for spec in self._subscriptions:
+            self.node.create_subscription(*spec)
+        for fast in self._fast_specs:
+            self._start_fast(*fast)
+
+    def revived(self) -> bool:
+        """True when this process's Fast DDS participant was deadlocked and a new one now takes its place."""
+        found = dds_deadlock.stuck(os.getpid(), ignore=frozenset(self._stuck))
+        if not found:
+            return False
+        self._stuck.update(s.tid for s in found)
+        print(f"probe: {found[0].describe()}; a new participant takes its place", flush=True)
+        for _, stop, _ in self._fast:
+            stop.set()
+        ABANDONED.append((self.context, self.node, self.executor, self._thread, self._fast, self._clients,
+                          self._action_clients))
+        self.revivals += 1
+        self._open()
+        return True
 
     def fast_subscription(self, msg_type: Any, topic: str, callback: Callable[..., None], qos: QoSProfile) -> None:
         """A subscription on a node of its own that no executor spins: a thread of its own takes every message
@@ -172,7 +239,11 @@ class Probe:
         one took 333 counts a second (test_manager_containers, the probe's one busy thread), the multi-threaded
         one a third of them; draining takes 2,000 a second at 13 % of a core, where the single-threaded
         executor took 60 %. ``callback`` takes the message, or the message and its info."""
-        node = rclpy.create_node(f"iface_probe_fast_{len(self._fast)}")
+        self._fast_specs.append((msg_type, topic, callback, qos))
+        self._start_fast(msg_type, topic, callback, qos)
+
+    def _start_fast(self, msg_type: Any, topic: str, callback: Callable[..., None], qos: QoSProfile) -> None:
+        node = rclpy.create_node(f"iface_probe_fast_{len(self._fast)}", context=self.context)
         sub = node.create_subscription(msg_type, topic, callback, qos)
         with_info = len(inspect.signature(callback).parameters) == 2
         stop = threading.Event()
@@ -192,6 +263,11 @@ class Probe:
         thread.start()
         self._fast.append((node, stop, thread))
 
+    def subscribe(self, msg_type: Any, topic: str, callback: Callable[..., None], qos: QoSProfile | int) -> None:
+        """A subscription of the probe's node, made again on a new participant (``revived``)."""
+        self._subscriptions.append((msg_type, topic, callback, qos))
+        self.node.create_subscription(msg_type, topic, callback, qos)
+
     def close(self) -> None:
         for node, stop, thread in self._fast:
             stop.set()
@@ -202,7 +278,7 @@ class Probe:
         for client in self._action_clients:
             client.destroy()
         self.node.destroy_node()
-        rclpy.try_shutdown()
+        rclpy.try_shutdown(context=self.context)
 
     def action_client(self, action_type: Any, name: str) -> Any:
         client = LockedActionClient(self.node, action_type, name)
@@ -217,20 +293,29 @@ class Probe:
             raise TimeoutError(f"no answer from {what} within {timeout:g} s")
         return future.result()
 
-    @staticmethod
-    def wait_until(predicate: Callable[[], Any], timeout: float, what: str) -> Any:
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            value = predicate()
-            if value:
-                return value
-            time.sleep(0.05)
-        raise TimeoutError(f"{what}: not seen within {timeout:g} s")
+    def wait_until(self, predicate: Callable[[], Any], timeout: float, what: str) -> Any:
+        """The first true value of ``predicate`` within ``timeout``; once more on a new participant where
+        this one is deadlocked (``revived``)."""
+        try:
+            return until(predicate, timeout, what)
+        except TimeoutError:
+            if not self.revived():
+                raise
+            return until(predicate, timeout, what)
 
     def call(self, srv_type: Any, name: str, request: Any, timeout: float = 10.0, idempotent: bool = False) -> Any:
         """Call a service. An idempotent request is sent again every few seconds until ``timeout``: a
         server seen in the graph may not have matched this client's reply reader yet, and DDS then
-        drops the reply (a late reply to an earlier send is ignored by its sequence number)."""
+        drops the reply (a late reply to an earlier send is ignored by its sequence number). Without an
+        answer, once more on a new participant where this one is deadlocked (``revived``)."""
+        try:
+            return self._call(srv_type, name, request, timeout, idempotent)
+        except (TimeoutError, StepFailed):
+            if not self.revived():
+                raise
+            return self._call(srv_type, name, request, timeout, idempotent)
+
+    def _call(self, srv_type: Any, name: str, request: Any, timeout: float, idempotent: bool) -> Any:
         key = (srv_type, name)
         if key not in self._clients:
             self._clients[key] = self.node.create_client(srv_type, name)
@@ -302,7 +387,7 @@ class Probe:
     # ---- topics
     def collect(self, msg_type: Any, topic: str, qos: QoSProfile | int = 10) -> list[Any]:
         got: list[Any] = []
-        self.node.create_subscription(msg_type, topic, got.append, qos)
+        self.subscribe(msg_type, topic, got.append, qos)
         return got
 
     def diagnostics_of(self, node_fqn: str) -> list[tuple[float, Any]]:
@@ -314,7 +399,7 @@ class Probe:
                 if s.name == node_fqn:
                     got.append((time.monotonic(), s))
 
-        self.node.create_subscription(DiagnosticArray, "/diagnostics", on, 50)
+        self.subscribe(DiagnosticArray, "/diagnostics", on, 50)
         return got
 
     def endpoint_qos(self, topic: str, node: str, publisher: bool) -> Any:

@@ -15,13 +15,16 @@ from __future__ import annotations
 import os
 import shutil
 import sys
+from collections.abc import Generator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from iface.nodes.shared import RUNTIMES
 
+from ..ros_harness import dds_deadlock
 from ..ros_harness.ros import DATA, DISTRO_VARIABLE, RELEASES, ROOT, build, generate, runtime_venv, selected_releases
 from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
 
@@ -47,6 +50,18 @@ class Workspace:
     generated: Path
     path: Path
     seconds: float
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Generator[None, Any, None]:
+    """A failed test's report names each process on this machine whose Fast DDS participant is deadlocked
+    (``ros_harness.dds_deadlock``): what a ROS test that got no answer then waited on."""
+    outcome = yield
+    report = outcome.get_result()
+    if report.failed and call.when == "call":
+        found = dds_deadlock.in_domain(None)
+        if found:
+            report.sections.append(("Fast DDS deadlocks", "\n".join(s.describe() for s in found)))
 
 
 def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
