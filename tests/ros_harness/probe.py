@@ -32,7 +32,7 @@ from rclpy.executors import MultiThreadedExecutor
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.qos import QoSProfile
 
-from . import dds_deadlock
+from iface.live import deadlock as dds_deadlock
 
 TRANSITIONS = {"configure": Transition.TRANSITION_CONFIGURE, "activate": Transition.TRANSITION_ACTIVATE,
                "deactivate": Transition.TRANSITION_DEACTIVATE, "cleanup": Transition.TRANSITION_CLEANUP,
@@ -189,7 +189,7 @@ def until(predicate: Callable[[], Any], timeout: float, what: str) -> Any:
 class Probe:
     """The test's own node, spun by a background executor; every wait bounded.
 
-    Its participant may deadlock inside Fast DDS (``dds_deadlock``): a call or wait that ends without an answer
+    Its participant may deadlock inside Fast DDS (``iface.live.deadlock``): a call or wait that ends without an answer
     then looks, and where it finds this process's event thread stuck, the probe opens a new participant in
     its place (its subscriptions made again) and asks once more. The stuck one is never destroyed (that waits
     forever): a driver ends through ``run``."""

@@ -22,9 +22,9 @@ from typing import Any
 
 import pytest
 
+from iface.live import deadlock as dds_deadlock
 from iface.nodes.shared import RUNTIMES
 
-from ..ros_harness import dds_deadlock
 from ..ros_harness.ros import DATA, DISTRO_VARIABLE, RELEASES, ROOT, build, generate, runtime_venv, selected_releases
 from ..ros_harness.systems import COMPONENTS as SYSTEM_COMPONENTS
 
@@ -55,7 +55,7 @@ class Workspace:
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Generator[None, Any, None]:
     """A failed test's report names each process on this machine whose Fast DDS participant is deadlocked
-    (``ros_harness.dds_deadlock``): what a ROS test that got no answer then waited on."""
+    (``iface.live.deadlock``): what a ROS test that got no answer then waited on."""
     outcome = yield
     report = outcome.get_result()
     if report.failed and call.when == "call":

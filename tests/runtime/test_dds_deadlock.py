@@ -1,4 +1,4 @@
-"""``ros_harness.dds_deadlock``: a Fast DDS event thread blocked on a mutex is found; idle and other threads are not.
+"""``iface.live.deadlock``: a Fast DDS event thread blocked on a mutex is found; idle and other threads are not.
 
 A stand-in process names its threads as Fast DDS does (``prctl(PR_SET_NAME)``) and blocks them with libc's own
 calls: ``dds.ev.0`` on a mutex that the main thread holds (the deadlock's signature), ``dds.ev.1`` in a wait with
@@ -11,12 +11,15 @@ import os
 import subprocess
 import sys
 import textwrap
+import threading
+import time
 from collections.abc import Iterator
 from types import SimpleNamespace
 
 import pytest
 
-from ..ros_harness import dds_deadlock
+from iface.live import deadlock as dds_deadlock
+
 from . import conftest
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux") or dds_deadlock.FUTEX < 0,
@@ -94,3 +97,24 @@ def test_a_failed_tests_report_names_each_deadlocked_process(stand_in: subproces
         hook.send(SimpleNamespace(get_result=lambda: report))
     assert [title for title, _ in report.sections] == ["Fast DDS deadlocks"]
     assert f"pid {stand_in.pid}" in report.sections[0][1]
+
+
+def test_watch_tells_a_deadlock_once_after_three_looks(stand_in: subprocess.Popen[str]) -> None:
+    told: list[dds_deadlock.Stuck] = []
+    done = threading.Event()
+    start = time.monotonic()
+    thread = dds_deadlock.watch(stand_in.pid, lambda s: (told.append(s), done.set()), interval=0.2)
+    assert done.wait(30), "not told"
+    assert time.monotonic() - start >= 0.4  # blocked at three looks 0.2 s apart
+    thread.join(10)
+    assert not thread.is_alive() and [s.thread for s in told] == ["dds.ev.0"]
+
+
+def test_watch_tells_nothing_of_a_process_that_is_not_deadlocked() -> None:
+    told: list[dds_deadlock.Stuck] = []
+    stop = threading.Event()
+    thread = dds_deadlock.watch(os.getpid(), told.append, interval=0.05, stop=stop)
+    time.sleep(1.0)
+    stop.set()
+    thread.join(10)
+    assert told == [] and not thread.is_alive()

@@ -1,6 +1,6 @@
 """The drivers' probe in place of a deadlocked participant (``Probe.revived``), on every release.
 
-Fast DDS's deadlock (``ros_harness.dds_deadlock``, eProsima/Fast-DDS#6502) cannot be made on demand, so the
+Fast DDS's deadlock (``iface.live.deadlock``, eProsima/Fast-DDS#6502) cannot be made on demand, so the
 script below has ``dds_deadlock.stuck`` report it once. A call that gets no answer then looks, finds it, and
 asks again on a new participant; that participant answers calls, its subscriptions are made again and get
 what is published after; the deadlocked one is kept (never destroyed) and the driver ends through
@@ -23,7 +23,8 @@ SCRIPT = textwrap.dedent("""
     import rclpy
     from rcl_interfaces.srv import GetParameters
     from std_msgs.msg import String
-    from tests.ros_harness import dds_deadlock, probe as P
+    from iface.live import deadlock as dds_deadlock
+    from tests.ros_harness import probe as P
 
     def main():
         p = P.Probe()

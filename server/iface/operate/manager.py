@@ -23,12 +23,14 @@ import dataclasses
 import json
 import os
 import signal
+import sys
 import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..live import deadlock
 from ..live.link import Link, LinkError
 from ..nodes import protocol
 from ..semantics.compile import Workspace
@@ -959,13 +961,24 @@ def _record(h: HandOver, report: Any, m: Managed, result: str) -> dict[str, Any]
     return out
 
 
+def _end_deadlocked(found: deadlock.Stuck) -> None:
+    """A manager whose Fast DDS participant is deadlocked hears and answers nothing again, and destroying the
+    participant waits forever: it ends at once (exit 3), and a manager started again (launch respawns it) adopts the
+    instances, which run on."""
+    sys.stderr.write(f"iface-lsp manager: {found.describe()}; ending so that a manager started again adopts the "
+                     "instances\n")
+    sys.stderr.flush()
+    os._exit(3)
+
+
 def run(system: Any, options: Options) -> int:
-    """Run the manager until SIGINT or SIGTERM; 0 after a clean shutdown."""
+    """Run the manager until SIGINT or SIGTERM; 0 after a clean shutdown (exit 3 where its Fast DDS deadlocks)."""
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
     env = dict(os.environ)
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+    deadlock.watch(os.getpid(), _end_deadlocked)
     manager = Manager(system, options, env)
     previous = {s: signal.signal(s, lambda *_: setattr(manager, "stop_requested", True))
                 for s in (signal.SIGINT, signal.SIGTERM)}

@@ -1,19 +1,24 @@
-"""Fast DDS's event-thread deadlock (eProsima/Fast-DDS#6502, open), found from outside through ``/proc``.
+"""Fast DDS's event-thread deadlock (eProsima/Fast-DDS#6502, open), found through ``/proc``.
 
 A receive thread that removes a remote writer holds the discovery (PDP) mutex and waits in
 ``ResourceEvent::unregister_timer`` for the participant's event thread (``dds.ev.N``) to end its round; the
 event thread is in that round, checking a remote participant's lease, and waits for the PDP mutex. Neither
 moves again: the participant hears nothing more and is no longer heard (seen in Jazzy's Fast DDS 2.14.5 in a
-driver of the manager scenario, 2026-11-30; gdb's stacks in docs/testing.md). What ``/proc`` shows of it: the
+driver of the tests' manager scenario, 2026-11-30; gdb's stacks in docs/testing.md). What ``/proc`` shows of it: the
 event thread sits in ``futex(FUTEX_WAIT)`` on one address with no timeout (a mutex; its idle wait is a
 condition with a timeout) and spends no CPU. Linux only; elsewhere nothing is found.
+
+The manager watches its own process (``watch``) and ends when it finds it, so that a manager started again
+(launch respawns it) adopts the instances; the tests' drivers look at theirs when a call goes unanswered.
 """
 
 from __future__ import annotations
 
 import os
 import platform
+import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -105,3 +110,25 @@ def note(domain: str | None = None) -> str:
     domain = domain if domain is not None else os.environ.get("ROS_DOMAIN_ID", "0")
     found = in_domain(domain)
     return "".join(f"\n--- Fast DDS deadlocked: {s.describe()}" for s in found)
+
+
+def watch(pid: int, found: Callable[[Stuck], None], interval: float = 2.5,
+          stop: threading.Event | None = None) -> threading.Thread:
+    """A daemon thread that calls ``found`` once when an event thread of ``pid`` is blocked on one mutex, spending
+    no CPU, at three looks ``interval`` seconds apart (so for at least twice ``interval``); ``stop`` ends it."""
+    ended = stop or threading.Event()
+
+    def run() -> None:
+        while not ended.is_set():
+            first = stuck(pid, settle=interval)
+            if first and (again := stuck(pid, settle=interval)):
+                same = [s for s in again if s in first]
+                if same:
+                    found(same[0])
+                    return
+            if not first:
+                ended.wait(interval)
+
+    thread = threading.Thread(target=run, name="iface-dds-watch", daemon=True)
+    thread.start()
+    return thread
