@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import json
 import os
+import select
+import signal
 import subprocess
 import sys
 import textwrap
@@ -45,10 +47,10 @@ def test_native_writes_go_to_stderr_inside_and_everything_is_restored_after() ->
 
 
 SERVER = textwrap.dedent("""
-    import os, sys, threading
+    import os, signal, sys
     from iface.cli import main
     # native output while the server runs, as Fast DDS's log comes while a command reads the ROS graph
-    threading.Timer(1.0, lambda: os.write(1, b"native noise\\n")).start()
+    signal.signal(signal.SIGUSR1, lambda *_: os.write(1, b"native noise\\n"))
     sys.exit(main(["--stdio"]))
 """)
 
@@ -78,7 +80,12 @@ def test_the_language_servers_stream_carries_only_its_messages() -> None:
                                    "params": {"processId": None, "rootUri": None, "capabilities": {}}}))
         proc.stdin.flush()
         assert _read(proc.stdout)["result"]["serverInfo"]["name"]  # the server runs; the noise comes after
-        time.sleep(1.5)
+        os.kill(proc.pid, signal.SIGUSR1)
+        end, seen = time.monotonic() + 30, b""
+        while b"native noise" not in seen:
+            assert time.monotonic() < end, f"the noise not on stderr within 30 s: {seen!r}"
+            if select.select([proc.stderr], [], [], 0.5)[0]:
+                seen += os.read(proc.stderr.fileno(), 4096)
         proc.stdin.write(b"".join(_message(m) for m in (
             {"jsonrpc": "2.0", "method": "initialized", "params": {}},
             {"jsonrpc": "2.0", "id": 2, "method": "shutdown"},
@@ -89,7 +96,6 @@ def test_the_language_servers_stream_carries_only_its_messages() -> None:
             answers.append(_read(proc.stdout))
         assert proc.stdout.read() == b""
         assert proc.wait(timeout=30) == 0
-        assert b"native noise" in proc.stderr.read()
     finally:
         proc.kill()
         proc.wait(timeout=10)

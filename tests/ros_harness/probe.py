@@ -175,6 +175,7 @@ class LockedActionClient(ActionClient):
         self._lock = threading.Lock()
         super().__init__(*args, **kwargs)
 
+
 def until(predicate: Callable[[], Any], timeout: float, what: str) -> Any:
     """The first true value of ``predicate``, asked every 50 ms, within ``timeout`` seconds."""
     end = time.monotonic() + timeout
@@ -189,10 +190,10 @@ def until(predicate: Callable[[], Any], timeout: float, what: str) -> Any:
 class Probe:
     """The test's own node, spun by a background executor; every wait bounded.
 
-    Its participant may deadlock inside Fast DDS (``iface.live.deadlock``): a call or wait that ends without an answer
-    then looks, and where it finds this process's event thread stuck, the probe opens a new participant in
-    its place (its subscriptions made again) and asks once more. The stuck one is never destroyed (that waits
-    forever): a driver ends through ``run``."""
+    Its participant may deadlock inside Fast DDS (``iface.live.deadlock``): a call or wait that ends without
+    an answer then looks, and where it finds this process's event thread stuck, the probe opens a new
+    participant in its place (its subscriptions made again) and asks once more. The stuck one is never
+    destroyed (that waits forever): a driver ends through ``run``."""
 
     def __init__(self) -> None:
         self._subscriptions: list[tuple[Any, str, Callable[..., None], QoSProfile | int]] = []
