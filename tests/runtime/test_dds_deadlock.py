@@ -19,6 +19,7 @@ from types import SimpleNamespace
 import pytest
 
 from iface.live import deadlock as dds_deadlock
+from tests.conftest import ROOT
 
 from . import conftest
 
@@ -118,3 +119,14 @@ def test_watch_tells_nothing_of_a_process_that_is_not_deadlocked() -> None:
     stop.set()
     thread.join(10)
     assert told == [] and not thread.is_alive()
+
+
+def test_a_manager_whose_fast_dds_deadlocks_ends_with_exit_3_and_says_why() -> None:
+    """The manager's own watch (``watch_own_dds``, which ``manager.run`` starts) over the stand-in's threads."""
+    script = STAND_IN.replace('print("ready", flush=True)\nsys.stdin.read()',
+                              "from iface.operate.manager import watch_own_dds\nwatch_own_dds(0.2)\ntime.sleep(60)")
+    assert script != STAND_IN
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120, check=False,
+                          env={**os.environ, "PYTHONPATH": str(ROOT / "server")})
+    assert done.returncode == 3, done.stderr
+    assert "dds.ev.0" in done.stderr and "a manager started again adopts the instances" in done.stderr, done.stderr

@@ -971,6 +971,11 @@ def _end_deadlocked(found: deadlock.Stuck) -> None:
     os._exit(3)
 
 
+def watch_own_dds(interval: float = 2.5) -> None:
+    """Watch this process's Fast DDS participant for the deadlock (``live.deadlock``); found, end the process."""
+    deadlock.watch(os.getpid(), _end_deadlocked, interval)
+
+
 def run(system: Any, options: Options) -> int:
     """Run the manager until SIGINT or SIGTERM; 0 after a clean shutdown (exit 3 where its Fast DDS deadlocks)."""
     import rclpy
@@ -978,7 +983,7 @@ def run(system: Any, options: Options) -> int:
 
     env = dict(os.environ)
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
-    deadlock.watch(os.getpid(), _end_deadlocked)
+    watch_own_dds()
     manager = Manager(system, options, env)
     previous = {s: signal.signal(s, lambda *_: setattr(manager, "stop_requested", True))
                 for s in (signal.SIGINT, signal.SIGTERM)}
