@@ -99,3 +99,11 @@ def test_the_language_servers_stream_carries_only_its_messages() -> None:
     finally:
         proc.kill()
         proc.wait(timeout=10)
+
+
+def test_the_language_server_without_a_standard_output_says_so_in_one_line() -> None:
+    done = subprocess.run([sys.executable, "-m", "iface", "--stdio"], stdin=subprocess.DEVNULL, stdout=None,
+                          stderr=subprocess.PIPE, text=True, env=ENV, timeout=60, check=False,
+                          preexec_fn=lambda: os.close(1))
+    assert done.returncode == 2, done.stderr
+    assert done.stderr == "iface-lsp: --stdio needs standard input, output and error open\n"

@@ -44,11 +44,20 @@ def native_output_to_stderr() -> Iterator[None]:
         os.close(real)
 
 
-def real_stdout_for_good() -> BinaryIO:
+def real_stdout_for_good() -> BinaryIO | None:
     """For a process that talks on its standard output for good (the language server): descriptor 1 becomes
-    stderr's from now on, ``sys.stdout`` is ``sys.stderr``, and the real standard output is returned."""
-    sys.stdout.flush()
-    real = os.dup(1)
-    os.dup2(2, 1)
+    stderr's from now on, ``sys.stdout`` is ``sys.stderr``, and the real standard output is returned (None, and
+    nothing changed, where descriptor 1 or 2 is not open)."""
+    try:
+        real = os.dup(1)
+    except OSError:
+        return None
+    try:
+        os.dup2(2, 1)
+    except OSError:
+        os.close(real)
+        return None
+    if sys.stdout is not None:
+        sys.stdout.flush()
     sys.stdout = sys.stderr
     return os.fdopen(real, "wb", buffering=0)

@@ -167,7 +167,12 @@ def serve(tcp: str | None = None) -> int:
     if tcp is None:
         # the messages go to the real stdout; what anything else writes there (Fast DDS's log, while a command
         # reads the ROS graph) goes to stderr
-        server.start_io(sys.stdin.buffer, real_stdout_for_good())
+        out = real_stdout_for_good()
+        if out is None or sys.stdin is None:
+            if sys.stderr is not None:
+                print("iface-lsp: --stdio needs standard input, output and error open", file=sys.stderr)
+            return 2
+        server.start_io(sys.stdin.buffer, out)
         return 0
     host, sep, port = tcp.rpartition(":")
     if not sep or not port.isdigit():
