@@ -19,9 +19,7 @@ import os
 import random
 import re
 import subprocess
-import sys
 import tempfile
-import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -152,28 +150,12 @@ def environment(venv: Path, workspace: Path | None = None, log_dir: Path | None 
     return env
 
 
-#: One in-process CLI call at a time: each redirects this process's stdout and stderr.
-_CLI = threading.Lock()
-
-
 def generate(iface: Path, out: Path, *extra: str) -> subprocess.CompletedProcess[str]:
     """``iface-lsp generate IFACE --target rclpy --out OUT`` (``extra``: more options, a later ``--target`` wins),
-    through the CLI's ``main`` in this process: what is tested here is what it writes (its process is tested in
-    tests/core)."""
-    import io
-    from contextlib import redirect_stderr, redirect_stdout
+    in this process (``run_main``): what is tested here is what it writes; its process is tested in tests/core."""
+    from tests.conftest import run_main
 
-    from iface.cli import main
-
-    argv = ["generate", str(iface), "--target", "rclpy", "--out", str(out), "-q", *extra]
-    said, errors = io.StringIO(), io.StringIO()
-    with _CLI, redirect_stdout(said), redirect_stderr(errors):
-        try:
-            code = main(argv)
-        except SystemExit as e:  # argparse's usage errors
-            code = e.code if isinstance(e.code, int) else 2
-    return subprocess.CompletedProcess([sys.executable, "-m", "iface", *argv], code, said.getvalue(),
-                                       errors.getvalue())
+    return run_main("generate", str(iface), "--target", "rclpy", "--out", str(out), "-q", *extra)
 
 
 def build(venv: Path, generated: Path, workspace: Path, *, underlays: Sequence[Path] = (),
