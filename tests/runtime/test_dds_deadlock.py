@@ -14,6 +14,7 @@ import textwrap
 import threading
 import time
 from collections.abc import Iterator
+from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
@@ -54,10 +55,26 @@ def stand_in() -> Iterator[subprocess.Popen[str]]:
                             text=True, env=env)
     try:
         assert proc.stdout is not None and proc.stdout.readline().strip() == "ready"
+        _wait_on_the_mutex(proc.pid, ("dds.ev.0", "dds.shm.7411"))
         yield proc
     finally:
         proc.kill()
         proc.wait(timeout=10)
+
+
+def _wait_on_the_mutex(pid: int, names: tuple[str, ...]) -> None:
+    """Until each thread named so waits in futex(FUTEX_WAIT) without a timeout (past the barrier is not yet there)."""
+    end = time.monotonic() + 30
+    while True:
+        blocked = []
+        for name in names:
+            fields = Path(f"/proc/{pid}/task/{_tid(pid, name)}/syscall").read_text().split()
+            blocked.append(len(fields) > 4 and fields[0] == str(dds_deadlock.FUTEX) and
+                           int(fields[2], 16) & ~384 == 0 and int(fields[4], 16) == 0)
+        if all(blocked):
+            return
+        assert time.monotonic() < end, f"{names} not blocked on the mutex within 30 s"
+        time.sleep(0.01)
 
 
 def _tid(pid: int, name: str) -> int:

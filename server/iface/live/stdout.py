@@ -33,13 +33,14 @@ def native_output_to_stderr() -> Iterator[None]:
     before = sys.stdout
     real = os.dup(1)
     os.dup2(2, 1)
-    sys.stdout = open(real, "w", encoding=before.encoding, errors=before.errors,  # noqa: SIM115 - closed below
-                      newline=None, closefd=False, buffering=1 if before.line_buffering else -1)
+    ours = open(real, "w", encoding=before.encoding, errors=before.errors,  # noqa: SIM115 - closed below
+                newline=None, closefd=False, buffering=1 if before.line_buffering else -1)
+    sys.stdout = ours
     try:
         yield
     finally:
-        sys.stdout.flush()
         sys.stdout = before
+        ours.close()  # flushed; the descriptor stays open (closefd=False)
         os.dup2(real, 1)
         os.close(real)
 
