@@ -86,10 +86,10 @@ def test_the_language_servers_stream_carries_only_its_messages() -> None:
             assert time.monotonic() < end, f"the noise not on stderr within 30 s: {seen!r}"
             if select.select([proc.stderr], [], [], 0.5)[0]:
                 seen += os.read(proc.stderr.fileno(), 4096)
-        proc.stdin.write(b"".join(_message(m) for m in (
-            {"jsonrpc": "2.0", "method": "initialized", "params": {}},
-            {"jsonrpc": "2.0", "id": 2, "method": "shutdown"},
-            {"jsonrpc": "2.0", "method": "exit"})))
+        after: list[dict[str, object]] = [{"jsonrpc": "2.0", "method": "initialized", "params": {}},
+                                          {"jsonrpc": "2.0", "id": 2, "method": "shutdown"},
+                                          {"jsonrpc": "2.0", "method": "exit"}]
+        proc.stdin.write(b"".join(map(_message, after)))
         proc.stdin.close()
         answers = [_read(proc.stdout)]
         while answers[-1].get("id") != 2:

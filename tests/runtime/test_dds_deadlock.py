@@ -121,7 +121,11 @@ def test_watch_tells_a_deadlock_once_after_three_looks(stand_in: subprocess.Pope
     told: list[dds_deadlock.Stuck] = []
     done = threading.Event()
     start = time.monotonic()
-    thread = dds_deadlock.watch(stand_in.pid, lambda s: (told.append(s), done.set()), interval=0.2)
+    def found(stuck: dds_deadlock.Stuck) -> None:
+        told.append(stuck)
+        done.set()
+
+    thread = dds_deadlock.watch(stand_in.pid, found, interval=0.2)
     assert done.wait(30), "not told"
     assert time.monotonic() - start >= 0.4  # blocked at three looks 0.2 s apart
     thread.join(10)
