@@ -77,32 +77,32 @@ def _on_a_mutex(pid: int) -> dict[int, tuple[str, int, str]]:
     return found
 
 
+def _confirmed(first: dict[int, dict[int, tuple[str, int, str]]], settle: float) -> list[Stuck]:
+    """Of the threads ``_on_a_mutex`` found in each process, those found the same ``settle`` seconds later."""
+    if not any(first.values()):
+        return []
+    time.sleep(settle)
+    out = []
+    for pid, seen in sorted(first.items()):
+        now = _on_a_mutex(pid)
+        out += [Stuck(pid, tid, name, address) for tid, (name, address, cpu) in sorted(seen.items())
+                if now.get(tid) == (name, address, cpu)]
+    return out
+
+
 def stuck(pid: int, settle: float = 1.0, ignore: frozenset[int] = frozenset()) -> list[Stuck]:
     """The event threads of ``pid`` blocked on the same mutex, spending no CPU, ``settle`` seconds apart
     (``ignore``: thread ids already known)."""
-    first = {tid: seen for tid, seen in _on_a_mutex(pid).items() if tid not in ignore}
-    if not first:
-        return []
-    time.sleep(settle)
-    second = _on_a_mutex(pid)
-    return [Stuck(pid, tid, name, address) for tid, (name, address, cpu) in sorted(first.items())
-            if second.get(tid) == (name, address, cpu)]
+    return _confirmed({pid: {tid: seen for tid, seen in _on_a_mutex(pid).items() if tid not in ignore}}, settle)
 
 
 def in_domain(domain: str | None, settle: float = 1.0) -> list[Stuck]:
     """Every process this user may read whose ``ROS_DOMAIN_ID`` is ``domain`` (None: any process) and whose
     Fast DDS is deadlocked."""
-    pids = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit() and (domain is None or
-                                     f"\0ROS_DOMAIN_ID={domain}\0" in "\0" + _read(entry / "environ")):
-            pids.append(int(entry.name))
-    candidates = {pid: seen for pid in pids if (seen := _on_a_mutex(pid))}
-    if not candidates:
-        return []
-    time.sleep(settle)
-    return [Stuck(pid, tid, name, address) for pid, seen in sorted(candidates.items())
-            for tid, (name, address, cpu) in sorted(seen.items()) if _on_a_mutex(pid).get(tid) == (name, address, cpu)]
+    pids = [int(entry.name) for entry in Path("/proc").iterdir()
+            if entry.name.isdigit() and (domain is None or
+                                         f"\0ROS_DOMAIN_ID={domain}\0" in "\0" + _read(entry / "environ"))]
+    return _confirmed({pid: _on_a_mutex(pid) for pid in pids}, settle)
 
 
 def note(domain: str | None = None) -> str:
@@ -115,7 +115,7 @@ def note(domain: str | None = None) -> str:
 def watch(pid: int, found: Callable[[Stuck], None], interval: float = 2.5,
           stop: threading.Event | None = None) -> threading.Thread:
     """A daemon thread that calls ``found`` once when an event thread of ``pid`` is blocked on one mutex, spending
-    no CPU, at three looks ``interval`` seconds apart (so for at least twice ``interval``); ``stop`` ends it."""
+    no CPU, at each of four looks over twice ``interval`` (two ``stuck`` in a row); ``stop`` ends it."""
     ended = stop or threading.Event()
 
     def run() -> None:
