@@ -1,0 +1,181 @@
+"""Where the test suite's time goes (docs/testing.md, "How long each part takes"):
+
+    python bench/suite_time.py                     # run scripts/test.sh (every test) and print the figures
+    python bench/suite_time.py -- tests/core       # one part: what follows -- goes to scripts/test.sh
+    python bench/suite_time.py --keep DIR          # keep the run's records in DIR (junit.xml, cpu.*, run.json)
+    python bench/suite_time.py --read DIR          # the figures of a run kept in DIR, without running anything
+
+A run sets ``IFACE_TEST_CPU`` (each test's CPU and wall seconds, tests/conftest.py) and a JUnit report. It
+prints the run's wall time and CPU (user + system of every process it waited for, as ``/usr/bin/time`` counts),
+the share of the cores left idle, the outcome; the worker-seconds and CPU-seconds per folder, per module (once
+per ROS 2 release where a module runs per release) and per worker (the balance); the load average before and
+after. Run it on a quiet machine: a figure taken beside other work measures that work too.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+from collections import defaultdict
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+RELEASES = ("kilted", "jazzy")
+
+
+@dataclass(frozen=True)
+class Test:
+    """One line of an ``IFACE_TEST_CPU`` file."""
+
+    worker: str
+    cpu: float
+    wall: float
+    module: str
+    release: str
+
+
+def parse_cpu_line(worker: str, line: str) -> Test | None:
+    """``CPU<TAB>WALL<TAB>NODEID`` (written by tests/conftest.py), or None for a line that is not one."""
+    parts = line.rstrip("\n").split("\t")
+    if len(parts) < 3:
+        return None
+    try:
+        cpu, wall = float(parts[0]), float(parts[1])
+    except ValueError:
+        return None
+    nodeid = parts[2]
+    group = nodeid.rsplit("@", 1)[1] if "@" in nodeid else ""
+    release = next((r for r in RELEASES if group.endswith(f"-{r}")), "")
+    return Test(worker, cpu, wall, nodeid.split("::", 1)[0], release)
+
+
+def read_cpu(prefix: Path) -> list[Test]:
+    """Every test of the files ``PREFIX.WORKER``."""
+    tests = []
+    for path in sorted(prefix.parent.glob(prefix.name + ".*")):
+        worker = path.name[len(prefix.name) + 1:]
+        for line in path.read_text(encoding="utf-8").splitlines():
+            if (test := parse_cpu_line(worker, line)) is not None:
+                tests.append(test)
+    return tests
+
+
+def outcome(junit: Path) -> dict[str, int]:
+    """Tests, failures, errors and skipped of a JUnit report (every suite of it)."""
+    root = ET.parse(junit).getroot()
+    suites = [root] if root.tag == "testsuite" else list(root.iter("testsuite"))
+    keys = ("tests", "failures", "errors", "skipped")
+    return {k: sum(int(s.get(k, 0)) for s in suites) for k in keys}
+
+
+def folder_of(module: str) -> str:
+    """``tests/runtime/test_x.py`` -> ``runtime/``; a module at the top of tests/ stands for itself."""
+    parts = module.split("/")
+    return f"{parts[1]}/" if len(parts) > 2 else parts[-1]
+
+
+def table(rows: list[tuple[str, float, float]], head: str) -> list[str]:
+    """Aligned lines: name, worker-seconds, CPU-seconds."""
+    width = max([len(head), *(len(r[0]) for r in rows)])
+    out = [f"{head:<{width}}  {'worker-s':>9}  {'CPU-s':>7}"]
+    out += [f"{name:<{width}}  {wall:9.0f}  {cpu:7.0f}" for name, wall, cpu in rows]
+    return out
+
+
+def report(tests: list[Test], run: dict[str, Any], counts: dict[str, int] | None, top: int) -> str:
+    """The figures, as lines of text."""
+    lines = []
+    if run:
+        wall, cpu, cores = float(run["wall"]), float(run["cpu"]), int(run["cores"])
+        idle = max(0.0, 1 - cpu / (cores * wall)) if wall else 0.0
+        lines.append(f"run: {run.get('commit', '?')} {run.get('date', '')}, exit {run.get('exit')}, "
+                     f"{run.get('workers')} workers on {cores} cores")
+        lines.append(f"wall {wall / 60:.1f} min ({wall:.0f} s); CPU {cpu / 60:.1f} min ({cpu:.0f} s, user "
+                     f"{float(run['user']):.0f} + system {float(run['system']):.0f}); "
+                     f"cores idle {idle:.0%}")
+        lines.append(f"load average before {run.get('load_before')}, after {run.get('load_after')}")
+    if counts is not None:
+        passed = counts["tests"] - counts["failures"] - counts["errors"] - counts["skipped"]
+        lines.append(f"tests {counts['tests']:,}: {passed:,} passed, {counts['failures']} failed, "
+                     f"{counts['errors']} errors, {counts['skipped']} skipped")
+    if not tests:
+        return "\n".join(lines + ["(no IFACE_TEST_CPU records)"])
+    total_wall, total_cpu = sum(t.wall for t in tests), sum(t.cpu for t in tests)
+    lines.append(f"in the tests: {total_wall:.0f} worker-seconds, {total_cpu:.0f} CPU-seconds")
+    per: dict[str, defaultdict[str, float]] = {"wall": defaultdict(float), "cpu": defaultdict(float)}
+    for t in tests:
+        for key, value in (("wall", t.wall), ("cpu", t.cpu)):
+            per[key][folder_of(t.module)] += value
+            per[key][t.module + (f" [{t.release}]" if t.release else "")] += value
+            per[key]["worker " + t.worker] += value
+    names = sorted(per["wall"], key=lambda n: -per["wall"][n])
+    rows = [(n, per["wall"][n], per["cpu"][n]) for n in names]
+    lines += ["", *table([r for r in rows if r[0].endswith("/") or "/" not in r[0] and r[0].endswith(".py")],
+                         "folder")]
+    lines += ["", *table([r for r in rows if "/" in r[0] and not r[0].endswith("/")][:top], f"longest {top} modules")]
+    lines += ["", *table(sorted(r for r in rows if r[0].startswith("worker ")), "worker")]
+    return "\n".join(lines)
+
+
+def run_suite(records: Path, args: list[str]) -> dict[str, Any]:
+    """Run scripts/test.sh ARGS with its records in ``records``; what the run took."""
+    for old in records.glob("cpu.*"):  # the conftest appends: a kept folder's last run would count twice
+        old.unlink()
+    env = dict(os.environ)
+    env["IFACE_TEST_CPU"] = str(records / "cpu")
+    env["PYTEST_ADDOPTS"] = f"{env.get('PYTEST_ADDOPTS', '')} --junitxml={records / 'junit.xml'}".strip()
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
+                            check=False).stdout.strip()
+    cores = len(os.sched_getaffinity(0))
+    before, load_before, start = resource.getrusage(resource.RUSAGE_CHILDREN), os.getloadavg(), time.monotonic()
+    code = subprocess.run(["bash", str(ROOT / "scripts" / "test.sh"), *args], cwd=ROOT, env=env, check=False).returncode
+    wall, after = time.monotonic() - start, resource.getrusage(resource.RUSAGE_CHILDREN)
+    user, system = after.ru_utime - before.ru_utime, after.ru_stime - before.ru_stime
+    run = {"commit": commit, "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "exit": code,
+           "wall": round(wall, 1), "user": round(user, 1), "system": round(system, 1), "cpu": round(user + system, 1),
+           "cores": cores, "workers": env.get("IFACE_TEST_WORKERS", str(cores + 1)),
+           "load_before": " ".join(f"{x:.2f}" for x in load_before),
+           "load_after": " ".join(f"{x:.2f}" for x in os.getloadavg())}
+    (records / "run.json").write_text(json.dumps(run, indent=1) + "\n", encoding="utf-8")
+    return run
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    passed = argv[argv.index("--") + 1:] if "--" in argv else []
+    own = argv[:argv.index("--")] if "--" in argv else argv
+    parser = argparse.ArgumentParser(prog="suite_time.py", description=__doc__.splitlines()[0])
+    parser.add_argument("--read", type=Path, metavar="DIR", help="print the figures of a run kept in DIR")
+    parser.add_argument("--keep", type=Path, metavar="DIR", help="keep the run's records in DIR")
+    parser.add_argument("--top", type=int, default=25, help="modules listed (default 25)")
+    options = parser.parse_args(own)
+    if options.read is not None:
+        records = options.read
+        if not records.is_dir():
+            print(f"suite_time.py: {records}: no such folder", file=sys.stderr)
+            return 2
+        run_file = records / "run.json"
+        run = json.loads(run_file.read_text(encoding="utf-8")) if run_file.is_file() else {}
+        code = 0
+    else:
+        records = options.keep or Path(tempfile.mkdtemp(prefix="iface-suite-time-"))
+        records.mkdir(parents=True, exist_ok=True)
+        run = run_suite(records, passed)
+        code = int(run["exit"])
+    junit = records / "junit.xml"
+    print(report(read_cpu(records / "cpu"), run, outcome(junit) if junit.is_file() else None, options.top))
+    print(f"(records: {records})")
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,70 @@
+"""bench/suite_time.py reads a run's records (IFACE_TEST_CPU lines, JUnit report, run.json) into its figures."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+from types import ModuleType
+
+from tests.conftest import ROOT
+
+
+def bench() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("suite_time", ROOT / "bench" / "suite_time.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["suite_time"] = module  # its dataclass looks its module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+JUNIT = """<?xml version="1.0" encoding="utf-8"?><testsuites><testsuite name="pytest" errors="0" failures="1"
+skipped="2" tests="10" time="9.0"></testsuite></testsuites>"""
+
+
+def records(folder: Path) -> Path:
+    (folder / "cpu.gw0").write_text(
+        "30.00\t100.00\ttests/runtime/test_launch.py::test_a[kilted]@tests/runtime/test_launch.py-kilted\n"
+        "20.00\t80.00\ttests/runtime/test_launch.py::test_a[jazzy]@tests/runtime/test_launch.py-jazzy\n"
+        "not a record\n", encoding="utf-8")
+    (folder / "cpu.gw1").write_text(
+        "50.00\t60.00\ttests/core/test_every_command.py::test_x[a.iface]@tests/core/test_every_command.py\n"
+        "1.00\t2.00\ttests/test_vscode_extension.py::test_npm\n", encoding="utf-8")
+    (folder / "junit.xml").write_text(JUNIT, encoding="utf-8")
+    (folder / "run.json").write_text(json.dumps({
+        "commit": "abc1234", "date": "2026-11-30 16:00 UTC", "exit": 1, "wall": 100.0, "user": 120.0,
+        "system": 30.0, "cpu": 150.0, "cores": 2, "workers": "3", "load_before": "0.10 0.20 0.30",
+        "load_after": "2.00 1.50 1.00"}), encoding="utf-8")
+    return folder
+
+
+def test_a_record_names_its_module_and_release() -> None:
+    b = bench()
+    test = b.parse_cpu_line("gw0", "1.50\t3.25\ttests/runtime/test_live.py::t[jazzy]@tests/runtime/test_live.py-jazzy")
+    assert (test.cpu, test.wall, test.module, test.release) == (1.5, 3.25, "tests/runtime/test_live.py", "jazzy")
+    assert b.parse_cpu_line("gw0", "x\ty\tz") is None and b.parse_cpu_line("gw0", "") is None
+    assert b.parse_cpu_line("main", "1\t2\ttests/fmt/test_cli.py::t").release == ""
+    assert b.folder_of("tests/runtime/test_live.py") == "runtime/"
+    assert b.folder_of("tests/test_vscode_extension.py") == "test_vscode_extension.py"
+
+
+def test_the_figures_of_a_kept_run(tmp_path: Path, capsys) -> None:
+    assert bench().main(["--read", str(records(tmp_path))]) == 0
+    out = capsys.readouterr().out
+    assert "run: abc1234 2026-11-30 16:00 UTC, exit 1, 3 workers on 2 cores" in out
+    assert "CPU 2.5 min (150 s, user 120 + system 30); cores idle 25%" in out
+    assert "tests 10: 7 passed, 1 failed, 0 errors, 2 skipped" in out
+    assert "in the tests: 242 worker-seconds, 101 CPU-seconds" in out
+    lines = out.splitlines()
+    row = {line.split("  ")[0].strip(): line.split()[-2:] for line in lines if "  " in line}
+    assert row["runtime/"] == ["180", "50"] and row["core/"] == ["60", "50"]
+    assert row["tests/runtime/test_launch.py [kilted]"] == ["100", "30"]
+    assert row["tests/runtime/test_launch.py [jazzy]"] == ["80", "20"]
+    assert row["worker gw0"] == ["180", "50"] and row["worker gw1"] == ["62", "51"]
+
+
+def test_a_missing_folder_is_a_usage_error(tmp_path: Path, capsys) -> None:
+    assert bench().main(["--read", str(tmp_path / "none")]) == 2
+    assert "no such folder" in capsys.readouterr().err
