@@ -8,25 +8,29 @@
 A run sets ``IFACE_TEST_CPU`` (each test's CPU and wall seconds, tests/conftest.py) and a JUnit report. It
 prints the run's wall time and CPU (user + system of every process it waited for, as ``/usr/bin/time`` counts),
 the share of the cores left idle, the outcome; the worker-seconds and CPU-seconds per folder, per module (once
-per ROS 2 release where a module runs per release) and per worker (the balance); the load average before and
-after. Run it on a quiet machine: a figure taken beside other work measures that work too.
+per ROS 2 release where a module runs per release) and per worker (the balance); per minute of the run, the
+share of the cores idle and how many workers were in a ``runtime/`` test (mostly waiting on the processes it
+started) or in another one; the load average before and after. Run it on a quiet machine: a figure taken beside
+other work measures that work too, and the idle share is the whole machine's.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import resource
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import xml.etree.ElementTree as ET
 from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 ROOT = Path(__file__).resolve().parents[1]
 RELEASES = ("kilted", "jazzy")
@@ -41,21 +45,24 @@ class Test:
     wall: float
     module: str
     release: str
+    #: Unix time the test started (None in records written before the column was added).
+    start: float | None
 
 
 def parse_cpu_line(worker: str, line: str) -> Test | None:
-    """``CPU<TAB>WALL<TAB>NODEID`` (written by tests/conftest.py), or None for a line that is not one."""
+    """``CPU<TAB>WALL<TAB>NODEID[<TAB>START]`` (written by tests/conftest.py), or None for a line that is not one."""
     parts = line.rstrip("\n").split("\t")
     if len(parts) < 3:
         return None
     try:
         cpu, wall = float(parts[0]), float(parts[1])
+        start = float(parts[3]) if len(parts) > 3 else None
     except ValueError:
         return None
     nodeid = parts[2]
     group = nodeid.rsplit("@", 1)[1] if "@" in nodeid else ""
     release = next((r for r in RELEASES if group.endswith(f"-{r}")), "")
-    return Test(worker, cpu, wall, nodeid.split("::", 1)[0], release)
+    return Test(worker, cpu, wall, nodeid.split("::", 1)[0], release, start)
 
 
 def read_cpu(prefix: Path) -> list[Test]:
@@ -83,6 +90,63 @@ def folder_of(module: str) -> str:
     return f"{parts[1]}/" if len(parts) > 2 else parts[-1]
 
 
+def cpu_times() -> tuple[float, float]:
+    """(idle, total) jiffies of every core since boot (``/proc/stat``)."""
+    with open("/proc/stat", encoding="ascii") as f:
+        values = [float(v) for v in f.readline().split()[1:]]
+    return values[3] + values[4], sum(values[:8])  # idle + iowait; user … steal
+
+
+class Sampler:
+    """The machine's CPU use, looked at every second in a thread of its own: (Unix time, idle, total) samples."""
+
+    def __init__(self) -> None:
+        self.samples: list[tuple[float, float, float]] = []
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def _run(self) -> None:
+        while True:
+            self.samples.append((time.time(), *cpu_times()))
+            if self._stop.wait(1.0):
+                return
+
+    def __enter__(self) -> Self:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self._stop.set()
+        self._thread.join()
+        self.samples.append((time.time(), *cpu_times()))
+
+
+def timeline(tests: list[Test], samples: list[list[float]], minute: float = 60.0) -> list[str]:
+    """Per minute of the run: the share of the cores idle (the samples), and how many workers were in a
+    ``runtime/`` test and in another one, on average (the tests' start and wall seconds)."""
+    timed = [t for t in tests if t.start is not None]
+    if not timed and len(samples) < 2:
+        return []
+    begin = min([t.start for t in timed if t.start is not None] + [s[0] for s in samples[:1]])
+    end = max([t.start + t.wall for t in timed if t.start is not None] + [s[0] for s in samples[-1:]])
+    buckets = max(1, math.ceil((end - begin) / minute))
+    busy = {"runtime/": [0.0] * buckets, "other": [0.0] * buckets}
+    for t in timed:
+        assert t.start is not None
+        kind = "runtime/" if folder_of(t.module) == "runtime/" else "other"
+        a, b = t.start - begin, t.start - begin + t.wall
+        for i in range(int(a // minute), min(buckets, int(b // minute) + 1)):
+            busy[kind][i] += max(0.0, min(b, (i + 1) * minute) - max(a, i * minute)) / minute
+    idle: list[str] = ["" for _ in range(buckets)]
+    for i in range(buckets):
+        inside = [s for s in samples if begin + i * minute <= s[0] <= begin + (i + 1) * minute]
+        if len(inside) >= 2 and inside[-1][2] > inside[0][2]:
+            idle[i] = f"{(inside[-1][1] - inside[0][1]) / (inside[-1][2] - inside[0][2]):.0%}"
+    out = [f"{'minute':>6}  {'cores idle':>10}  {'workers in runtime/':>19}  {'in others':>9}"]
+    out += [f"{i:6d}  {idle[i]:>10}  {busy['runtime/'][i]:19.1f}  {busy['other'][i]:9.1f}" for i in range(buckets)]
+    return out
+
+
 def table(rows: list[tuple[str, float, float]], head: str) -> list[str]:
     """Aligned lines: name, worker-seconds, CPU-seconds."""
     width = max([len(head), *(len(r[0]) for r in rows)])
@@ -91,7 +155,8 @@ def table(rows: list[tuple[str, float, float]], head: str) -> list[str]:
     return out
 
 
-def report(tests: list[Test], run: dict[str, Any], counts: dict[str, int] | None, top: int) -> str:
+def report(tests: list[Test], run: dict[str, Any], counts: dict[str, int] | None, top: int,
+           samples: list[list[float]] | None = None) -> str:
     """The figures, as lines of text."""
     lines = []
     if run:
@@ -123,6 +188,8 @@ def report(tests: list[Test], run: dict[str, Any], counts: dict[str, int] | None
                          "folder")]
     lines += ["", *table([r for r in rows if "/" in r[0] and not r[0].endswith("/")][:top], f"longest {top} modules")]
     lines += ["", *table(sorted(r for r in rows if r[0].startswith("worker ")), "worker")]
+    if steps := timeline(tests, samples or []):
+        lines += ["", *steps]
     return "\n".join(lines)
 
 
@@ -137,7 +204,10 @@ def run_suite(records: Path, args: list[str]) -> dict[str, Any]:
                             check=False).stdout.strip()
     cores = len(os.sched_getaffinity(0))
     before, load_before, start = resource.getrusage(resource.RUSAGE_CHILDREN), os.getloadavg(), time.monotonic()
-    code = subprocess.run(["bash", str(ROOT / "scripts" / "test.sh"), *args], cwd=ROOT, env=env, check=False).returncode
+    with Sampler() as machine:
+        code = subprocess.run(["bash", str(ROOT / "scripts" / "test.sh"), *args], cwd=ROOT, env=env,
+                              check=False).returncode
+    (records / "machine.json").write_text(json.dumps(machine.samples) + "\n", encoding="utf-8")
     wall, after = time.monotonic() - start, resource.getrusage(resource.RUSAGE_CHILDREN)
     user, system = after.ru_utime - before.ru_utime, after.ru_stime - before.ru_stime
     run = {"commit": commit, "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "exit": code,
@@ -171,8 +241,9 @@ def main(argv: list[str] | None = None) -> int:
         records.mkdir(parents=True, exist_ok=True)
         run = run_suite(records, passed)
         code = int(run["exit"])
-    junit = records / "junit.xml"
-    print(report(read_cpu(records / "cpu"), run, outcome(junit) if junit.is_file() else None, options.top))
+    junit, machine = records / "junit.xml", records / "machine.json"
+    samples = json.loads(machine.read_text(encoding="utf-8")) if machine.is_file() else []
+    print(report(read_cpu(records / "cpu"), run, outcome(junit) if junit.is_file() else None, options.top, samples))
     print(f"(records: {records})")
     return code
 

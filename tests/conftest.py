@@ -158,14 +158,15 @@ def _cpu_seconds() -> float:
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None):
     """With ``IFACE_TEST_CPU=FILE``, one line per test in FILE.<worker>: CPU seconds (the test's process and the
-    processes it started and waited for: nodes, ``ros2`` commands, builds), wall seconds, node id. A module's
-    fixtures count in the test that set them up or tore them down (docs/testing.md, "Running one part")."""
+    processes it started and waited for: nodes, ``ros2`` commands, builds), wall seconds, node id, start (Unix
+    time). A module's fixtures count in the test that set them up or tore them down (docs/testing.md, "Running
+    one part")."""
     target = os.environ.get("IFACE_TEST_CPU")
     if not target:
         yield
         return
-    cpu, wall = _cpu_seconds(), time.monotonic()
+    cpu, wall, start = _cpu_seconds(), time.monotonic(), time.time()
     yield
     worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
     with open(f"{target}.{worker}", "a", encoding="utf-8") as out:
-        out.write(f"{_cpu_seconds() - cpu:.2f}\t{time.monotonic() - wall:.2f}\t{item.nodeid}\n")
+        out.write(f"{_cpu_seconds() - cpu:.2f}\t{time.monotonic() - wall:.2f}\t{item.nodeid}\t{start:.2f}\n")

@@ -25,13 +25,17 @@ skipped="2" tests="10" time="9.0"></testsuite></testsuites>"""
 
 
 def records(folder: Path) -> Path:
-    (folder / "cpu.gw0").write_text(
-        "30.00\t100.00\ttests/runtime/test_launch.py::test_a[kilted]@tests/runtime/test_launch.py-kilted\n"
-        "20.00\t80.00\ttests/runtime/test_launch.py::test_a[jazzy]@tests/runtime/test_launch.py-jazzy\n"
+    (folder / "cpu.gw0").write_text(  # from 1000.0: runtime/ 100 s, then 80 s
+        "30.00\t100.00\ttests/runtime/test_launch.py::test_a[kilted]@tests/runtime/test_launch.py-kilted\t1000.00\n"
+        "20.00\t80.00\ttests/runtime/test_launch.py::test_a[jazzy]@tests/runtime/test_launch.py-jazzy\t1100.00\n"
         "not a record\n", encoding="utf-8")
-    (folder / "cpu.gw1").write_text(
-        "50.00\t60.00\ttests/core/test_every_command.py::test_x[a.iface]@tests/core/test_every_command.py\n"
-        "1.00\t2.00\ttests/test_vscode_extension.py::test_npm\n", encoding="utf-8")
+    (folder / "cpu.gw1").write_text(  # from 1000.0: another folder 60 s, then 2 s; the last one without a start
+        "50.00\t60.00\ttests/core/test_every_command.py::test_x[a.iface]@tests/core/test_every_command.py\t1000.00\n"
+        "1.00\t2.00\ttests/test_vscode_extension.py::test_npm\t1060.00\n"
+        "1.00\t2.00\ttests/fmt/test_cli.py::test_old_record\n", encoding="utf-8")
+    # the cores: 50 % idle in the first minute, 25 % in the second, 100 % in the third
+    (folder / "machine.json").write_text(json.dumps([[1000.0, 0, 0], [1060.0, 60, 120], [1120.0, 90, 240],
+                                                     [1180.0, 210, 360]]), encoding="utf-8")
     (folder / "junit.xml").write_text(JUNIT, encoding="utf-8")
     (folder / "run.json").write_text(json.dumps({
         "commit": "abc1234", "date": "2026-11-30 16:00 UTC", "exit": 1, "wall": 100.0, "user": 120.0,
@@ -42,10 +46,13 @@ def records(folder: Path) -> Path:
 
 def test_a_record_names_its_module_and_release() -> None:
     b = bench()
-    test = b.parse_cpu_line("gw0", "1.50\t3.25\ttests/runtime/test_live.py::t[jazzy]@tests/runtime/test_live.py-jazzy")
-    assert (test.cpu, test.wall, test.module, test.release) == (1.5, 3.25, "tests/runtime/test_live.py", "jazzy")
+    test = b.parse_cpu_line("gw0", "1.50\t3.25\ttests/runtime/test_live.py::t[jazzy]@tests/runtime/test_live.py-jazzy"
+                                   "\t1796050000.25")
+    assert (test.cpu, test.wall, test.module, test.release, test.start) == \
+        (1.5, 3.25, "tests/runtime/test_live.py", "jazzy", 1796050000.25)
     assert b.parse_cpu_line("gw0", "x\ty\tz") is None and b.parse_cpu_line("gw0", "") is None
     assert b.parse_cpu_line("main", "1\t2\ttests/fmt/test_cli.py::t").release == ""
+    assert b.parse_cpu_line("main", "1\t2\ttests/fmt/test_cli.py::t").start is None
     assert b.folder_of("tests/runtime/test_live.py") == "runtime/"
     assert b.folder_of("tests/test_vscode_extension.py") == "test_vscode_extension.py"
 
@@ -56,13 +63,16 @@ def test_the_figures_of_a_kept_run(tmp_path: Path, capsys) -> None:
     assert "run: abc1234 2026-11-30 16:00 UTC, exit 1, 3 workers on 2 cores" in out
     assert "CPU 2.5 min (150 s, user 120 + system 30); cores idle 25%" in out
     assert "tests 10: 7 passed, 1 failed, 0 errors, 2 skipped" in out
-    assert "in the tests: 242 worker-seconds, 101 CPU-seconds" in out
+    assert "in the tests: 244 worker-seconds, 102 CPU-seconds" in out
     lines = out.splitlines()
     row = {line.split("  ")[0].strip(): line.split()[-2:] for line in lines if "  " in line}
     assert row["runtime/"] == ["180", "50"] and row["core/"] == ["60", "50"]
     assert row["tests/runtime/test_launch.py [kilted]"] == ["100", "30"]
     assert row["tests/runtime/test_launch.py [jazzy]"] == ["80", "20"]
-    assert row["worker gw0"] == ["180", "50"] and row["worker gw1"] == ["62", "51"]
+    assert row["worker gw0"] == ["180", "50"] and row["worker gw1"] == ["64", "52"]
+    minutes = [line.split() for line in lines[lines.index(next(x for x in lines if x.strip().startswith("minute"))) + 1:]
+               if line.strip() and line.split()[0].isdigit()]
+    assert minutes == [["0", "50%", "1.0", "1.0"], ["1", "25%", "1.0", "0.0"], ["2", "100%", "1.0", "0.0"]]
 
 
 def test_a_missing_folder_is_a_usage_error(tmp_path: Path, capsys) -> None:
