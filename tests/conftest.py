@@ -107,46 +107,95 @@ def cli():
     return run_cli
 
 
-#: The modules that take longest in one worker (seconds; docs/testing.md, "How long each part takes"): handed out
-#: first, the longest first, so that no long one starts last. The others follow in collection order. Measured
-#: on a warm test cache (2026-11-29, 7f417a7; test_launch, with its ros2 daemon, and test_manager 2026-11-30);
-#: the modules that build C++ on a cold cache come first.
+#: Seconds the longest modules take in one worker (a module run once per ROS 2 release: each run), measured on a
+#: warm test cache with three workers (2026-11-30, the tests of 29111dc; docs/testing.md, "How long each part takes").
 LONG = {
-    "tests/runtime/test_rclcpp_e2e.py": 260,
-    "tests/runtime/test_manager_containers.py": 200,
-    "tests/runtime/test_launch.py": 170,
-    "tests/runtime/test_ros2_iface.py": 145,
-    "tests/runtime/test_manager.py": 130,
-    "tests/core/test_every_command.py": 125,
-    "tests/runtime/test_containers.py": 100,
-    "tests/test_vscode_extension.py": 90,
-    "tests/runtime/test_live.py": 60,
-    "tests/core/test_incremental.py": 50,
-    "tests/emit/test_reserved_names.py": 40,
-    "tests/runtime/test_rclpy_e2e.py": 40,
-    "tests/runtime/test_handover.py": 35,
-    "tests/runtime/test_rclpy_start.py": 35,
-    "tests/importers/test_json_roundtrip_all.py": 16,
+    "tests/core/test_every_command.py": 243,
+    "tests/runtime/test_launch.py": 154,
+    "tests/runtime/test_manager.py": 122,
+    "tests/runtime/test_ros2_iface.py": 106,
+    "tests/runtime/test_rclcpp_e2e.py": 86,
+    "tests/emit/test_reserved_names.py": 82,
+    "tests/core/test_incremental.py": 78,
+    "tests/test_vscode_extension.py": 71,
+    "tests/runtime/test_manager_containers.py": 63,
+    "tests/runtime/test_live.py": 42,
+    "tests/importers/test_json_roundtrip_all.py": 41,
+    "tests/runtime/test_rclpy_e2e.py": 38,
+    "tests/lsp/test_limits.py": 35,
+    "tests/runtime/test_handover.py": 34,
+    "tests/runtime/test_rclpy_start.py": 30,
+    "tests/core/test_typing.py": 24,
+    "tests/lsp/test_incremental.py": 21,
+    "tests/lsp/test_robustness.py": 18,
+    "tests/importers/test_jsonform.py": 18,
+    "tests/core/test_layering.py": 17,
+    "tests/runtime/test_containers.py": 13,
+    "tests/runtime/test_ros2cli_harness.py": 12,
 }
+#: Seconds taken for a module that ``LONG`` does not name.
+SHORT = 3.0
+#: The ROS modules that build C++ (minutes each on a cold cache): the first ROS modules handed out.
+CPP_FIRST = ("tests/runtime/test_rclcpp_e2e.py", "tests/runtime/test_manager_containers.py",
+             "tests/runtime/test_containers.py")
+#: Workers in a ``runtime/`` module for each one in another module. A ROS test mostly waits on the nodes, launch
+#: trees and discovery it started (0.4-0.5 of a core, "How long each part takes"); the others compute (a core):
+#: two and one keep two cores busy, where three ROS modules at once left them a third idle.
+WAITING_PER_COMPUTING = 2.0
+
+
+def _module_of(group: str) -> str:
+    return group.split(".py", 1)[0] + ".py"
+
+
+def handed_out(groups: list[str]) -> list[str]:
+    """The order in which the workers get ``groups`` (``module`` or ``module-release``): the ``runtime/`` ones
+    (C++ builders first, then the longest first) and the others (the longest first) interleaved, so that
+    ``WAITING_PER_COMPUTING`` worker-seconds of the first go with each one of the second, as long as both last."""
+    per_release = {_module_of(g) for g in groups if g != _module_of(g)}
+
+    def seconds(group: str) -> float:
+        module = _module_of(group)
+        if group == module and module in per_release:
+            return SHORT  # a per-release module's few tests that run once
+        return LONG.get(module, SHORT)
+
+    waiting = sorted((g for g in groups if g.startswith("tests/runtime/")),
+                     key=lambda g: (_module_of(g) not in CPP_FIRST, -seconds(g)))
+    computing = sorted((g for g in groups if not g.startswith("tests/runtime/")), key=lambda g: -seconds(g))
+    order: list[str] = []
+    waited = computed = 0.0
+    while waiting or computing:
+        if waiting and (not computing or waited <= WAITING_PER_COMPUTING * computed):
+            group = waiting.pop(0)
+            waited += seconds(group)
+        else:
+            group = computing.pop(0)
+            computed += seconds(group)
+        order.append(group)
+    return order
 
 
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under pytest-xdist (``--dist loadgroup --no-loadscope-reorder``, as scripts/test.sh runs it), each module's
     tests run in one worker (a module run once per ROS 2 release: once per release), so that its module-scoped
-    fixtures (servers, scenarios) are made once; the modules of ``LONG`` are handed out first. The ROS modules
-    spread over the workers like the others: their workspaces come from the test cache
-    (tests/ros_harness/cache.py), where a worker waits for, or takes, what another one builds, never building it
-    twice."""
+    fixtures (servers, scenarios) are made once; the groups are handed out in the order of ``handed_out`` (a
+    worker gets the next group when it is about to finish one). The ROS modules spread over the workers like the
+    others: their workspaces come from the test cache (tests/ros_harness/cache.py), where a worker waits for, or
+    takes, what another one builds, never building it twice."""
     # in a worker xdist turns "dist" into "no" and keeps "loadgroup"; the controller collects nothing
     if not getattr(config.option, "loadgroup", False):
         return
+    group_of: dict[str, str] = {}
     for item in items:
         callspec = getattr(item, "callspec", None)
         release = callspec.params.get("ros_release") if callspec is not None else None
         module = item.nodeid.split("::", 1)[0]
-        item.add_marker(pytest.mark.xdist_group(f"{module}-{release}" if release else module))
-    items.sort(key=lambda item: -LONG.get(item.nodeid.split("::", 1)[0], 0))  # stable: a module's order is kept
+        group_of[item.nodeid] = f"{module}-{release}" if release else module
+        item.add_marker(pytest.mark.xdist_group(group_of[item.nodeid]))
+    rank = {group: i for i, group in enumerate(handed_out(list(dict.fromkeys(group_of.values()))))}
+    items.sort(key=lambda item: rank[group_of[item.nodeid]])  # stable: a module's order is kept
 
 
 def _cpu_seconds() -> float:
