@@ -149,9 +149,10 @@ def _module_of(group: str) -> str:
 
 
 def handed_out(groups: list[str]) -> list[str]:
-    """The order in which the workers get ``groups`` (``module`` or ``module-release``): the ``runtime/`` ones
-    (C++ builders first, then the longest first) and the others (the longest first) interleaved, so that
-    ``WAITING_PER_COMPUTING`` worker-seconds of the first go with each one of the second, as long as both last."""
+    """The order in which the workers get ``groups`` (``module`` or ``module-release``): the ``runtime/`` ones (a
+    release after the other; the C++ builders first, then the longest first) and the others (the longest first)
+    interleaved, so that ``WAITING_PER_COMPUTING`` worker-seconds of the first go with each one of the second, as
+    long as both last."""
     per_release = {_module_of(g) for g in groups if g != _module_of(g)}
 
     def seconds(group: str) -> float:
@@ -160,8 +161,14 @@ def handed_out(groups: list[str]) -> list[str]:
             return SHORT  # a per-release module's few tests that run once
         return LONG.get(module, SHORT)
 
+    releases = list(dict.fromkeys(g[len(_module_of(g)) + 1:] for g in groups if g != _module_of(g)))
+
+    def release(group: str) -> int:  # a worker then changes release once: its session fixtures are made twice
+        suffix = group[len(_module_of(group)) + 1:]
+        return releases.index(suffix) if suffix else 0
+
     waiting = sorted((g for g in groups if g.startswith("tests/runtime/")),
-                     key=lambda g: (_module_of(g) not in CPP_FIRST, -seconds(g)))
+                     key=lambda g: (release(g), _module_of(g) not in CPP_FIRST, -seconds(g)))
     computing = sorted((g for g in groups if not g.startswith("tests/runtime/")), key=lambda g: -seconds(g))
     order: list[str] = []
     waited = computed = 0.0
@@ -176,26 +183,44 @@ def handed_out(groups: list[str]) -> list[str]:
     return order
 
 
+#: The group (``module`` or ``module-release``) of an item under ``--dist loadgroup``.
+GROUP = pytest.StashKey[str]()
+
+
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under pytest-xdist (``--dist loadgroup --no-loadscope-reorder``, as scripts/test.sh runs it), each module's
     tests run in one worker (a module run once per ROS 2 release: once per release), so that its module-scoped
-    fixtures (servers, scenarios) are made once; the groups are handed out in the order of ``handed_out`` (a
-    worker gets the next group when it is about to finish one). The ROS modules spread over the workers like the
-    others: their workspaces come from the test cache (tests/ros_harness/cache.py), where a worker waits for, or
-    takes, what another one builds, never building it twice."""
+    fixtures (servers, scenarios) are made once; the groups are handed out in the order of ``handed_out``
+    (``HandOut``; a worker gets the next group when it is about to finish one). The ROS modules spread over the
+    workers like the others: their workspaces come from the test cache (tests/ros_harness/cache.py), where a
+    worker waits for, or takes, what another one builds, never building it twice."""
     # in a worker xdist turns "dist" into "no" and keeps "loadgroup"; the controller collects nothing
     if not getattr(config.option, "loadgroup", False):
         return
-    group_of: dict[str, str] = {}
     for item in items:
         callspec = getattr(item, "callspec", None)
         release = callspec.params.get("ros_release") if callspec is not None else None
         module = item.nodeid.split("::", 1)[0]
-        group_of[item.nodeid] = f"{module}-{release}" if release else module
-        item.add_marker(pytest.mark.xdist_group(group_of[item.nodeid]))
-    rank = {group: i for i, group in enumerate(handed_out(list(dict.fromkeys(group_of.values()))))}
-    items.sort(key=lambda item: rank[group_of[item.nodeid]])  # stable: a module's order is kept
+        item.stash[GROUP] = f"{module}-{release}" if release else module
+        item.add_marker(pytest.mark.xdist_group(item.stash[GROUP]))
+
+
+class HandOut:
+    """Puts the groups in the order of ``handed_out``: after pytest's own hook, which keeps the tests of one ROS 2
+    release (a session-scoped parameter) together, and so had every Kilted module handed out before the others."""
+
+    @pytest.hookimpl(trylast=True)
+    def pytest_collection_modifyitems(self, items: list[pytest.Item]) -> None:
+        if not items or any(GROUP not in item.stash for item in items):
+            return
+        order = handed_out(list(dict.fromkeys(item.stash[GROUP] for item in items)))
+        rank = {group: i for i, group in enumerate(order)}
+        items.sort(key=lambda item: rank[item.stash[GROUP]])  # stable: a module's order is kept
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.pluginmanager.register(HandOut(), "iface-hand-out")
 
 
 def _cpu_seconds() -> float:

@@ -26,6 +26,13 @@ def test_a_cpp_builder_first_then_the_longest_that_computes() -> None:
     assert sum(not g.startswith("tests/runtime/") for g in order[:3]) == 1  # the three workers' first groups
 
 
+def test_one_release_after_the_other_so_that_a_worker_changes_release_once() -> None:
+    order = handed_out(GROUPS)
+    jazzy = [i for i, g in enumerate(order) if g.endswith("-jazzy")]
+    kilted = [i for i, g in enumerate(order) if g.endswith("-kilted")]
+    assert jazzy and kilted and max(kilted) < min(jazzy)
+
+
 def test_two_worker_seconds_waiting_for_each_one_computing_while_both_last() -> None:
     def seconds(group: str) -> float:
         if group == "tests/runtime/test_launch.py":  # its tests that run once, not per release
