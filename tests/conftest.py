@@ -139,8 +139,8 @@ SHORT = 3.0
 CPP_FIRST = ("tests/runtime/test_rclcpp_e2e.py", "tests/runtime/test_manager_containers.py",
              "tests/runtime/test_containers.py")
 #: Workers in a ``runtime/`` module for each one in another module. A ROS test mostly waits on the nodes, launch
-#: trees and discovery it started (0.4-0.5 of a core, "How long each part takes"); the others compute (a core):
-#: two and one keep two cores busy, where three ROS modules at once left them a third idle.
+#: trees and discovery it started (0.4-0.5 of a core, "How long each part takes"); the others compute (0.7-0.8):
+#: three ROS modules at once had left the cores a quarter idle, two and one leave them a fifth.
 WAITING_PER_COMPUTING = 2.0
 
 
