@@ -233,19 +233,28 @@ def main(argv: list[str] | None = None) -> int:
         if not records.is_dir():
             print(f"suite_time.py: {records}: no such folder", file=sys.stderr)
             return 2
-        run_file = records / "run.json"
-        run = json.loads(run_file.read_text(encoding="utf-8")) if run_file.is_file() else {}
-        code = 0
+        run, code = None, 0
     else:
         records = options.keep or Path(tempfile.mkdtemp(prefix="iface-suite-time-"))
         records.mkdir(parents=True, exist_ok=True)
         run = run_suite(records, passed)
         code = int(run["exit"])
-    junit, machine = records / "junit.xml", records / "machine.json"
-    samples = json.loads(machine.read_text(encoding="utf-8")) if machine.is_file() else []
-    print(report(read_cpu(records / "cpu"), run, outcome(junit) if junit.is_file() else None, options.top, samples))
+    try:
+        print(figures(records, run, options.top))
+    except (OSError, ValueError, LookupError, TypeError, ET.ParseError) as e:
+        print(f"suite_time.py: {records}: records not readable: {e}", file=sys.stderr)
+        return 2
     print(f"(records: {records})")
     return code
+
+
+def figures(records: Path, run: dict[str, Any] | None, top: int) -> str:
+    """The report of the records in ``records`` (``run``: the run just made, else its run.json if any)."""
+    run_file, junit, machine = records / "run.json", records / "junit.xml", records / "machine.json"
+    if run is None:
+        run = json.loads(run_file.read_text(encoding="utf-8")) if run_file.is_file() else {}
+    samples = json.loads(machine.read_text(encoding="utf-8")) if machine.is_file() else []
+    return report(read_cpu(records / "cpu"), run, outcome(junit) if junit.is_file() else None, top, samples)
 
 
 if __name__ == "__main__":

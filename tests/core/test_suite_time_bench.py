@@ -78,3 +78,17 @@ def test_the_figures_of_a_kept_run(tmp_path: Path, capsys) -> None:
 def test_a_missing_folder_is_a_usage_error(tmp_path: Path, capsys) -> None:
     assert bench().main(["--read", str(tmp_path / "none")]) == 2
     assert "no such folder" in capsys.readouterr().err
+
+
+def test_unreadable_records_are_said_in_one_line(tmp_path: Path, capsys) -> None:
+    records(tmp_path)
+    (tmp_path / "junit.xml").write_text("<testsuites", encoding="utf-8")
+    assert bench().main(["--read", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "records not readable" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    (tmp_path / "junit.xml").write_text(JUNIT, encoding="utf-8")
+    (tmp_path / "run.json").write_text("{}", encoding="utf-8")  # no figures of the run: its lines are left out
+    assert bench().main(["--read", str(tmp_path)]) == 0
+    for broken in ("[[1, 2]", "[[1000, 2], [1010, 3]]", "[1, 2]"):
+        (tmp_path / "machine.json").write_text(broken, encoding="utf-8")
+        assert bench().main(["--read", str(tmp_path)]) == 2
