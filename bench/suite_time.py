@@ -28,6 +28,7 @@ import threading
 import time
 import xml.etree.ElementTree as ET
 from collections import defaultdict
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Self
@@ -147,6 +148,16 @@ def timeline(tests: list[Test], samples: list[list[float]], minute: float = 60.0
     return out
 
 
+def tally(tests: list[Test], name: Callable[[Test], str]) -> list[tuple[str, float, float]]:
+    """(name, worker-seconds, CPU-seconds) of the tests under each ``name``, the longest first."""
+    wall: defaultdict[str, float] = defaultdict(float)
+    cpu: defaultdict[str, float] = defaultdict(float)
+    for t in tests:
+        wall[name(t)] += t.wall
+        cpu[name(t)] += t.cpu
+    return sorted(((n, wall[n], cpu[n]) for n in wall), key=lambda row: -row[1])
+
+
 def table(rows: list[tuple[str, float, float]], head: str) -> list[str]:
     """Aligned lines: name, worker-seconds, CPU-seconds."""
     width = max([len(head), *(len(r[0]) for r in rows)])
@@ -176,18 +187,10 @@ def report(tests: list[Test], run: dict[str, Any], counts: dict[str, int] | None
         return "\n".join(lines + ["(no IFACE_TEST_CPU records)"])
     total_wall, total_cpu = sum(t.wall for t in tests), sum(t.cpu for t in tests)
     lines.append(f"in the tests: {total_wall:.0f} worker-seconds, {total_cpu:.0f} CPU-seconds")
-    per: dict[str, defaultdict[str, float]] = {"wall": defaultdict(float), "cpu": defaultdict(float)}
-    for t in tests:
-        for key, value in (("wall", t.wall), ("cpu", t.cpu)):
-            per[key][folder_of(t.module)] += value
-            per[key][t.module + (f" [{t.release}]" if t.release else "")] += value
-            per[key]["worker " + t.worker] += value
-    names = sorted(per["wall"], key=lambda n: -per["wall"][n])
-    rows = [(n, per["wall"][n], per["cpu"][n]) for n in names]
-    lines += ["", *table([r for r in rows if r[0].endswith("/") or "/" not in r[0] and r[0].endswith(".py")],
-                         "folder")]
-    lines += ["", *table([r for r in rows if "/" in r[0] and not r[0].endswith("/")][:top], f"longest {top} modules")]
-    lines += ["", *table(sorted(r for r in rows if r[0].startswith("worker ")), "worker")]
+    lines += ["", *table(tally(tests, lambda t: folder_of(t.module)), "folder")]
+    modules = tally(tests, lambda t: t.module + (f" [{t.release}]" if t.release else ""))
+    lines += ["", *table(modules[:top], f"longest {top} modules")]
+    lines += ["", *table(sorted(tally(tests, lambda t: f"worker {t.worker}")), "worker")]
     if steps := timeline(tests, samples or []):
         lines += ["", *steps]
     return "\n".join(lines)

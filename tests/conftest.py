@@ -148,24 +148,28 @@ def _module_of(group: str) -> str:
     return group.split(".py", 1)[0] + ".py"
 
 
+def _release_of(group: str) -> str:
+    """The release a group runs on, "" for a group that is its module alone."""
+    return group[len(_module_of(group)) + 1:]
+
+
 def handed_out(groups: list[str]) -> list[str]:
     """The order in which the workers get ``groups`` (``module`` or ``module-release``): the ``runtime/`` ones (a
     release after the other; the C++ builders first, then the longest first) and the others (the longest first)
     interleaved, so that ``WAITING_PER_COMPUTING`` worker-seconds of the first go with each one of the second, as
     long as both last."""
-    per_release = {_module_of(g) for g in groups if g != _module_of(g)}
+    per_release = {_module_of(g) for g in groups if _release_of(g)}
 
     def seconds(group: str) -> float:
         module = _module_of(group)
-        if group == module and module in per_release:
+        if not _release_of(group) and module in per_release:
             return SHORT  # a per-release module's few tests that run once
         return LONG.get(module, SHORT)
 
-    releases = list(dict.fromkeys(g[len(_module_of(g)) + 1:] for g in groups if g != _module_of(g)))
+    releases = list(dict.fromkeys(_release_of(g) for g in groups if _release_of(g)))
 
     def release(group: str) -> int:  # a worker then changes release once: its session fixtures are made twice
-        suffix = group[len(_module_of(group)) + 1:]
-        return releases.index(suffix) if suffix else 0
+        return releases.index(_release_of(group)) if _release_of(group) else 0
 
     waiting = sorted((g for g in groups if g.startswith("tests/runtime/")),
                      key=lambda g: (release(g), _module_of(g) not in CPP_FIRST, -seconds(g)))
