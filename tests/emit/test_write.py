@@ -82,6 +82,48 @@ def test_one_generated_file_that_another_needs_as_a_folder_writes_nothing(tmp_pa
     assert tree(tmp_path) == {}
 
 
+def test_every_file_under_a_blocked_folder_is_named_and_the_others_are_not(tmp_path: Path) -> None:
+    """Each folder is looked at once (plan): its verdict holds for each of its files, and only for them."""
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "msg").write_text("in the way")
+    files = [GeneratedFile("pkg/msg/A.msg", "a"), GeneratedFile("pkg/CMakeLists.txt", "b"),
+             GeneratedFile("pkg/msg/B.msg", "c"), GeneratedFile("pkg/msg/sub/C.msg", "d")]
+    report = write_files(files, tmp_path)
+    assert report.written == []
+    assert [e.split(":")[0] for e in report.errors] == ["pkg/msg/A.msg", "pkg/msg/B.msg", "pkg/msg/sub/C.msg"]
+    assert all("is not a folder" in e for e in report.errors)
+    assert tree(tmp_path) == {"pkg/msg": b"in the way"}
+
+
+def test_a_folder_linked_outside_refuses_each_of_its_files_and_writes_nothing(tmp_path: Path) -> None:
+    out, outside = tmp_path / "out", tmp_path / "outside"
+    (out / "pkg").mkdir(parents=True)
+    outside.mkdir()
+    (out / "pkg" / "msg").symlink_to(outside)
+    files = [GeneratedFile("pkg/msg/A.msg", "a"), GeneratedFile("pkg/package.xml", "b"),
+             GeneratedFile("pkg/msg/B.msg", "c")]
+    report = write_files(files, out)
+    assert report.written == [] and [e.split(":")[0] for e in report.errors] == ["pkg/msg/A.msg", "pkg/msg/B.msg"]
+    assert all("leaves the output folder" in e for e in report.errors)
+    assert tree(outside) == {} and not (out / "pkg" / "package.xml").exists()
+
+
+@pytest.mark.parametrize("rel", ["", ".", "../x", "/abs/x", "a/../../x", "a\\b", "a\0b"])
+def test_a_path_that_names_no_file_inside_the_output_folder_is_refused(tmp_path: Path, rel: str) -> None:
+    report = write_files([GeneratedFile("ok.txt", "x"), GeneratedFile(rel, "y")], tmp_path / "out")
+    assert report.written == [] and len(report.errors) == 1, report.errors
+    assert "leaves the output folder" in report.errors[0]
+    assert not (tmp_path / "out").exists() and not (tmp_path / "x").exists()
+
+
+def test_an_output_folder_in_a_loop_of_links_refuses_every_file(tmp_path: Path) -> None:
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    report = write_files([GeneratedFile("x.txt", "x"), GeneratedFile("d/y.txt", "y")], tmp_path / "a" / "out")
+    assert report.written == [] and len(report.errors) == 2
+    assert all("leaves the output folder" in e for e in report.errors)
+
+
 def test_a_path_longer_than_path_max_is_refused(tmp_path: Path) -> None:
     deep = "/".join(["d" * 200] * 25)  # 5024 bytes, every name short enough
     assert path_problem(tmp_path / deep / "f.txt") is not None

@@ -66,23 +66,38 @@ class UnsafePath(ValueError):
     """A generated path that would leave the output folder."""
 
 
+def _parts(rel: str) -> tuple[str, ...]:
+    """The parts of the generated path ``rel``; UnsafePath for absolute paths, ``..``, backslashes and NULs."""
+    p = PurePosixPath(rel)
+    if not p.parts or p.is_absolute() or any(part in ("..", "") for part in p.parts) or "\\" in rel or "\0" in rel:
+        raise UnsafePath(rel)
+    return p.parts
+
+
+def _resolved(path: Path, rel: str) -> Path:
+    """``path.resolve()``; UnsafePath (for ``rel``) on a loop of links."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError):
+        raise UnsafePath(rel) from None
+
+
+def _folder_inside(root: Path, out_dir: Path, folder: tuple[str, ...], rel: str) -> Path:
+    """The folder ``out_dir/folder`` resolved; UnsafePath (for ``rel``) when it resolves outside ``root``."""
+    resolved = _resolved(out_dir.joinpath(*folder), rel)
+    if root != resolved and root not in resolved.parents:
+        raise UnsafePath(rel)
+    return resolved
+
+
 def safe_join(out_dir: Path, rel: str) -> Path:
     """``out_dir / rel``, refusing absolute paths, ``..`` and folders resolving outside.
 
     The folders are resolved; the file's own name is not: a symbolic link there
     is the writer's to refuse or replace, never to follow.
     """
-    p = PurePosixPath(rel)
-    if p.is_absolute() or any(part in ("..", "") for part in p.parts) or "\\" in rel or "\0" in rel:
-        raise UnsafePath(rel)
-    try:
-        root = out_dir.resolve()
-        folder = (out_dir / Path(*p.parts[:-1])).resolve()
-    except (OSError, RuntimeError):  # a loop of links
-        raise UnsafePath(rel) from None
-    if root != folder and root not in folder.parents:
-        raise UnsafePath(rel)
-    return folder / p.parts[-1]
+    parts = _parts(rel)
+    return _folder_inside(_resolved(out_dir, rel), out_dir, parts[:-1], rel) / parts[-1]
 
 
 def _exists(path: Path) -> bool:
@@ -111,25 +126,45 @@ def _limit(folder: Path, name: str, default: int) -> int:
     return value if value and value > 0 else default
 
 
-def path_problem(full: Path) -> str | None:
+@dataclass(frozen=True, slots=True)
+class FolderFacts:
+    """What a folder's files need checked against: the file system's limits there, and why nothing can be
+    written in it (an existing file where a folder must be), if so."""
+
+    name_max: int
+    path_max: int
+    problem: str | None
+
+
+def folder_facts(folder: Path) -> FolderFacts:
+    """The limits that hold in ``folder`` (or its nearest existing folder), and whether it can hold files."""
+    ancestor = _existing_ancestor(folder)
+    problem = None
+    for f in (*reversed(folder.parents), folder):
+        if _exists(f) and not f.is_dir():
+            problem = f"{f} exists and is not a folder"
+            break
+    return FolderFacts(_limit(ancestor, "PC_NAME_MAX", DEFAULT_NAME_MAX),
+                       _limit(ancestor, "PC_PATH_MAX", DEFAULT_PATH_MAX), problem)
+
+
+def path_problem(full: Path, facts: FolderFacts | None = None) -> str | None:
     """Why the file ``full`` cannot be written, as far as can be told without writing; None when it can.
 
     Checked: each name at most NAME_MAX bytes (UTF-8), the whole path at most PATH_MAX,
-    no existing file where a folder must be, no folder where the file must be.
+    no existing file where a folder must be, no folder where the file must be. ``facts``
+    are those of ``full``'s folder, when already looked up.
     """
-    ancestor = _existing_ancestor(full.parent)
-    name_max = _limit(ancestor, "PC_NAME_MAX", DEFAULT_NAME_MAX)
-    path_max = _limit(ancestor, "PC_PATH_MAX", DEFAULT_PATH_MAX)
+    facts = facts or folder_facts(full.parent)
     for part in full.parts[1:]:
         size = len(part.encode("utf-8", "surrogateescape"))
-        if size > name_max:
-            return f"the name '{part[:40]}…' is {size} bytes long; the file system allows {name_max}"
+        if size > facts.name_max:
+            return f"the name '{part[:40]}…' is {size} bytes long; the file system allows {facts.name_max}"
     size = len(str(full).encode("utf-8", "surrogateescape"))
-    if size >= path_max:
-        return f"the path is {size} bytes long; the file system allows {path_max - 1}"
-    for folder in reversed(full.parents):
-        if _exists(folder) and not folder.is_dir():
-            return f"{folder} exists and is not a folder"
+    if size >= facts.path_max:
+        return f"the path is {size} bytes long; the file system allows {facts.path_max - 1}"
+    if facts.problem is not None:
+        return facts.problem
     if full.is_symlink():
         return None  # refused or replaced when written, never followed
     if _exists(full) and not full.is_file():
@@ -139,11 +174,12 @@ def path_problem(full: Path) -> str | None:
 
 def _folder_conflicts(paths: Iterable[tuple[str, Path]]) -> list[str]:
     """Files of the set that another file of the set needs as a folder (``a`` and ``a/b``)."""
-    planned = dict(paths)
-    files = {full: rel for rel, full in planned.items()}
+    files = {str(full): rel for rel, full in paths}
     out = []
-    for rel, full in planned.items():
-        for folder in full.parents:
+    for full, rel in files.items():
+        folder, parent = full, os.path.dirname(full)
+        while parent != folder:
+            folder, parent = parent, os.path.dirname(parent)
             if folder in files:
                 out.append(f"{rel}: refused: {files[folder]} is generated as a file, so it cannot be a folder")
                 break
@@ -243,16 +279,37 @@ def atomic_write(path: Path, text: str | bytes) -> None:
 
 
 def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFile, Path]], list[str]]:
-    """Each file with its full path, and every path problem (when there is one, nothing may be written)."""
+    """Each file with its full path, and every path problem (when there is one, nothing may be written).
+
+    Each folder is resolved and looked at once, however many files it gets.
+    """
     planned: list[tuple[GeneratedFile, Path]] = []
     errors: list[str] = []
+    try:
+        root: Path | None = out.resolve()
+    except (OSError, RuntimeError):  # a loop of links
+        root = None
+    folders: dict[tuple[str, ...], tuple[Path, FolderFacts] | None] = {}
     for f in files:
         try:
-            full = safe_join(out, f.path)
+            if root is None:
+                raise UnsafePath(f.path)
+            parts = _parts(f.path)
+            if parts[:-1] not in folders:
+                try:
+                    folder = _folder_inside(root, out, parts[:-1], f.path)
+                    folders[parts[:-1]] = (folder, folder_facts(folder))
+                except UnsafePath:
+                    folders[parts[:-1]] = None
+            known = folders[parts[:-1]]
+            if known is None:
+                raise UnsafePath(f.path)
         except UnsafePath:
             errors.append(f"{f.path}: refused: the path leaves the output folder")
             continue
-        problem = path_problem(full)
+        folder, facts = known
+        full = folder / parts[-1]
+        problem = path_problem(full, facts)
         if problem is not None:
             errors.append(f"{f.path}: cannot be written: {problem}")
             continue
