@@ -145,6 +145,9 @@ def environment(venv: Path, workspace: Path | None = None, log_dir: Path | None 
     for key in NOT_LOOPBACK:
         env.pop(key, None)
     env["ROS_DOMAIN_ID"] = str(free_domain())
+    # numpy (imported by every rclpy process) starts OpenBLAS's thread pool, whose threads spin before they
+    # sleep: 0.11 CPU-s of each process's 0.70 (2026-11-30, a node's start). No ROS process here does BLAS.
+    env.setdefault("OPENBLAS_NUM_THREADS", "1")
     if log_dir is not None:
         env["ROS_LOG_DIR"] = str(log_dir)
     return env
