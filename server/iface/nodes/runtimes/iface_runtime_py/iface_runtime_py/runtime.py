@@ -213,6 +213,21 @@ class LockedActionClient(ActionClient):
         super().__init__(*args, **kwargs)
 
 
+class ComponentExecutor(MultiThreadedExecutor):
+    """rclpy's MultiThreadedExecutor, with rclpy's own fix of ros2/rclpy#1485 for the releases that lack it (Jazzy's
+    rclpy 7.1.6): a timer cancelled between the executor's wait and its call (``_continue_schedule`` cancels a
+    work timer at an activation) is skipped. Unfixed, the executor thread raised "timer is canceled": the timer
+    stayed marked as taken and its mutually exclusive callback group busy, and ``spin_once`` ended the node."""
+
+    def _take_timer(self, tmr: Any) -> Any:
+        try:
+            return super()._take_timer(tmr)
+        except _rclpy.RCLError as e:
+            if "canceled" not in str(e):
+                raise
+            return None
+
+
 class WorkTimer:
     """A work timer: its name (the callback's), period, the rclpy timer, and when it last ran (ns since the epoch)."""
 
@@ -944,7 +959,7 @@ def main(load: Callable[[], type[ComponentNode]], package: str, params_file_name
     told = _standby_signal() if opts.standby else None
     rclpy.init(args=ros_argv)
     node: ComponentNode | None = None
-    executor: MultiThreadedExecutor | None = None
+    executor: ComponentExecutor | None = None
     try:
         with _quiet_exit():
             spare = None
@@ -956,7 +971,7 @@ def main(load: Callable[[], type[ComponentNode]], package: str, params_file_name
             if spare is not None:
                 spare.destroy_node()  # after the component's node: the participant stays up between the two
             node.get_logger().info(f"parameter file: {params}" if params else "parameter file: none installed")
-            executor = MultiThreadedExecutor(num_threads=node.executor_threads())
+            executor = ComponentExecutor(num_threads=node.executor_threads())
             executor.add_node(node)
             if opts.activate:
                 node.trigger_configure()
