@@ -76,7 +76,8 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
     """``ros2 ARGS`` (with ``--no-daemon --spin-time S`` when ``graph``: ``spin_time``; as it is when ``daemon``:
     the test runs its domain's ros2 daemon, which answers from the graph it keeps), asked again while it
     does not see its node, or (with ``until``) while its output lacks ``until``, or it gave no answer within
-    ``timeout`` (a ``ros2`` command can hang at its own exit), for at most ``within`` seconds. A command that is
+    ``timeout`` (a ``ros2`` command can hang at its own exit) or was ended by a signal, for at most ``within``
+    seconds. A command that is
     not a query (a transition, a goal, a service call) is asked once: ``within=0``, or ``transition``, which
     counts its tries from ``first_try``."""
     end = time.monotonic() + within
@@ -96,7 +97,8 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
         trace(argv, answer.code, time.monotonic() - started)
         unseen = any(s in answer.out + answer.err for s in NOT_SEEN)
         missing = until is not None and until not in answer.out
-        if not (unseen or missing or answer.code is None) or time.monotonic() >= end:
+        ended = answer.code is None or answer.code < 0  # hung, or ended by a signal (SIGSEGV at its exit)
+        if not (unseen or missing or ended) or time.monotonic() >= end:
             return answer
         time.sleep(0.5)
 
@@ -113,8 +115,9 @@ def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0
     """``ros2 lifecycle set NODE LABEL``, asked again only while it does not see the node (for at most
     ``within`` seconds): a transition is not idempotent (asked again after it was taken, it is refused). The
     command has been seen to hang at its own exit after printing its answer (rclpy/Fast DDS tearing its node
-    down, 1 run of ~40 on a loaded machine): killed at ``timeout``, an answer that printed ``Transitioning
-    successful`` still counts; the caller checks the state the node reached."""
+    down, 1 run of ~40 on a loaded machine), and to die of SIGSEGV there (Kilted, 2026-11-30): killed at
+    ``timeout`` or ended by a signal, an answer that printed ``Transitioning successful`` still counts; the
+    caller checks the state the node reached."""
     end = time.monotonic() + within
     tries = 0
     while True:
@@ -124,8 +127,11 @@ def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0
         if not any(s in answer.out + answer.err for s in NOT_SEEN) or time.monotonic() >= end:
             break
         time.sleep(0.5)
-    if answer.code is None and TRANSITION_DONE in answer.out:
+    if TRANSITION_DONE in answer.out and answer.code is None:
         return Answer(answer.argv, 0, answer.out, answer.err + " (answered, then hung at exit: killed)", answer.tries)
+    if TRANSITION_DONE in answer.out and answer.code is not None and answer.code < 0:
+        return Answer(answer.argv, 0, answer.out, answer.err + f" (answered, then ended by signal {-answer.code} at "
+                      "exit)", answer.tries)
     return answer
 
 

@@ -2,7 +2,8 @@
 
 ``transition`` asks ``ros2 lifecycle set`` again while the node is not seen, never after the node answered
 (a transition is not idempotent), and counts an answer printed before the command hung at its own exit
-(seen once in CI: ``Transitioning successful``, then no exit within 60 s).
+(seen once in CI: ``Transitioning successful``, then no exit within 60 s) or died of a signal there (SIGSEGV,
+seen once on Kilted).
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from ..ros_harness.ros2cli import NOT_SEEN, SPIN_TIME, TRANSITION_DONE, proc_sta
 #: A stand-in ``ros2``: its behaviour per call comes from SCRIPT (one line per call, the last one repeated),
 #: each call counted in CALLS.
 STAND_IN = """#!{python}
-import pathlib, sys, time
+import os, pathlib, signal, sys, time
 folder = pathlib.Path(__file__).parent
 calls = folder / "CALLS"
 n = int(calls.read_text()) if calls.exists() else 0
@@ -32,6 +33,8 @@ if what == "unseen":
 print("{done}", flush=True)
 if what == "hang":
     time.sleep(600)
+if what == "crash":
+    os.kill(os.getpid(), signal.SIGSEGV)
 """
 
 
@@ -55,6 +58,19 @@ def test_an_answer_printed_before_a_hang_at_exit_counts_and_is_not_asked_again(t
     assert _calls(tmp_path) == 1
 
 
+def test_an_answer_printed_before_a_crash_at_exit_counts_and_is_not_asked_again(tmp_path: Path) -> None:
+    answer = transition(_env(tmp_path, "crash"), "/n", "configure", timeout=20, within=20)
+    assert answer.code == 0 and TRANSITION_DONE in answer.out and "signal 11 at exit" in answer.err, answer
+    assert _calls(tmp_path) == 1
+
+
+def test_a_crash_with_no_answer_is_a_failure(tmp_path: Path) -> None:
+    env = _env(tmp_path, "crash")
+    (tmp_path / "bin" / "ros2").write_text(f"#!{sys.executable}\nimport os, signal\nos.kill(os.getpid(), signal.SIGSEGV)\n")
+    answer = transition(env, "/n", "configure", timeout=20, within=0)
+    assert answer.code == -11, answer
+
+
 def test_a_node_not_seen_yet_is_asked_again_until_it_answers(tmp_path: Path) -> None:
     answer = transition(_env(tmp_path, "unseen", "unseen", "ok"), "/n", "configure", within=20)
     assert answer.code == 0 and TRANSITION_DONE in answer.out, answer
@@ -70,6 +86,11 @@ def test_a_hang_with_no_answer_is_a_failure(tmp_path: Path) -> None:
 
 def test_a_query_is_asked_again_while_its_output_lacks_what_it_waits_for(tmp_path: Path) -> None:
     answer = ros2(_env(tmp_path, "unseen", "ok"), "node", "list", until=TRANSITION_DONE, within=20)
+    assert answer.code == 0 and answer.tries == 2, answer
+
+
+def test_a_query_ended_by_a_signal_is_asked_again(tmp_path: Path) -> None:
+    answer = ros2(_env(tmp_path, "crash", "ok"), "lifecycle", "get", "/n", until=TRANSITION_DONE, within=20)
     assert answer.code == 0 and answer.tries == 2, answer
 
 
