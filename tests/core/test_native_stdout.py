@@ -47,10 +47,19 @@ def test_native_writes_go_to_stderr_inside_and_everything_is_restored_after() ->
 
 
 SERVER = textwrap.dedent("""
-    import os, signal, sys
+    import os, signal, sys, threading
     from iface.cli import main
-    # native output while the server runs, as Fast DDS's log comes while a command reads the ROS graph
-    signal.signal(signal.SIGUSR1, lambda *_: os.write(1, b"native noise\\n"))
+    # native output from another thread while the server runs, as Fast DDS's log comes while a command reads the
+    # ROS graph. SIGUSR1 is blocked in every thread but the one waiting for it: a handler would run only when the
+    # main thread runs Python again, which it may not do while it waits for the client's next message (the kernel
+    # can hand the signal to any thread; one run in many waited 30 s for it)
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGUSR1})
+
+    def noise():
+        signal.sigwait({signal.SIGUSR1})
+        os.write(1, b"native noise\\n")
+
+    threading.Thread(target=noise, daemon=True).start()
     sys.exit(main(["--stdio"]))
 """)
 
