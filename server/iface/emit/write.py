@@ -278,6 +278,18 @@ def atomic_write(path: Path, text: str | bytes) -> None:
             raise
 
 
+def _looked_at(root: Path | None, out: Path, folder: tuple[str, ...], rel: str) -> tuple[Path, FolderFacts] | None:
+    """The folder ``out/folder`` resolved, with its facts; None when it is not inside the output folder ``root``
+    (None: the output folder itself cannot be resolved)."""
+    if root is None:
+        return None
+    try:
+        resolved = _folder_inside(root, out, folder, rel)
+    except UnsafePath:
+        return None
+    return resolved, folder_facts(resolved)
+
+
 def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFile, Path]], list[str]]:
     """Each file with its full path, and every path problem (when there is one, nothing may be written).
 
@@ -292,19 +304,14 @@ def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFil
     folders: dict[tuple[str, ...], tuple[Path, FolderFacts] | None] = {}
     for f in files:
         try:
-            if root is None:
-                raise UnsafePath(f.path)
             parts = _parts(f.path)
-            if parts[:-1] not in folders:
-                try:
-                    folder = _folder_inside(root, out, parts[:-1], f.path)
-                    folders[parts[:-1]] = (folder, folder_facts(folder))
-                except UnsafePath:
-                    folders[parts[:-1]] = None
-            known = folders[parts[:-1]]
-            if known is None:
-                raise UnsafePath(f.path)
         except UnsafePath:
+            known = None
+        else:
+            if parts[:-1] not in folders:
+                folders[parts[:-1]] = _looked_at(root, out, parts[:-1], f.path)
+            known = folders[parts[:-1]]
+        if known is None:
             errors.append(f"{f.path}: refused: the path leaves the output folder")
             continue
         folder, facts = known
