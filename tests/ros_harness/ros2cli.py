@@ -77,9 +77,8 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
     the test runs its domain's ros2 daemon, which answers from the graph it keeps), asked again while it
     does not see its node, or (with ``until``) while its output lacks ``until``, or it gave no answer within
     ``timeout`` (a ``ros2`` command can hang at its own exit) or was ended by a signal, for at most ``within``
-    seconds. A command that is
-    not a query (a transition, a goal, a service call) is asked once: ``within=0``, or ``transition``, which
-    counts its tries from ``first_try``."""
+    seconds. A command that is not a query (a transition, a goal, a service call) is asked once: ``within=0``,
+    or ``transition``, which counts its tries from ``first_try``."""
     end = time.monotonic() + within
     tries = 0
     while True:
