@@ -62,42 +62,13 @@ class WriteReport:
     replaced_links: dict[str, str] = field(default_factory=dict)
 
 
-class UnsafePath(ValueError):
-    """A generated path that would leave the output folder."""
-
-
-def _parts(rel: str) -> tuple[str, ...]:
-    """The parts of the generated path ``rel``; UnsafePath for absolute paths, ``..``, backslashes and NULs."""
+def _parts(rel: str) -> tuple[str, ...] | None:
+    """The parts of the generated path ``rel``; None for a path that names no file inside the output folder
+    (empty, ``.``, absolute, with ``..``, a backslash or a NUL)."""
     p = PurePosixPath(rel)
     if not p.parts or p.is_absolute() or any(part in ("..", "") for part in p.parts) or "\\" in rel or "\0" in rel:
-        raise UnsafePath(rel)
+        return None
     return p.parts
-
-
-def _resolved(path: Path, rel: str) -> Path:
-    """``path.resolve()``; UnsafePath (for ``rel``) on a loop of links."""
-    try:
-        return path.resolve()
-    except (OSError, RuntimeError):
-        raise UnsafePath(rel) from None
-
-
-def _folder_inside(root: Path, out_dir: Path, folder: tuple[str, ...], rel: str) -> Path:
-    """The folder ``out_dir/folder`` resolved; UnsafePath (for ``rel``) when it resolves outside ``root``."""
-    resolved = _resolved(out_dir.joinpath(*folder), rel)
-    if root != resolved and root not in resolved.parents:
-        raise UnsafePath(rel)
-    return resolved
-
-
-def safe_join(out_dir: Path, rel: str) -> Path:
-    """``out_dir / rel``, refusing absolute paths, ``..`` and folders resolving outside.
-
-    The folders are resolved; the file's own name is not: a symbolic link there
-    is the writer's to refuse or replace, never to follow.
-    """
-    parts = _parts(rel)
-    return _folder_inside(_resolved(out_dir, rel), out_dir, parts[:-1], rel) / parts[-1]
 
 
 def _exists(path: Path) -> bool:
@@ -278,14 +249,16 @@ def atomic_write(path: Path, text: str | bytes) -> None:
             raise
 
 
-def _looked_at(root: Path | None, out: Path, folder: tuple[str, ...], rel: str) -> tuple[Path, FolderFacts] | None:
-    """The folder ``out/folder`` resolved, with its facts; None when it is not inside the output folder ``root``
-    (None: the output folder itself cannot be resolved)."""
+def _looked_at(root: Path | None, out: Path, folder: tuple[str, ...]) -> tuple[Path, FolderFacts] | None:
+    """The folder ``out/folder`` resolved, with its facts; None when it resolves outside the output folder ``root``
+    or cannot be resolved (a loop of links; ``root`` None: the output folder itself cannot)."""
     if root is None:
         return None
     try:
-        resolved = _folder_inside(root, out, folder, rel)
-    except UnsafePath:
+        resolved = out.joinpath(*folder).resolve()
+    except (OSError, RuntimeError):
+        return None
+    if root != resolved and root not in resolved.parents:
         return None
     return resolved, folder_facts(resolved)
 
@@ -293,7 +266,8 @@ def _looked_at(root: Path | None, out: Path, folder: tuple[str, ...], rel: str) 
 def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFile, Path]], list[str]]:
     """Each file with its full path, and every path problem (when there is one, nothing may be written).
 
-    Each folder is resolved and looked at once, however many files it gets.
+    Each folder is resolved and looked at once, however many files it gets. The folders are resolved; a file's
+    own name is not: a symbolic link there is the writer's to refuse or replace, never to follow.
     """
     planned: list[tuple[GeneratedFile, Path]] = []
     errors: list[str] = []
@@ -303,15 +277,11 @@ def plan(files: list[GeneratedFile], out: Path) -> tuple[list[tuple[GeneratedFil
         root = None
     folders: dict[tuple[str, ...], tuple[Path, FolderFacts] | None] = {}
     for f in files:
-        try:
-            parts = _parts(f.path)
-        except UnsafePath:
-            known = None
-        else:
-            if parts[:-1] not in folders:
-                folders[parts[:-1]] = _looked_at(root, out, parts[:-1], f.path)
-            known = folders[parts[:-1]]
-        if known is None:
+        parts = _parts(f.path)
+        if parts is not None and parts[:-1] not in folders:
+            folders[parts[:-1]] = _looked_at(root, out, parts[:-1])
+        known = folders[parts[:-1]] if parts is not None else None
+        if parts is None or known is None:
             errors.append(f"{f.path}: refused: the path leaves the output folder")
             continue
         folder, facts = known
