@@ -126,11 +126,9 @@ def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0
         if not any(s in answer.out + answer.err for s in NOT_SEEN) or time.monotonic() >= end:
             break
         time.sleep(0.5)
-    if TRANSITION_DONE in answer.out and answer.code is None:
-        return Answer(answer.argv, 0, answer.out, answer.err + " (answered, then hung at exit: killed)", answer.tries)
-    if TRANSITION_DONE in answer.out and answer.code is not None and answer.code < 0:
-        return Answer(answer.argv, 0, answer.out, answer.err + f" (answered, then ended by signal {-answer.code} at "
-                      "exit)", answer.tries)
+    if TRANSITION_DONE in answer.out and (answer.code is None or answer.code < 0):
+        how = "hung at exit: killed" if answer.code is None else f"ended by signal {-answer.code} at exit"
+        return Answer(answer.argv, 0, answer.out, f"{answer.err} (answered, then {how})", answer.tries)
     return answer
 
 
