@@ -61,7 +61,9 @@ def collector_paused(paused: bool) -> Iterator[None]:
             gc.enable()
 
 
-def _parser(available: dict[str, tuple[str, str]]) -> argparse.ArgumentParser:
+def _parser(available: dict[str, tuple[str, str]], chosen: str | None) -> argparse.ArgumentParser:
+    """The command line's parser: every command with its help, and the ``chosen`` one's arguments (importing its
+    module); with no command chosen (``--version``, ``--help``, a name that is no command) no module is imported."""
     parser = argparse.ArgumentParser(
         prog="iface-lsp",
         description="iface: one explicit interface file per robotic component; checks, generators, "
@@ -77,7 +79,8 @@ def _parser(available: dict[str, tuple[str, str]]) -> argparse.ArgumentParser:
     for name, (module, help_text) in available.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
         cmd.set_defaults(_module=module, prog=f"iface-lsp {name}")
-        importlib.import_module(module).add_arguments(cmd)
+        if name == chosen:
+            importlib.import_module(module).add_arguments(cmd)
     return parser
 
 
@@ -112,7 +115,7 @@ def _run(args_list: list[str], debug: bool) -> int:
     # only build the one subcommand's arguments: keeps `check` fast
     first = next((a for a in args_list if not a.startswith("-")), None)
     chosen = {first: available[first]} if first in available else available
-    parser = _parser(chosen)
+    parser = _parser(chosen, first if first in available else None)
     try:
         args = parser.parse_args(args_list)
     except SystemExit as e:
