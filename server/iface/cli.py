@@ -114,7 +114,8 @@ def _run(args_list: list[str], debug: bool) -> int:
     available = _available()
     # only build the one subcommand's arguments: keeps `check` fast
     first = next((a for a in args_list if not a.startswith("-")), None)
-    parser = _parser(available, first if first in available else None)
+    chosen = {first: available[first]} if first in available else available
+    parser = _parser(chosen, first if first in available else None)
     try:
         args = parser.parse_args(args_list)
     except SystemExit as e:
