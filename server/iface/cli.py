@@ -112,7 +112,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _run(args_list: list[str], debug: bool) -> int:
     """Parse the command line and run one command; see the epilog for the exit codes."""
     available = _available()
-    # only build the one subcommand's arguments: keeps `check` fast
+    # a named command gets the only subparser (all 18 take 5 ms a call, one 0.7 ms, and the tests that run the
+    # CLI in process make thousands of calls); only its module is imported, for its arguments
     first = next((a for a in args_list if not a.startswith("-")), None)
     chosen = {first: available[first]} if first in available else available
     parser = _parser(chosen, first if first in available else None)
