@@ -62,8 +62,9 @@ def collector_paused(paused: bool) -> Iterator[None]:
 
 
 def _parser(available: dict[str, tuple[str, str]], chosen: str | None) -> argparse.ArgumentParser:
-    """The command line's parser: every command with its help, and the ``chosen`` one's arguments (importing its
-    module); with no command chosen (``--version``, ``--help``, a name that is no command) no module is imported."""
+    """The command line's parser: the commands of ``available`` with their help, and the ``chosen`` one's arguments
+    (importing its module); with no command chosen (``--version``, ``--help``, a name that is no command) no module
+    is imported."""
     parser = argparse.ArgumentParser(
         prog="iface-lsp",
         description="iface: one explicit interface file per robotic component; checks, generators, "
@@ -115,8 +116,8 @@ def _run(args_list: list[str], debug: bool) -> int:
     # a named command gets the only subparser (all 18 take 5 ms a call, one 0.7 ms, and the tests that run the
     # CLI in process make thousands of calls); only its module is imported, for its arguments
     first = next((a for a in args_list if not a.startswith("-")), None)
-    chosen = {first: available[first]} if first in available else available
-    parser = _parser(chosen, first if first in available else None)
+    named = first if first in available else None
+    parser = _parser({named: available[named]} if named else available, named)
     try:
         args = parser.parse_args(args_list)
     except SystemExit as e:
