@@ -5,8 +5,9 @@ from an executor thread, while the main thread spins. Jazzy's rclpy (7.1.6) then
 in the thread that took the timer: the timer stayed marked as taken, its mutually exclusive callback group
 busy for good, and ``spin_once`` re-raised it and ended the node (seen once in the manager scenario, Jazzy:
 an instance restarted after kill -9 ended 0.3 s after its activation). ``ComponentExecutor`` skips such a
-timer, as later rclpy releases do. The script below makes the race every time: its executor cancels the
-timer right after the wait returned it as ready.
+timer (one that ``is_canceled()``), as later rclpy releases do. The script below makes the race every time:
+its executor cancels the timer right after the wait returned it as ready. An error of a timer that is not
+cancelled is still raised, whatever its text.
 """
 
 from __future__ import annotations
@@ -59,6 +60,22 @@ SCRIPT = textwrap.dedent("""
             break
     print(f"races {Racing.races}, victims called {len(victim_calls)}, the other timer after the races "
           f"{len(other_calls) - (after or 0)}", flush=True)
+
+    # an error of a timer that is not cancelled is the caller's, whatever its text says
+    from rclpy.executors import Executor
+    from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+    live = node.create_timer(10.0, lambda: None)
+    taken = Executor._take_timer
+    def failing(self, tmr):
+        raise _rclpy.RCLError("timer is canceled, says a made-up error")
+    Executor._take_timer = failing
+    try:
+        executor._take_timer(live)
+        print("a live timer's error: swallowed", flush=True)
+    except _rclpy.RCLError:
+        print("a live timer's error: raised", flush=True)
+    finally:
+        Executor._take_timer = taken
     executor.shutdown(timeout_sec=2.0)
     node.destroy_node()
     rclpy.try_shutdown()
@@ -74,5 +91,6 @@ def test_a_timer_cancelled_after_the_wait_is_skipped_and_its_group_goes_on(ros_w
     out = done.stdout + done.stderr
     assert done.returncode == 0, out[-3000:]
     assert "races 5, victims called 0," in out and "Traceback" not in out, out[-3000:]
+    assert "a live timer's error: raised" in out, out[-3000:]
     after = int(out.rsplit("the other timer after the races ", 1)[1].split()[0])
     assert after >= 10, out[-3000:]  # the group is not left busy

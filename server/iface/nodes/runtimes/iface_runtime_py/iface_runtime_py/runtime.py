@@ -222,8 +222,8 @@ class ComponentExecutor(MultiThreadedExecutor):
     def _take_timer(self, tmr: Any) -> Any:
         try:
             return super()._take_timer(tmr)
-        except _rclpy.RCLError as e:
-            if "canceled" not in str(e):
+        except _rclpy.RCLError:
+            if not tmr.is_canceled():
                 raise
             return None
 
