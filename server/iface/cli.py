@@ -102,7 +102,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         pre.add_argument("--stdio", action="store_true")
         pre.add_argument("--tcp", metavar="HOST:PORT")
         known = pre.parse_args(args_list)
-        from .lsp.server import serve
+        try:
+            from .lsp.server import serve
+        except ImportError as e:
+            return internal_error("iface-lsp", e, "--debug" in args_list)
         return serve(tcp=known.tcp)
     debug = "--debug" in args_list
     args_list = [a for a in args_list if a != "--debug"]
@@ -117,7 +120,10 @@ def _run(args_list: list[str], debug: bool) -> int:
     # CLI in process make thousands of calls); only its module is imported, for its arguments
     first = next((a for a in args_list if not a.startswith("-")), None)
     named = first if first in available else None
-    parser = _parser({named: available[named]} if named else available, named)
+    try:
+        parser = _parser({named: available[named]} if named else available, named)
+    except ImportError as e:
+        return internal_error(f"iface-lsp {named}", e, debug)
     try:
         args = parser.parse_args(args_list)
     except SystemExit as e:
@@ -145,12 +151,24 @@ def run_command(module_name: str, args: argparse.Namespace, debug: bool) -> int:
     except terminal.Terminated:
         return 143
     except Exception as e:  # noqa: BLE001 - every other exception is a bug: one line, exit 3
-        if debug:
-            traceback.print_exc()
-        print(f"{args.prog}: internal error: {terminal.one_line(f'{type(e).__name__}: {e}')}"
-              + ("" if debug else " (a bug in iface: please report it with the input; --debug shows the "
-                 "traceback)"), file=sys.stderr)
-        return 3
+        return internal_error(args.prog, e, debug)
+
+
+def internal_error(prog: str, e: Exception, debug: bool) -> int:
+    """Say ``prog: internal error: …`` in one line on stderr (the traceback before it with ``debug``) and give 3.
+
+    A module of another package that is not there is an installation without iface's dependencies, not a bug: the
+    line says how to install them."""
+    if debug:
+        traceback.print_exc()
+    missing = e.name if isinstance(e, ModuleNotFoundError) else None
+    if missing and missing.split(".")[0] != "iface":
+        why = " (iface's dependencies are not all installed: run `pip install .` in iface's folder)"
+    else:
+        why = " (a bug in iface: please report it with the input; --debug shows the traceback)"
+    print(f"{prog}: internal error: {terminal.one_line(f'{type(e).__name__}: {e}')}" + ("" if debug else why),
+          file=sys.stderr)
+    return 3
 
 
 if __name__ == "__main__":

@@ -51,6 +51,32 @@ def test_debug_shows_the_traceback(tmp_path: Path) -> None:
         assert "RuntimeError: boom" in r.stderr
 
 
+#: Runs the CLI as if a dependency were not installed: importing it fails as a missing module does.
+_WITHOUT = """
+import sys
+sys.modules[sys.argv.pop(1)] = None
+from iface.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_a_missing_dependency_is_one_line_that_says_how_to_install_and_exit_3(tmp_path: Path) -> None:
+    src = _bad(tmp_path)
+    good = str(ROOT / "examples" / "robot_arm.iface")
+    for missing, args, prog in (("lark", ["check", str(src)], "iface-lsp check"), ("pygls", ["--stdio"], "iface-lsp"),
+                                ("jinja2", ["generate", good, "--target", "rclpy", "--out", str(tmp_path / "out")],
+                                 "iface-lsp generate")):
+        r = subprocess.run([sys.executable, "-c", _WITHOUT, missing, *args], capture_output=True, text=True, cwd=ROOT,
+                           timeout=300, stdin=subprocess.DEVNULL, check=False)
+        assert r.returncode == 3 and "Traceback" not in r.stderr, r.stderr
+        (line,) = r.stderr.splitlines()
+        assert line.startswith(f"{prog}: internal error: ModuleNotFoundError: "), line
+        assert missing in line and "pip install ." in line and "a bug in iface" not in line, line
+    r = subprocess.run([sys.executable, "-c", _WITHOUT, "lark", "--debug", "check", str(src)], capture_output=True,
+                       text=True, cwd=ROOT, timeout=300, check=False)
+    assert r.returncode == 3 and "Traceback (most recent call last)" in r.stderr, r.stderr
+
+
 def test_findings_and_usage_keep_their_codes(tmp_path: Path) -> None:
     assert run_cli("check", str(_bad(tmp_path))).returncode == 1
     assert run_cli("check", "--nonsense", str(_bad(tmp_path))).returncode == 2
