@@ -16,6 +16,7 @@ processes under it, and stops it with one SIGINT.
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import time
@@ -107,6 +108,8 @@ TRANSITION_TARGET = {"configure": "inactive", "activate": "active", "deactivate"
                      "cleanup": "unconfigured", "shutdown": "finalized"}
 #: What ``ros2 lifecycle set`` prints when the node took the transition.
 TRANSITION_DONE = "Transitioning successful"
+#: What ``ros2 lifecycle get`` prints for a node in a primary state (not in a transition).
+PRIMARY_STATE = re.compile(r"(unconfigured|inactive|active|finalized) \[\d\]$")
 
 
 def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0, within: float = 40.0,
@@ -116,16 +119,30 @@ def transition(env: dict[str, str], node: str, label: str, timeout: float = 30.0
     command has been seen to hang at its own exit after printing its answer (rclpy/Fast DDS tearing its node
     down, 1 run of ~40 on a loaded machine), and to die of SIGSEGV there (Kilted, 2026-11-30): killed at
     ``timeout`` or ended by a signal, an answer that printed ``Transitioning successful`` still counts; the
-    caller checks the state the node reached."""
+    caller checks the state the node reached. It has also hung before printing anything (Kilted, a quiet
+    machine, 2026-12-01; the node then stopped cleanly at SIGINT, so it was the command that hung): the node's
+    state then tells, once (``ros2 lifecycle get``): in the transition's target state it took the transition; in
+    another state it did not, and is asked once more."""
     end = time.monotonic() + within
     tries = 0
+    looked = False
     while True:
         tries += 1
         answer = ros2(env, "lifecycle", "set", node, label, timeout=timeout, within=0, first_try=tries,
                       daemon=daemon)
-        if not any(s in answer.out + answer.err for s in NOT_SEEN) or time.monotonic() >= end:
-            break
-        time.sleep(0.5)
+        if any(s in answer.out + answer.err for s in NOT_SEEN) and time.monotonic() < end:
+            time.sleep(0.5)
+            continue
+        if answer.code is None and TRANSITION_DONE not in answer.out and not looked:
+            looked = True
+            state = ros2(env, "lifecycle", "get", node, timeout=timeout, within=0, daemon=daemon).out.strip()
+            if state.startswith(f"{TRANSITION_TARGET.get(label)} ["):
+                return Answer(answer.argv, 0, f"{TRANSITION_DONE}\n",
+                              f"{answer.err} (then `ros2 lifecycle get`: {state}: the transition was taken)",
+                              answer.tries)
+            if PRIMARY_STATE.match(state):
+                continue
+        break
     if TRANSITION_DONE in answer.out and (answer.code is None or answer.code < 0):
         how = "hung at exit: killed" if answer.code is None else f"ended by signal {-answer.code} at exit"
         return Answer(answer.argv, 0, answer.out, f"{answer.err} (answered, then {how})", answer.tries)

@@ -3,7 +3,7 @@
 ``transition`` asks ``ros2 lifecycle set`` again while the node is not seen, never after the node answered
 (a transition is not idempotent), and counts an answer printed before the command hung at its own exit
 (seen once in CI: ``Transitioning successful``, then no exit within 60 s) or died of a signal there (SIGSEGV,
-seen once on Kilted).
+seen once on Kilted). After a hang before any answer it asks the node's state once: taken, or asked once more.
 """
 
 from __future__ import annotations
@@ -30,6 +30,11 @@ what = lines[min(n, len(lines) - 1)]
 if what == "unseen":
     print("{unseen}", file=sys.stderr)
     sys.exit(1)
+if what == "mute":
+    time.sleep(600)
+if what.startswith("state "):
+    print(what[len("state "):])
+    sys.exit(0)
 print("{done}", flush=True)
 if what == "hang":
     time.sleep(600)
@@ -82,6 +87,34 @@ def test_a_hang_with_no_answer_is_a_failure(tmp_path: Path) -> None:
     (tmp_path / "bin" / "ros2").write_text(f"#!{sys.executable}\nimport time\ntime.sleep(600)\n")
     answer = transition(env, "/n", "configure", timeout=2, within=0)
     assert answer.code is None, answer
+
+
+def _argv(tmp_path: Path) -> list[str]:
+    return [" ".join(line.split()[:3]) for line in (tmp_path / "bin" / "ARGV").read_text().splitlines()]
+
+
+def test_a_hang_before_any_answer_with_the_node_then_in_the_target_state_counts_as_taken(tmp_path: Path) -> None:
+    answer = transition(_env(tmp_path, "mute", "state active [3]"), "/n", "activate", timeout=2, within=20)
+    assert answer.code == 0 and TRANSITION_DONE in answer.out and "the transition was taken" in answer.err, answer
+    assert _argv(tmp_path) == ["lifecycle set /n", "lifecycle get /n"]
+
+
+def test_a_hang_before_any_answer_with_the_node_still_in_its_state_is_asked_once_more(tmp_path: Path) -> None:
+    answer = transition(_env(tmp_path, "mute", "state inactive [2]", "ok"), "/n", "activate", timeout=2, within=20)
+    assert answer.code == 0 and TRANSITION_DONE in answer.out, answer
+    assert _argv(tmp_path) == ["lifecycle set /n", "lifecycle get /n", "lifecycle set /n"]
+
+
+def test_a_hang_before_any_answer_is_looked_at_once_and_a_node_in_a_transition_is_not_asked_again(
+        tmp_path: Path) -> None:
+    asked = ["lifecycle set /n", "lifecycle get /n", "lifecycle set /n"]
+    for script, calls in ((("mute", "state inactive [2]", "mute", "state inactive [2]"), 3),
+                          (("mute", "state activating [14]"), 2)):
+        folder = tmp_path / str(calls)
+        folder.mkdir()
+        answer = transition(_env(folder, *script), "/n", "activate", timeout=2, within=20)
+        assert answer.code is None and "no answer" in answer.err, answer
+        assert _argv(folder) == asked[:calls], script
 
 
 def test_a_query_is_asked_again_while_its_output_lacks_what_it_waits_for(tmp_path: Path) -> None:
