@@ -87,13 +87,7 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
         spin = spin_time(args, first_try + tries - 1)
         argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{spin:g}") if graph and not daemon else ()))
         started = time.monotonic()
-        try:
-            done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=timeout, check=False,
-                                  stdin=subprocess.DEVNULL)
-            answer = Answer(argv, done.returncode, done.stdout, done.stderr, tries)
-        except subprocess.TimeoutExpired as e:
-            answer = Answer(argv, None, _text(e.stdout), _text(e.stderr) + f"\n(no answer within {timeout:g} s)",
-                            tries)
+        answer = Answer(argv, *run_bounded(argv, env, timeout), tries)
         trace(argv, answer.code, time.monotonic() - started)
         unseen = any(s in answer.out + answer.err for s in NOT_SEEN)
         missing = until is not None and until not in answer.out
@@ -101,6 +95,25 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
         if not (unseen or missing or ended) or time.monotonic() >= end:
             return answer
         time.sleep(0.5)
+
+
+def run_bounded(argv: tuple[str, ...], env: dict[str, str], timeout: float) -> tuple[int | None, str, str]:
+    """Run ``argv``: (exit status, stdout, stderr). With no exit within ``timeout`` seconds: status None, and
+    stderr says so and names each process of the domain (``ROS_DOMAIN_ID``) whose Fast DDS is deadlocked
+    (``iface.live.deadlock``), looked at while the command still runs, before it is killed: the command itself,
+    or the node it waited on."""
+    with subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                          stdin=subprocess.DEVNULL) as proc:
+        try:
+            out, err = proc.communicate(timeout=timeout)
+            return proc.returncode, out, err
+        except subprocess.TimeoutExpired:
+            from iface.live import deadlock
+
+            stuck = deadlock.note(env.get("ROS_DOMAIN_ID", "0"))
+            proc.kill()
+            out, err = proc.communicate()
+            return None, out, f"{err}\n(no answer within {timeout:g} s){stuck}"
 
 
 #: The state each lifecycle transition ends in.
@@ -157,12 +170,7 @@ def service_call(env: dict[str, str], release: str, service: str, srv_type: str,
         return ros2(env, "service", "call", service, srv_type, request, graph=False, timeout=timeout, within=0)
     python = str(Path(env["ROS2_RUNTIME_VENV"]) / "bin" / "python")
     argv = (python, str(HARNESS / "call_service.py"), service, srv_type, request, "--timeout", f"{timeout / 2:g}")
-    try:
-        done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=timeout, check=False,
-                              stdin=subprocess.DEVNULL)
-        return Answer(argv, done.returncode, done.stdout, done.stderr, 1)
-    except subprocess.TimeoutExpired as e:
-        return Answer(argv, None, _text(e.stdout), _text(e.stderr), 1)
+    return Answer(argv, *run_bounded(argv, env, timeout), 1)
 
 
 def iface_lsp_on_path(folder: Path, root: Path, python: str) -> str:
@@ -172,12 +180,6 @@ def iface_lsp_on_path(folder: Path, root: Path, python: str) -> str:
     wrapper.write_text(f'#!/bin/sh\nPYTHONPATH="{root / "server"}${{PYTHONPATH:+:$PYTHONPATH}}" exec "{python}" -m iface "$@"\n')
     wrapper.chmod(0o755)
     return str(folder)
-
-
-def _text(data: bytes | str | None) -> str:
-    if data is None:
-        return ""
-    return data if isinstance(data, str) else data.decode(errors="replace")
 
 
 def proc_start(pid: int) -> int | None:

@@ -11,7 +11,12 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
+
+import pytest
+
+from iface.live import deadlock as dds_deadlock
 
 from ..ros_harness.ros2cli import NOT_SEEN, SPIN_TIME, TRANSITION_DONE, proc_start, ros2, stop_leftovers, transition
 
@@ -31,6 +36,16 @@ if what == "unseen":
     print("{unseen}", file=sys.stderr)
     sys.exit(1)
 if what == "mute":
+    time.sleep(600)
+if what == "deadlocked":  # its Fast DDS event thread waits on a mutex the main thread holds (Fast-DDS#6502)
+    import ctypes, threading
+    libc = ctypes.CDLL(None, use_errno=True)
+    mutex = ctypes.create_string_buffer(64)
+    libc.pthread_mutex_lock(mutex)
+    def event_thread():
+        libc.prctl(15, b"dds.ev.0", 0, 0, 0)
+        libc.pthread_mutex_lock(mutex)
+    threading.Thread(target=event_thread, daemon=True).start()
     time.sleep(600)
 if what.startswith("state "):
     print(what[len("state "):])
@@ -87,6 +102,34 @@ def test_a_hang_with_no_answer_is_a_failure(tmp_path: Path) -> None:
     (tmp_path / "bin" / "ros2").write_text(f"#!{sys.executable}\nimport time\ntime.sleep(600)\n")
     answer = transition(env, "/n", "configure", timeout=2, within=0)
     assert answer.code is None, answer
+    assert "no answer within 2 s" in answer.err and "Fast DDS deadlocked" not in answer.err, answer
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or dds_deadlock.FUTEX < 0,
+                    reason="reads /proc/PID/task/TID/syscall (Linux, x86_64 or aarch64)")
+def test_a_command_with_no_answer_names_the_deadlocked_participants_of_its_domain_before_it_is_killed(
+        tmp_path: Path) -> None:
+    """The failure says what hung: each process of the command's domain whose Fast DDS event thread is
+    deadlocked (here the command itself, looked at before it is killed); one of another domain is not named."""
+    env = _env(tmp_path, "deadlocked", "mute", "deadlocked")
+    elsewhere = subprocess.Popen([str(tmp_path / "bin" / "ros2")], env={**env, "ROS_DOMAIN_ID": "4244"})
+    try:
+        end = time.monotonic() + 30
+        calls = tmp_path / "bin" / "CALLS"
+        while not (calls.exists() and calls.read_text() == "1") and time.monotonic() < end:  # it took line one
+            time.sleep(0.05)
+        env["ROS_DOMAIN_ID"] = "4243"
+        mute = ros2(env, "node", "list", graph=False, timeout=3, within=0)
+        assert mute.code is None and "no answer within 3 s" in mute.err, mute
+        assert "Fast DDS deadlocked" not in mute.err, mute
+        stuck = ros2(env, "node", "list", graph=False, timeout=3, within=0)
+        assert stuck.code is None and "no answer within 3 s" in stuck.err, stuck
+        assert stuck.err.count("Fast DDS deadlocked") == 1 and "dds.ev.0" in stuck.err, stuck
+        assert "ros2 node list" in stuck.err and f"pid {elsewhere.pid} " not in stuck.err, stuck
+    finally:
+        elsewhere.kill()
+        elsewhere.wait(timeout=30)
+
 
 
 def _argv(tmp_path: Path) -> list[str]:
