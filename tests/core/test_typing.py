@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import hashlib
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -85,11 +85,25 @@ def test_error_lines_are_read_and_filtered() -> None:
 
 
 def mypy_cache() -> Path:
-    """mypy's incremental cache for this checkout, in the test cache (tests/ros_harness/cache.py): mypy checks
-    every module's source against what it keeps, so a second run reads again only what changed."""
+    """mypy's incremental cache, in the test cache (tests/ros_harness/cache.py), one for every checkout: mypy
+    checks each module's source (by its digest where the path or time differ) against what it keeps, so a run
+    from another clone reads again only what changed, and the folder stays one (about 20 MB). The folders of
+    one per checkout that came before it are removed."""
     from tests.ros_harness.cache import root
 
-    return root() / f"mypy-{hashlib.sha256(str(ROOT).encode()).hexdigest()[:16]}"
+    for old in root().glob("mypy-*"):
+        shutil.rmtree(old, ignore_errors=True)
+    return root() / "mypy"
+
+
+def test_every_checkout_shares_one_mypy_cache(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """A folder per checkout grew the test cache by 20 MB for each clean clone (one per CI run), outside its bound."""
+    monkeypatch.setenv("IFACE_TEST_CACHE", str(tmp_path))
+    here = mypy_cache()
+    (here.parent / "mypy-0123456789abcdef").mkdir()
+    monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path / "another" / "clone")
+    assert mypy_cache() == here
+    assert [p.name for p in here.parent.glob("mypy*")] == []
 
 
 def test_mypy_finds_no_error_outside_the_excluded_modules() -> None:
