@@ -112,7 +112,10 @@ def run_bounded(argv: tuple[str, ...], env: dict[str, str], timeout: float) -> t
 
             stuck = deadlock.note(env.get("ROS_DOMAIN_ID", "0"))
             proc.kill()
-            out, err = proc.communicate()
+            try:  # what it printed; bounded, as a process it started may hold the pipes open
+                out, err = proc.communicate(timeout=10)
+            except subprocess.TimeoutExpired as e:
+                out, err = _text(e.stdout), _text(e.stderr)
             return None, out, f"{err}\n(no answer within {timeout:g} s){stuck}"
 
 
@@ -180,6 +183,12 @@ def iface_lsp_on_path(folder: Path, root: Path, python: str) -> str:
     wrapper.write_text(f'#!/bin/sh\nPYTHONPATH="{root / "server"}${{PYTHONPATH:+:$PYTHONPATH}}" exec "{python}" -m iface "$@"\n')
     wrapper.chmod(0o755)
     return str(folder)
+
+
+def _text(data: bytes | str | None) -> str:
+    if data is None:
+        return ""
+    return data if isinstance(data, str) else data.decode(errors="replace")
 
 
 def proc_start(pid: int) -> int | None:

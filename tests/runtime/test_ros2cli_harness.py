@@ -9,8 +9,10 @@ seen once on Kilted). After a hang before any answer it asks the node's state on
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -18,7 +20,16 @@ import pytest
 
 from iface.live import deadlock as dds_deadlock
 
-from ..ros_harness.ros2cli import NOT_SEEN, SPIN_TIME, TRANSITION_DONE, proc_start, ros2, stop_leftovers, transition
+from ..ros_harness.ros2cli import (
+    NOT_SEEN,
+    SPIN_TIME,
+    TRANSITION_DONE,
+    Answer,
+    proc_start,
+    ros2,
+    stop_leftovers,
+    transition,
+)
 
 #: A stand-in ``ros2``: its behaviour per call comes from SCRIPT (one line per call, the last one repeated),
 #: each call counted in CALLS.
@@ -36,6 +47,11 @@ if what == "unseen":
     print("{unseen}", file=sys.stderr)
     sys.exit(1)
 if what == "mute":
+    time.sleep(600)
+if what == "orphan":  # a process of its own holds its output open after it is killed
+    import subprocess
+    (folder / "ORPHAN").write_text(str(subprocess.Popen(["sleep", "600"]).pid))
+    print("partial", flush=True)
     time.sleep(600)
 if what == "deadlocked":  # its Fast DDS event thread waits on a mutex the main thread holds (Fast-DDS#6502)
     import ctypes, threading
@@ -103,6 +119,24 @@ def test_a_hang_with_no_answer_is_a_failure(tmp_path: Path) -> None:
     answer = transition(env, "/n", "configure", timeout=2, within=0)
     assert answer.code is None, answer
     assert "no answer within 2 s" in answer.err and "Fast DDS deadlocked" not in answer.err, answer
+
+
+def test_a_hung_command_whose_child_holds_its_output_open_still_returns_what_it_printed(tmp_path: Path) -> None:
+    """Reading what a killed command printed is bounded too: a process it started may keep its pipes open."""
+    env = _env(tmp_path, "orphan")
+    answers: list[object] = []
+    asking = threading.Thread(target=lambda: answers.append(ros2(env, "node", "list", graph=False, timeout=2,
+                                                                 within=0)), daemon=True)
+    asking.start()
+    try:
+        asking.join(120)  # the child sleeps 600 s: an unbounded read would still wait
+        assert answers, "ros2() still reads the output of a command killed 2 s after it started"
+        answer = answers[0]
+        assert isinstance(answer, Answer) and answer.code is None and answer.out == "partial\n", answer
+    finally:
+        orphan = tmp_path / "bin" / "ORPHAN"
+        if orphan.exists():
+            os.kill(int(orphan.read_text()), signal.SIGKILL)
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux") or dds_deadlock.FUTEX < 0,
