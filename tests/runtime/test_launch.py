@@ -93,10 +93,10 @@ def setup(ros_workspace: Workspace, ros_release: str, tmp_path: Path) -> Iterato
     yield Setup(env, ros_release, ros_workspace, tmp_path)
     stopped = ros2(env, "daemon", "stop", graph=False, within=0)
     # whatever the test started still running after it (a failed test: the manager's restart of an instance as
-    # launch took it down once outlived it for an hour): killed, and a failure of the test
+    # launch took it down once outlived it for an hour): killed, and a failure of the test. The daemon is one of
+    # them (its environment names the test's folder): one that outlived its stop fails the test here
     left = stop_leftovers(f"{tmp_path}{os.sep}")
     assert stopped.code == 0, stopped
-    assert "not running" in ros2(env, "daemon", "status", graph=False, within=0).out
     assert not left, f"still running after the test, killed: {left}"
 
 
