@@ -4,6 +4,7 @@
     python bench/suite_time.py -- tests/core       # one part: what follows -- goes to scripts/test.sh
     python bench/suite_time.py --keep DIR          # keep the run's records in DIR (junit.xml, cpu.*, run.json)
     python bench/suite_time.py --read DIR          # the figures of a run kept in DIR, without running anything
+    python bench/suite_time.py --processes         # also the CPU of every process by its name (process accounting)
 
 A run sets ``IFACE_TEST_CPU`` (each test's CPU and wall seconds, tests/conftest.py) and a JUnit report. It
 prints the run's wall time and CPU (user + system of every process it waited for, as ``/usr/bin/time`` counts),
@@ -12,6 +13,11 @@ per ROS 2 release where a module runs per release) and per worker (the balance);
 share of the cores idle and how many workers were in a ``runtime/`` test (mostly waiting on the processes it
 started) or in another one; the load average before and after. Run it on a quiet machine: a figure taken beside
 other work measures that work too, and the idle share is the whole machine's.
+
+``--processes`` turns on the kernel's process accounting for the run (``accton``, root, Debian's ``acct``) and
+adds the CPU of every process that ended during it, by its name: the ``ros2`` commands, nodes, language servers,
+compilers, Chromium… (a process started through a script is named after the script; one started as ``python -m``
+is ``python``/``python3``, the workers among them). It counts the whole machine's processes, as the idle share does.
 """
 
 from __future__ import annotations
@@ -21,6 +27,7 @@ import json
 import math
 import os
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -83,6 +90,53 @@ def outcome(junit: Path) -> dict[str, int]:
     suites = [root] if root.tag == "testsuite" else list(root.iter("testsuite"))
     keys = ("tests", "failures", "errors", "skipped")
     return {k: sum(int(s.get(k, 0)) for s in suites) for k in keys}
+
+
+@dataclass(frozen=True)
+class Ended:
+    """One process that ended, from the accounting file (``dump-acct``)."""
+
+    name: str
+    cpu: float
+
+
+def parse_acct_line(line: str, ticks: float = 100.0) -> Ended | None:
+    """``NAME|v3|USER|SYSTEM|ELAPSED|…`` (``dump-acct``; times in clock ticks), or None for a line that is not one."""
+    parts = line.split("|")
+    if len(parts) < 4:
+        return None
+    try:
+        return Ended(parts[0].strip(), (float(parts[2]) + float(parts[3])) / ticks)
+    except ValueError:
+        return None
+
+
+def read_acct(path: Path) -> list[Ended]:
+    """The processes recorded in the accounting file ``path`` (empty when ``dump-acct`` is not installed)."""
+    try:
+        dump = subprocess.run(["dump-acct", str(path)], capture_output=True, text=True, check=False).stdout
+    except FileNotFoundError:
+        return []
+    ticks = float(os.sysconf("SC_CLK_TCK"))
+    return [e for e in (parse_acct_line(line, ticks) for line in dump.splitlines()) if e is not None]
+
+
+def by_name(ended: list[Ended], top: int) -> list[str]:
+    """CPU-seconds, count and median per process name, the most CPU first; a line for the rest."""
+    names: dict[str, list[float]] = defaultdict(list)
+    for e in ended:
+        names[e.name].append(e.cpu)
+    rows = sorted(names.items(), key=lambda kv: -sum(kv[1]))
+    total = sum(e.cpu for e in ended)
+    width = max([len(n) for n, _ in rows[:top]] + [12])
+    out = [f"processes by name ({len(ended):,} ended, {total:.0f} CPU-seconds)",
+           f"{'name':<{width}}  {'count':>6}  {'CPU-s':>7}  {'median':>6}"]
+    for name, cpus in rows[:top]:
+        out.append(f"{name:<{width}}  {len(cpus):6d}  {sum(cpus):7.0f}  {sorted(cpus)[len(cpus) // 2]:6.2f}")
+    if rest := rows[top:]:
+        out.append(f"{f'{len(rest)} others':<{width}}  {sum(len(c) for _, c in rest):6d}  "
+                   f"{sum(sum(c) for _, c in rest):7.0f}")
+    return out
 
 
 def folder_of(module: str) -> str:
@@ -196,8 +250,9 @@ def report(tests: list[Test], run: dict[str, Any], counts: dict[str, int] | None
     return "\n".join(lines)
 
 
-def run_suite(records: Path, args: list[str]) -> dict[str, Any]:
-    """Run scripts/test.sh ARGS with its records in ``records``; what the run took."""
+def run_suite(records: Path, args: list[str], processes: bool = False) -> dict[str, Any]:
+    """Run scripts/test.sh ARGS with its records in ``records`` (``processes``: and the process accounting's, in
+    ``records/pacct``); what the run took."""
     for old in records.glob("cpu.*"):  # the conftest appends: a kept folder's last run would count twice
         old.unlink()
     env = dict(os.environ)
@@ -207,9 +262,17 @@ def run_suite(records: Path, args: list[str]) -> dict[str, Any]:
                             check=False).stdout.strip()
     cores = len(os.sched_getaffinity(0))
     before, load_before, start = resource.getrusage(resource.RUSAGE_CHILDREN), os.getloadavg(), time.monotonic()
-    with Sampler() as machine:
-        code = subprocess.run(["bash", str(ROOT / "scripts" / "test.sh"), *args], cwd=ROOT, env=env,
-                              check=False).returncode
+    accounting = records / "pacct"
+    if processes:
+        accounting.write_bytes(b"")
+        subprocess.run(["accton", str(accounting)], check=True, capture_output=True)
+    try:
+        with Sampler() as machine:
+            code = subprocess.run(["bash", str(ROOT / "scripts" / "test.sh"), *args], cwd=ROOT, env=env,
+                                  check=False).returncode
+    finally:
+        if processes:
+            subprocess.run(["accton", "off"], check=False, capture_output=True)
     (records / "machine.json").write_text(json.dumps(machine.samples) + "\n", encoding="utf-8")
     wall, after = time.monotonic() - start, resource.getrusage(resource.RUSAGE_CHILDREN)
     user, system = after.ru_utime - before.ru_utime, after.ru_stime - before.ru_stime
@@ -230,7 +293,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--read", type=Path, metavar="DIR", help="print the figures of a run kept in DIR")
     parser.add_argument("--keep", type=Path, metavar="DIR", help="keep the run's records in DIR")
     parser.add_argument("--top", type=int, default=25, help="modules listed (default 25)")
+    parser.add_argument("--processes", action="store_true",
+                        help="also the CPU of every process by its name (process accounting: root and accton)")
     options = parser.parse_args(own)
+    if options.processes and options.read is None and (os.geteuid() != 0 or not shutil.which("accton")):
+        print("suite_time.py: --processes needs root and accton (apt-get install acct)", file=sys.stderr)
+        return 2
     if options.read is not None:
         records = options.read
         if not records.is_dir():
@@ -240,7 +308,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         records = options.keep or Path(tempfile.mkdtemp(prefix="iface-suite-time-"))
         records.mkdir(parents=True, exist_ok=True)
-        run = run_suite(records, passed)
+        run = run_suite(records, passed, options.processes)
         code = int(run["exit"])
     try:
         print(figures(records, run, options.top))
@@ -257,7 +325,12 @@ def figures(records: Path, run: dict[str, Any] | None, top: int) -> str:
     if run is None:
         run = json.loads(run_file.read_text(encoding="utf-8")) if run_file.is_file() else {}
     samples = json.loads(machine.read_text(encoding="utf-8")) if machine.is_file() else []
-    return report(read_cpu(records / "cpu"), run, outcome(junit) if junit.is_file() else None, top, samples)
+    text = report(read_cpu(records / "cpu"), run, outcome(junit) if junit.is_file() else None, top, samples)
+    if (records / "pacct").is_file():
+        ended = read_acct(records / "pacct")
+        text += "\n\n" + ("\n".join(by_name(ended, top)) if ended else
+                           "(process accounting kept, but dump-acct is not installed or read nothing)")
+    return text
 
 
 if __name__ == "__main__":

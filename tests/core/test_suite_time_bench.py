@@ -92,3 +92,26 @@ def test_unreadable_records_are_said_in_one_line(tmp_path: Path, capsys) -> None
     for broken in ("[[1, 2]", "[[1000, 2], [1010, 3]]", "[1, 2]"):
         (tmp_path / "machine.json").write_text(broken, encoding="utf-8")
         assert bench().main(["--read", str(tmp_path)]) == 2
+
+
+#: Lines as ``dump-acct`` prints them (acct 6.6): name, version, user and system ticks, elapsed, uid, gid, memory,
+#: io, pid, ppid, flags, exit code, tty, start.
+ACCT = """ros2            |v3|    74.00|     9.00|   162.00|     0|     0| 11394.00| 0.00|   12501|   12075|     |       0|__      |Tue Dec  1 02:10:05 2026
+ros2            |v3|    80.00|    12.00|   171.00|     0|     0| 11394.00| 0.00|   12502|   12075|     |       0|__      |Tue Dec  1 02:10:07 2026
+ros2            |v3|    60.00|     5.00|   150.00|     0|     0| 11394.00| 0.00|   12503|   12075|     |       0|__      |Tue Dec  1 02:10:09 2026
+cc1plus         |v3|   822.00|   102.00|  1094.00|     0|     0| 51283.00| 0.00|   13228|   13227|     |       0|__      |Tue Dec  1 02:10:55 2026
+bash            |v3|     0.00|     0.00|     0.00|     0|     0|  4488.00| 0.00|   10994|   10993| F   |       0|__      |Tue Dec  1 02:08:54 2026
+not a record
+"""
+
+
+def test_processes_by_name_from_the_accounting_file() -> None:
+    suite_time = bench()
+    ended = [e for e in map(suite_time.parse_acct_line, ACCT.splitlines()) if e is not None]
+    assert [(e.name, round(e.cpu, 2)) for e in ended] == [("ros2", 0.83), ("ros2", 0.92), ("ros2", 0.65),
+                                                          ("cc1plus", 9.24), ("bash", 0.0)]
+    lines = suite_time.by_name(ended, top=2)
+    assert lines[0] == "processes by name (5 ended, 12 CPU-seconds)"
+    assert lines[2].split() == ["cc1plus", "1", "9", "9.24"]
+    assert lines[3].split() == ["ros2", "3", "2", "0.83"]  # 2.4 CPU-seconds, the median of three
+    assert lines[4].split() == ["1", "others", "1", "0"]
