@@ -87,7 +87,7 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
         spin = spin_time(args, first_try + tries - 1)
         argv = ("ros2", *args, *(("--no-daemon", "--spin-time", f"{spin:g}") if graph and not daemon else ()))
         started = time.monotonic()
-        answer = Answer(argv, *run_bounded(argv, env, timeout), tries)
+        answer = Answer(argv, *run_once(argv, env, timeout), tries)
         trace(argv, answer.code, time.monotonic() - started)
         unseen = any(s in answer.out + answer.err for s in NOT_SEEN)
         missing = until is not None and until not in answer.out
@@ -97,7 +97,7 @@ def ros2(env: dict[str, str], *args: str, graph: bool = True, timeout: float = 2
         time.sleep(0.5)
 
 
-def run_bounded(argv: tuple[str, ...], env: dict[str, str], timeout: float) -> tuple[int | None, str, str]:
+def run_once(argv: tuple[str, ...], env: dict[str, str], timeout: float) -> tuple[int | None, str, str]:
     """Run ``argv``: (exit status, stdout, stderr). With no exit within ``timeout`` seconds: status None, and
     stderr says so and names each process of the domain (``ROS_DOMAIN_ID``) whose Fast DDS is deadlocked
     (``iface.live.deadlock``), looked at while the command still runs, before it is killed: the command itself,
@@ -173,7 +173,7 @@ def service_call(env: dict[str, str], release: str, service: str, srv_type: str,
         return ros2(env, "service", "call", service, srv_type, request, graph=False, timeout=timeout, within=0)
     python = str(Path(env["ROS2_RUNTIME_VENV"]) / "bin" / "python")
     argv = (python, str(HARNESS / "call_service.py"), service, srv_type, request, "--timeout", f"{timeout / 2:g}")
-    return Answer(argv, *run_bounded(argv, env, timeout), 1)
+    return Answer(argv, *run_once(argv, env, timeout), 1)
 
 
 def iface_lsp_on_path(folder: Path, root: Path, python: str) -> str:
