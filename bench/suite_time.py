@@ -263,9 +263,14 @@ def run_suite(records: Path, args: list[str], processes: bool = False) -> dict[s
     cores = len(os.sched_getaffinity(0))
     before, load_before, start = resource.getrusage(resource.RUSAGE_CHILDREN), os.getloadavg(), time.monotonic()
     accounting = records / "pacct"
+    accounting.unlink(missing_ok=True)  # a kept folder's last run: its processes are not this run's
     if processes:
         accounting.write_bytes(b"")
-        subprocess.run(["accton", str(accounting)], check=True, capture_output=True)
+        on = subprocess.run(["accton", str(accounting)], check=False, capture_output=True, text=True)
+        if on.returncode != 0:
+            print(f"suite_time.py: process accounting not turned on: {on.stderr.strip()}", file=sys.stderr)
+            accounting.unlink()
+            processes = False
     try:
         with Sampler() as machine:
             code = subprocess.run(["bash", str(ROOT / "scripts" / "test.sh"), *args], cwd=ROOT, env=env,
