@@ -165,7 +165,6 @@ def test_a_command_with_no_answer_names_the_deadlocked_participants_of_its_domai
         elsewhere.wait(timeout=30)
 
 
-
 def _argv(tmp_path: Path) -> list[str]:
     return [" ".join(line.split()[:3]) for line in (tmp_path / "bin" / "ARGV").read_text().splitlines()]
 
