@@ -3,7 +3,9 @@
 Run: ``python bench/check_bench.py`` — prints lines/s and the ratios the
 speed issue asks for, measured in one run: check ≤ 0.7× a bare lark LALR parse
 of the same text, and check of 50k lines ≤ 5.2× check of 10k (linear is 5.0);
-then the whole ``iface-lsp check`` process of each text (issue 33): the median of
+then the check of the 10k text with a stray character every 500 lines (the chunks around an error go
+through lark's error recovery, the others through the fast scanner); then the whole ``iface-lsp check``
+process of each text (issue 33): the median of
 ``BENCH_PROCESSES`` (default 7) processes, 10k and 50k alternating, CPU time and
 wall time, 50k / 10k ≤ 5.0.
 
@@ -45,6 +47,15 @@ from iface.semantics.compile import compile_source  # noqa: E402
 from iface.syntax.grammar import build_parser  # noqa: E402
 
 SIZES = (10_000, 50_000)
+BROKEN_EVERY = 500
+
+
+def broken(text: str) -> str:
+    """``text`` with a stray ``@`` at the end of every ``BROKEN_EVERY``-th line: one syntax error each."""
+    lines = text.split("\n")
+    for k in range(BROKEN_EVERY // 2, len(lines), BROKEN_EVERY):
+        lines[k] += " @"
+    return "\n".join(lines)
 
 
 def timed(fn: Callable[[], object]) -> tuple[float, float, float]:
@@ -108,6 +119,9 @@ def main() -> None:
         jobs["bare", n] = lambda text=text: bare.parse(text)
         jobs["paused", n] = lambda text=text: paused(lambda: bare.parse(text))
         jobs["check", n] = lambda text=text: compile_source(Source("bench.thrift", text))
+    with_errors = broken(texts[SIZES[0]])
+    found = sum(d.severity == 1 for d in compile_source(Source("bench.thrift", with_errors)).diagnostics)
+    jobs["broken", SIZES[0]] = lambda: compile_source(Source("bench.thrift", with_errors))
     best = {key: (float("inf"), float("inf")) for key in jobs}
     left: dict[int, list[float]] = {n: [] for n in SIZES}
     for _ in range(rounds):
@@ -132,6 +146,9 @@ def main() -> None:
     verdict = "" if c50 / c10 <= 5.2 else ": MISSES"
     print(f"check 50k / check 10k: {c50 / c10:.2f}x ({w50 / w10:.2f}x) (goal <= 5.2x{verdict}; linear is 5.0); "
           f"bare 50k / bare 10k: {b50 / b10:.2f}x ({bw50 / bw10:.2f}x)")
+    bc, bw = best["broken", SIZES[0]]
+    print(f"check of the 10k text with an error every {BROKEN_EVERY} lines ({found} errors): {bc * 1000:.1f} ms "
+          f"({bw * 1000:.1f}), {bc / c10:.2f}x the clean text's")
     runs = int(os.environ.get("BENCH_PROCESSES", "7"))
     whole = processes(texts, runs)
     (pc10, pw10), (pc50, pw50) = whole[SIZES[0]], whole[SIZES[1]]

@@ -96,22 +96,34 @@ class _ChunkParser:
         """What a text that has no problem at all parses to, read by the fast scanner; else None. Its spans
         are relative to ``anchors`` (where its chunks start: they are never moved), else to the result."""
         with self.lock:
-            if self.driver is None:
-                self.driver = Driver(self.parser, self.builder, FastScanner(self.parser))
-            b = self.builder
-            result = ChunkResult(len(text))
-            b.reset(docs, list(anchors) or [result.anchor])
-            try:
-                items = self.driver.parse(text)
-            except (ScanError, UnexpectedInput, RecursionError):
-                return None
-            if b.problems or not isinstance(items, list):
-                return None
-            result.items = tuple(items)
-            return result
+            return self._parse_clean(text, docs, anchors)
+
+    def _parse_clean(self, text: str, docs: dict[int, str], anchors: tuple[Span, ...]) -> ChunkResult | None:
+        if self.driver is None:
+            self.driver = Driver(self.parser, self.builder, FastScanner(self.parser))
+        b = self.builder
+        result = ChunkResult(len(text))
+        b.reset(docs, list(anchors) or [result.anchor])
+        try:
+            items = self.driver.parse(text)
+        except (ScanError, UnexpectedInput, RecursionError):
+            return None
+        if b.problems or not isinstance(items, list):
+            return None
+        result.items = tuple(items)
+        return result
 
     def parse(self, text: str, docs: dict[int, str]) -> ChunkResult:
-        """Parse one chunk; its spans are kept relative to its table, so that it can be moved later."""
+        """Parse one chunk; its spans are kept relative to its table, so that it can be moved later.
+
+        A chunk without a problem is read by the fast scanner, as a clean file is: in a file with one
+        error every other chunk is clean. Only a chunk with a problem goes through lark's error recovery.
+        """
+        with self.lock:
+            return self._parse_clean(text, docs, ()) or self._parse(text, docs)
+
+    def parse_recovering(self, text: str, docs: dict[int, str]) -> ChunkResult:
+        """Parse one chunk with lark's lexer and error recovery only (what ``parse`` falls back to)."""
         with self.lock:
             return self._parse(text, docs)
 
