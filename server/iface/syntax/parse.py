@@ -21,8 +21,8 @@ from lark.parsers.lalr_analysis import Shift
 from ..model import nodes as m
 from ..model.source import ORIGIN, AnchoredSpan, Span
 from .chunks import Chunk, split
-from .grammar import build_parser, terminal_descriptions
 from .driver import Driver
+from .grammar import build_parser, terminal_descriptions
 from .lexer import FastScanner, ScanError
 from .transform import ModelBuilder
 
@@ -294,7 +294,7 @@ def _expected(names: set[str] | frozenset[str]) -> str:
 def _describe_token(e: UnexpectedToken) -> str:
     tok = e.token
     desc = terminal_descriptions(chunk_parser().parser).get(tok.type, tok.type.lower())
-    shown = repr(str(tok)) if desc.startswith("a ") or desc.startswith("an ") else desc
+    shown = repr(str(tok)) if desc.startswith(("a ", "an ")) else desc
     return f"unexpected {shown}; expected {_expected(e.expected)}"
 
 
