@@ -5,9 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from lark import Token, Tree
+from lark.exceptions import LarkError
 
 from iface.text.formatter import format_document, format_range, format_text
-from iface.text.formatter.lex import parse_strict
+from iface.text.formatter.lex import parse_strict, tree_parser
 
 from .canon import comments_of, model_of, tokens_of
 from .randomtext import RandomText
@@ -58,3 +60,29 @@ def test_random_texts_cover_the_templates() -> None:
         words |= set(RandomText(seed).text(items=4).split())
     assert {"struct", "enum", "senum", "service", "action", "const", "typedef", "throws", "request",
             "goal", "publishes", "//", "#", "/*", "/**"} <= words
+
+
+def _shape(node: object) -> object:
+    """A tree as nested tuples: rule names, token types, values and offsets."""
+    if isinstance(node, Tree):
+        return (node.data, [_shape(c) for c in node.children])
+    assert isinstance(node, Token), type(node)
+    return (node.type, str(node), node.start_pos, node.end_pos)
+
+
+ROOT = Path(__file__).resolve().parents[2]
+TREE_CASES = [*((str(p.relative_to(ROOT)), p.read_bytes().decode("utf-8", errors="replace"))
+                for p in [*FIXTURES, *sorted((ROOT / "examples").glob("*.iface"))]),
+              *((f"random-{seed}", RandomText(seed).text(items=4)) for seed in SEEDS[:20])]
+
+
+@pytest.mark.parametrize("name, text", TREE_CASES, ids=[n for n, _ in TREE_CASES])
+def test_the_formatters_tree_is_larks_tree(name: str, text: str) -> None:
+    """``parse_strict`` reads a clean text with the compiler's fast path: the tree is the one lark builds,
+    every token at its offsets; a text lark refuses is refused."""
+    try:
+        expected = _shape(tree_parser().parse(text))
+    except LarkError:
+        expected = None
+    got = parse_strict(text)
+    assert (None if got is None else _shape(got)) == expected

@@ -1,11 +1,10 @@
-"""A fast scanner for clean files, feeding lark's LALR parser directly.
+"""The fast path's scanner: every terminal of grammar.lark in one compiled pattern.
 
 lark's contextual lexer tries the terminals of the parser's state one by one
-for every token; this scanner matches all of them with one compiled pattern
-built from the same terminals of grammar.lark, and makes the same contextual
-choice between a keyword and a name by asking the parser's current state
-which of the two it accepts. It is used only for the whole-file fast path:
-anything it cannot read raises ``ScanError``, and the caller falls back to
+for every token; this scanner's pattern matches all of them at once, and the
+driver (``driver.py``) makes the same contextual choice between a keyword and
+a name by asking the parser's current state which of the two it accepts.
+Anything it cannot read raises ``ScanError``, and the caller falls back to
 lark's own lexer with error recovery.
 """
 
@@ -13,27 +12,19 @@ from __future__ import annotations
 
 import re
 import string
-from collections.abc import Iterator
-from typing import Any
 
-from lark import Lark, Token
-from lark.lexer import Lexer, LexerState, LexerThread
-
-_SKIP = ("WS", "COMMENT")
-#: Terminals matched by pattern, in the order Python's first-match alternation needs.
-_PATTERNS = ("WS", "COMMENT", "LITERAL", "INT", "DOUBLE", "IDENTIFIER")
+from lark import Lark
 
 
 class ScanError(Exception):
     """The fast scanner met something it does not read; use lark's lexer instead."""
 
 
-class FastScanner(Lexer):
-    """One-regex scanner with contextual keywords, for a parser built from grammar.lark."""
+class FastScanner:
+    """One-regex scanner of the terminals of a parser built from grammar.lark."""
 
     def __init__(self, parser: Lark) -> None:
         terminals = {t.name: t for t in parser.terminals}
-        parts = [f"(?P<{name}>{terminals[name].pattern.to_regexp()})" for name in _PATTERNS]
         words: dict[str, str] = {}
         punct: list[tuple[str, str]] = []
         for t in parser.terminals:
@@ -52,8 +43,6 @@ class FastScanner(Lexer):
         punct += [("_SEP", ","), ("_SEP", ";")]
         punct.sort(key=lambda p: -len(p[1]))  # "<=" before "<"
         self.punct = {value: name for name, value in punct}
-        parts.append("(?P<PUNCT>" + "|".join(re.escape(v) for _, v in punct) + ")")
-        self.pattern = re.compile("|".join(parts))
         self.words = words
         # the whole-file path (driver.py): one match per token with the blanks and comments before it,
         # read with findall (no match objects); a character no token reads is a match of its own
@@ -75,40 +64,6 @@ class FastScanner(Lexer):
         self.first.update({c: None for c in string.digits + "+-."})
         self.int = re.compile(terminals["INT"].pattern.to_regexp())
         self.block_comment = re.compile(r"(?=/\*)(?:" + terminals["COMMENT"].pattern.to_regexp() + ")")
-
-    def lex(self, lexer_state: LexerState, parser_state: Any) -> Iterator[Token]:
-        """Tokens of the whole text; raises ScanError at anything unexpected."""
-        text = lexer_state.text.text
-        states = parser_state.parse_conf.parse_table.states
-        words = self.words
-        punct = self.punct
-        new = Token._future_new  # the constructor without the deprecated-argument shim
-        pos = 0
-        for m in self.pattern.finditer(text):
-            start = m.start()
-            if start != pos:
-                raise ScanError(start)
-            pos = m.end()
-            kind = m.lastgroup
-            if kind == "WS" or kind == "COMMENT":
-                continue
-            value = m.group()
-            if kind == "IDENTIFIER":
-                keyword = words.get(value)
-                if keyword is not None:
-                    accepted = states[parser_state.position]
-                    if keyword in accepted or "IDENTIFIER" not in accepted:
-                        kind = keyword
-            elif kind == "PUNCT":
-                kind = punct[value]
-            yield new(kind, value, start, None, None, None, None, pos)
-        if pos != len(text):
-            raise ScanError(pos)
-
-
-def parse_fast(parser: Lark, scanner: FastScanner, text: str) -> Any:
-    """Parse ``text`` with ``parser`` (its transformer runs inline), tokens from ``scanner``."""
-    return parser.parser.parser.parse(LexerThread.from_text(scanner, text), "start")
 
 
 def _uncaptured(regex: str) -> str:

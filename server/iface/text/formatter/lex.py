@@ -18,8 +18,9 @@ from functools import lru_cache
 from lark import Lark, Token, Tree
 from lark.exceptions import LarkError
 
+from ...syntax.driver import Driver
 from ...syntax.grammar import grammar_text
-from ...syntax.lexer import FastScanner, ScanError, parse_fast
+from ...syntax.lexer import FastScanner, ScanError
 
 #: Token types of the separators ``,`` and ``;`` (the grammar's filtered ``_SEP`` terminal).
 SEPARATOR_TYPES = frozenset({"_SEP"})
@@ -51,21 +52,22 @@ def _gap_pattern() -> re.Pattern[str]:
 
 
 @lru_cache(maxsize=1)
-def _scanner() -> FastScanner:
-    return FastScanner(tree_parser())
+def _driver() -> Driver:
+    parser = tree_parser()
+    return Driver(parser, None, FastScanner(parser))
 
 
 def parse_strict(text: str) -> Tree | None:
     """The full tree of ``text``, or None when it does not parse cleanly.
 
-    Tokens come from the compiler's fast scanner (one regex, the same terminals);
-    only where it gives up does lark's own lexer read the text.
+    The compiler's fast path reads it (one regex for the tokens, lark's tables driven by one loop, the
+    same tree as lark's); only where that gives up does lark itself read the text.
     """
     parser = tree_parser()
     try:
         with _lock:
             try:
-                tree = parse_fast(parser, _scanner(), text)
+                tree = _driver().parse(text)
             except ScanError:
                 tree = parser.parse(text)
             return tree if isinstance(tree, Tree) else None
