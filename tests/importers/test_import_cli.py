@@ -51,6 +51,85 @@ def test_malformed_lines_are_reported_and_the_rest_imports(tmp_path):
     assert "message Good" in text and "message Bad" not in text
 
 
+def _package(root, name, files):
+    """A ROS 2 package folder ``root/name`` with ``files`` (path under it → text)."""
+    folder = root / name
+    for rel, text in files.items():
+        (folder / rel).parent.mkdir(parents=True, exist_ok=True)
+        (folder / rel).write_text(text, encoding="utf-8")
+    return folder
+
+
+def test_a_message_that_uses_one_not_imported_is_not_imported_and_what_is_written_checks(tmp_path):
+    """Broken -> Middle -> Top (and Other/Across in a second package): none of the three is written, each says
+    why at its line; what is written checks without an error, so no file names a type it lacks."""
+    a = _package(tmp_path, "a_msgs", {
+        "msg/Broken.msg": "int32 x 1.5\n",  # a value its type cannot hold
+        "msg/Middle.msg": "# uses Broken\nBroken b\n",
+        "msg/Top.msg": "Middle m\nint32 y\n",
+        "msg/Fine.msg": "int32 z\n",
+        "msg/Unread.msg": "int32\n",  # the file itself is broken
+        "msg/Reader.msg": "Unread u\n",
+        "srv/Use.srv": "Top t\n---\nFine f\n",
+    })
+    b = _package(tmp_path, "b_msgs", {"msg/Across.msg": "a_msgs/Top t\n", "msg/Own.msg": "a_msgs/Fine f\n"})
+    out = tmp_path / "out"
+    r = run_main("import", "--from", "ros2", str(a), str(b), "--out", str(out))
+    assert r.returncode == 1
+    problems = {line.split(":")[0].rsplit("/", 1)[1]: line for line in r.stderr.splitlines() if ".msg:" in line
+                or ".srv:" in line}
+    assert problems["Middle.msg"].endswith(f"unknown type 'Broken': {a / 'msg' / 'Broken.msg'} is not imported, "
+                                           "as it has errors (reported on it)"), problems
+    assert problems["Middle.msg"].split(":")[1] == "2"
+    assert "unknown type 'Middle'" in problems["Top.msg"]
+    assert "unknown type 'Unread'" in problems["Reader.msg"] and "Unread.msg is not imported" in problems["Reader.msg"]
+    assert "unknown type 'a_msgs/Top'" in problems["Across.msg"]
+    assert "unknown type 'Top'" in problems["Use.srv"]
+    text = (out / "a_msgs.iface").read_text()
+    assert "message Fine" in text
+    assert not {"Broken", "Middle", "Top", "Reader", "Use"} & {w.strip("{") for w in text.split()}
+    assert "message Own" in (out / "b_msgs.iface").read_text()
+    check = run_main("check", *(str(p) for p in sorted(out.iterdir())))
+    assert check.returncode == 0, check.stdout
+
+
+def test_an_interface_file_with_a_nul_byte_is_reported_at_its_line_and_not_imported(tmp_path):
+    folder = _package(tmp_path, "n_msgs", {"msg/Nul.msg": "int32 a\n# a \0 in a comment\nint32 b\n",
+                                           "msg/Fine.msg": "int32 c\n"})
+    out = tmp_path / "out"
+    r = run_main("import", "--from", "ros2", str(folder), "--out", str(out))
+    assert r.returncode == 1
+    assert f"{folder / 'msg' / 'Nul.msg'}:2: the file holds NUL bytes: it is binary, not an interface file" \
+        in r.stderr
+    text = (out / "n_msgs.iface").read_text()
+    assert "message Fine" in text and "Nul" not in text and "\0" not in text
+    assert run_main("check", str(out / "n_msgs.iface")).returncode == 0
+
+
+def test_px4_a_message_that_uses_one_not_imported_is_not_imported_and_a_nul_byte_is_reported(tmp_path):
+    folder = _package(tmp_path, "uorb", {
+        "msg/Broken.msg": "uint64 timestamp\nint32 x 1.5\n",  # uORB fields have no defaults
+        "msg/Middle.msg": "uint64 timestamp\nBroken b\n",
+        "msg/Top.msg": "uint64 timestamp\npx4_msgs/Middle m\n",
+        "msg/Nul.msg": "uint64 timestamp\n# \0\nint32 k\n",
+        "msg/Reader.msg": "uint64 timestamp\nNul n\n",
+        "msg/Fine.msg": "uint64 timestamp\nint8 k\n",
+    })
+    out = tmp_path / "out"
+    r = run_main("import", "--from", "px4", str(folder), "--out", str(out))
+    assert r.returncode == 1
+    problems = {line.split(":")[0].rsplit("/", 1)[1]: line for line in r.stderr.splitlines()}
+    assert problems["Middle.msg"].endswith(f"unknown type 'Broken': {folder / 'msg' / 'Broken.msg'} is not "
+                                           "imported, as it has errors (reported on it)")
+    assert "unknown type 'Middle'" in problems["Top.msg"]
+    assert problems["Nul.msg"].endswith(":2: the file holds NUL bytes: it is binary, not an interface file")
+    assert "unknown type 'Nul'" in problems["Reader.msg"]
+    text = (out / "uorb.iface").read_text()
+    assert "message Fine" in text and "\0" not in text
+    assert not {"Broken", "Middle", "Top", "Nul", "Reader"} & {w.strip("{") for w in text.split()}
+    assert run_main("check", str(out / "uorb.iface")).returncode == 0
+
+
 def test_px4_import_keeps_topics_and_special_constants(tmp_path):
     r = run_main("import", "--from", "px4", str(PX4), "--out", str(tmp_path))
     assert r.returncode == 0, r.stderr

@@ -29,7 +29,7 @@ from .rosidl import (
     parse_primitive,
     parse_type,
 )
-from .rosmodel import Spans, members
+from .rosmodel import BINARY_FILE, Spans, members, not_imported, nul_line, uses
 
 TOPICS = "# TOPICS "
 UORB_TYPES = frozenset({"bool", "char", "byte", "int8", "uint8", "int16", "uint16", "int32", "uint32",
@@ -132,20 +132,25 @@ def import_folder(folder: Path, result: ImportResult) -> None:
         result.problems.append(Problem(str(folder), 0, "no .msg files: nothing imported", "warning"))
         return
     parsed: list[tuple[Path, Part, str]] = []
+    unread: dict[str, Path] = {}
     for path in paths:
         try:
             text = path.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as e:
             raise InputError(f"{path}: cannot read the file ({e})") from None
         result.sources.append(str(path))
-        part, problems = parse_message(path.stem, text)
+        nul = nul_line(text)
+        part, problems = parse_message(path.stem, text) if nul is None else (Part(path.stem, 0), [(nul, BINARY_FILE)])
         if not _IDENTIFIER.match(path.stem):
             problems.insert(0, (0, f"'{path.stem}' cannot name a message"))
         for line, message in problems:
             result.problems.append(Problem(str(path), line, message))
         if not problems:
             parsed.append((path, part, text))
-    names = {part.name for _, part, _ in parsed}
+        else:
+            unread[path.stem] = path
+    broken = _broken(parsed, unread)
+    names = {part.name for _, part, _ in parsed} - set(broken)
     spans = Spans()
     externals: set[str] = set()
     defs: list[tuple[Path, m.Struct]] = []
@@ -156,6 +161,9 @@ def import_folder(folder: Path, result: ImportResult) -> None:
             if t.package is None or t.package in PX4_PACKAGES:
                 if t.name in names:
                     return t.name
+                if t.name in broken:
+                    raise RosSyntaxError(f"unknown type '{t.name}': {broken[t.name]} is not imported, as it has "
+                                         "errors (reported on it)")
                 if t.package is None:
                     raise RosSyntaxError(f"unknown type '{t.name}': there is no {t.name}.msg in {folder}")
             package = t.package or "px4_msgs"
@@ -190,6 +198,26 @@ def import_folder(folder: Path, result: ImportResult) -> None:
     out = f"{stem}.iface"
     result.files.append(GeneratedFile(out, text))
     result.origins.extend(Origin(str(path), out, d.name, "msg") for path, d in defs)
+
+
+def _broken(parsed: list[tuple[Path, Part, str]], unread: dict[str, Path]) -> dict[str, Path]:
+    """Every message of the folder that is not imported, by name: its file. One is not when its file has an
+    error (``unread``), a value of it is one its type cannot hold, or it uses a message of the folder that is
+    not imported (``not_imported``)."""
+    files = dict(unread)
+    broken = list(unread)
+    names = {part.name for _, part, _ in parsed}
+    users: dict[str, list[str]] = {}
+    for path, part, _ in parsed:
+        files[part.name] = path
+        used, wrong = uses([part])
+        for t in used:
+            if t.package is None or (t.package in PX4_PACKAGES and t.name in names):
+                wrong = wrong or t.name not in names
+                users.setdefault(t.name, []).append(part.name)
+        if wrong:
+            broken.append(part.name)
+    return {name: files[name] for name in sorted(not_imported(broken, users))}
 
 
 def run(inputs: list[str], options: dict[str, Any]) -> ImportResult:

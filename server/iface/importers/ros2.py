@@ -31,7 +31,7 @@ from .rosidl import (
     is_package_name,
     parse_file,
 )
-from .rosmodel import PRIMITIVES, Spans, members
+from .rosmodel import BINARY_FILE, PRIMITIVES, Spans, members, not_imported, nul_line, uses
 
 KINDS: tuple[Kind, ...] = ("msg", "srv", "action")
 IDL_FOLDERS = ("msg", "srv", "action", "idl")
@@ -150,9 +150,11 @@ class _PackageImport:
     """Builds the ``.iface`` file(s) of one package."""
 
     def __init__(self, pkg: Package, known: dict[str, dict[str, Kind]], result: ImportResult,
-                 edges: dict[str, set[str]], externals_seen: set[str]) -> None:
+                 edges: dict[str, set[str]], externals_seen: set[str], broken: dict[tuple[str, str], Path]) -> None:
         self.pkg = pkg
         self.known = known
+        #: the messages of the imported packages that are not imported, by (package, name): their files
+        self.broken = broken
         self.result = result
         self.edges = edges
         self.externals_seen = externals_seen
@@ -178,12 +180,11 @@ class _PackageImport:
         other = t.package or pkg
         if other == pkg:
             if self.known[pkg].get(t.name) != "msg":
-                raise RosSyntaxError(f"unknown type '{t.name}': the package '{pkg}' has no msg/{t.name}.msg")
+                raise RosSyntaxError(self.unknown(pkg, t.name))
             return f"{local_prefix}{t.name}" if local_prefix else t.name
         if other in self.known:
             if self.known[other].get(t.name) != "msg":
-                raise RosSyntaxError(f"unknown type '{other}/{t.name}': the package '{other}' has no "
-                                     f"msg/{t.name}.msg")
+                raise RosSyntaxError(self.unknown(other, t.name))
             if uses.get(other) == "include" or (other not in uses and not self.reachable(other, pkg)):
                 uses[other] = "include"
                 self.edges.setdefault(pkg, set()).add(other)
@@ -198,6 +199,14 @@ class _PackageImport:
                          f"kept as an external reference (`external {other}`); to import it too, give its "
                          "folder as well or `--deps DIR` with a folder that holds it", "note")
         return f"{other}.{t.name}"
+
+    def unknown(self, pkg: str, name: str) -> str:
+        """Why the message ``name`` of the imported package ``pkg`` cannot be used."""
+        shown = name if pkg == self.pkg.name else f"{pkg}/{name}"
+        path = self.broken.get((pkg, name))
+        if path is not None:
+            return f"unknown type '{shown}': {path} is not imported, as it has errors (reported on it)"
+        return f"unknown type '{shown}': the package '{pkg}' has no msg/{name}.msg"
 
     def definition(self, path: Path, rf: RosFile, local_prefix: str, uses: dict[str, str]) -> m.Definition | None:
         """The model definition of one parsed file, or None when a line of it is wrong."""
@@ -303,6 +312,10 @@ def _idl_files(pkg: Package, result: ImportResult) -> None:
 
     for p in pkg.idl:
         text = _read(p)
+        nul = nul_line(text)
+        if nul is not None:
+            result.problems.append(Problem(str(p), nul, BINARY_FILE))
+            continue
         try:
             types = read_idl(text)
         except InputError:
@@ -345,33 +358,75 @@ def dependency_folders(root: Path) -> dict[str, Path]:
     return out
 
 
-def _run_once(inputs: list[str]) -> ImportResult:
-    result = ImportResult()
-    packages = find_packages(inputs, result.problems)
+def _known(packages: list[Package], broken: dict[tuple[str, str], Path]) -> dict[str, dict[str, Kind]]:
+    """The kind of each name the packages define, but the ``broken`` messages (a service or action of the
+    same name stays)."""
     known: dict[str, dict[str, Kind]] = {}
     for pkg in packages:
+        names = known.setdefault(pkg.name, {})
+        for _, rf in pkg.parsed:
+            if rf.kind != "msg":
+                names.setdefault(rf.name, rf.kind)
+            elif (pkg.name, rf.name) not in broken:
+                names[rf.name] = "msg"  # a type reference always means the message
+    return known
+
+
+def _broken(packages: list[Package], known: dict[str, dict[str, Kind]],
+            unread: dict[tuple[str, str], Path]) -> dict[tuple[str, str], Path]:
+    """Every message that is not imported, by (package, name): its file. One is not when its file has an error
+    (``unread``), a value of it is one its type cannot hold, or it uses a message of an imported package that
+    is not imported (``not_imported``)."""
+    files = dict(unread)
+    broken = list(unread)
+    users: dict[tuple[str, str], list[tuple[str, str]]] = {}
+    for pkg in packages:
+        for path, rf in pkg.parsed:
+            if rf.kind != "msg":
+                continue
+            key = (pkg.name, rf.name)
+            files[key] = path
+            used, wrong = uses(rf.parts)
+            for t in used:
+                ref = (t.package or pkg.name, t.name)
+                if ref[0] not in known:
+                    continue  # an external package
+                wrong = wrong or known[ref[0]].get(ref[1]) != "msg"
+                users.setdefault(ref, []).append(key)
+            if wrong:
+                broken.append(key)
+    return {key: files[key] for key in sorted(not_imported(broken, users))}
+
+
+def _run_once(inputs: list[str]) -> ImportResult:
+    result = ImportResult()
+    packages = []
+    unread: dict[tuple[str, str], Path] = {}
+    for pkg in find_packages(inputs, result.problems):
         if not is_package_name(pkg.name):
             result.problems.append(Problem(str(pkg.folder), 0, f"'{pkg.name}' is not a valid ROS 2 package name"))
             continue
+        packages.append(pkg)
         for kind, path in pkg.files:
             result.sources.append(str(path))
-            rf = parse_file(kind, pkg.name, path.stem, _read(path))
+            text = _read(path)
+            nul = nul_line(text)
+            rf = parse_file(kind, pkg.name, path.stem, text) if nul is None else \
+                RosFile(kind, pkg.name, path.stem, problems=[(nul, BINARY_FILE)])
             for line, message in rf.problems:
                 result.problems.append(Problem(str(path), line, message))
             if not rf.problems:
                 pkg.parsed.append((path, rf))
+            elif kind == "msg":
+                unread[pkg.name, path.stem] = path
         _idl_files(pkg, result)
-        names = known.setdefault(pkg.name, {})
-        for _, rf in pkg.parsed:
-            if rf.kind == "msg":
-                names[rf.name] = "msg"  # a type reference always means the message
-            else:
-                names.setdefault(rf.name, rf.kind)
+    broken = _broken(packages, _known(packages, {}), unread)
+    known = _known(packages, broken)
     edges: dict[str, set[str]] = {}
     externals: set[str] = set()
     for pkg in sorted(packages, key=lambda p: p.name):
-        if pkg.name in known and pkg.parsed:
-            _PackageImport(pkg, known, result, edges, externals).run()
+        if pkg.parsed:
+            _PackageImport(pkg, known, result, edges, externals, broken).run()
     result.files.sort(key=lambda f: f.path)
     result.problems.sort(key=lambda p: (p.path, p.line))
     result.missing = sorted(externals)

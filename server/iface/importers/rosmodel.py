@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Hashable, Iterable
+from typing import TypeVar
 
 from ..model import nodes as m
 from ..model.source import Span
@@ -26,6 +27,45 @@ PRIMITIVES: dict[str, tuple[str, str]] = {
 
 #: Resolves a message type to the name the .iface file uses for it (raises RosSyntaxError if unknown).
 NameOf = Callable[[RosType], str]
+
+#: What an interface file holding a NUL byte is told (``check`` tells an .iface file the same).
+BINARY_FILE = "the file holds NUL bytes: it is binary, not an interface file"
+
+K = TypeVar("K", bound=Hashable)
+
+
+def nul_line(text: str) -> int | None:
+    """The line of the first NUL byte of ``text`` (1-based), or None when it has none."""
+    at = text.find("\0")
+    return None if at < 0 else text.count("\n", 0, at) + 1
+
+
+def uses(parts: Iterable[Part]) -> tuple[list[RosType], bool]:
+    """The message types the members of ``parts`` use, and whether a member has a problem of its own (a value
+    its type cannot hold): then the definition is not imported whatever it uses."""
+    used: list[RosType] = []
+
+    def name_of(t: RosType) -> str:
+        used.append(t)
+        return t.name
+
+    problems: list[tuple[int, str]] = []
+    for part in parts:
+        members(part, name_of, Spans(), problems=problems)
+    return used, bool(problems)
+
+
+def not_imported(broken: Iterable[K], users: dict[K, list[K]]) -> set[K]:
+    """``broken`` and every definition that uses one of them, and so on (``users``: who uses each one): a
+    definition written beside them would name a type the written file lacks."""
+    out = set(broken)
+    queue = list(out)
+    while queue:
+        for user in users.get(queue.pop(), ()):
+            if user not in out:
+                out.add(user)
+                queue.append(user)
+    return out
 
 
 class Spans:
