@@ -112,11 +112,15 @@ async def read_message(stream: asyncio.StreamReader) -> dict[str, Any]:
             return json.loads(await stream.readexactly(length))
 
 
-async def response(stream: asyncio.StreamReader, msg_id: int) -> dict[str, Any]:
+async def response(stream: asyncio.StreamReader, msg_id: int,
+                   keep: list[dict[str, Any]] | None = None) -> dict[str, Any]:
+    """The response to request ``msg_id``; the messages before it are dropped, or added to ``keep``."""
     while True:
         msg = await asyncio.wait_for(read_message(stream), 30)
         if msg.get("id") == msg_id and "method" not in msg:
             return msg
+        if keep is not None:
+            keep.append(msg)
 
 
 async def test_malformed_json_rpc_does_not_kill_the_server(tmp_path: Path) -> None:
@@ -155,6 +159,49 @@ async def test_malformed_json_rpc_does_not_kill_the_server(tmp_path: Path) -> No
     await proc.stdin.drain()
     assert await asyncio.wait_for(proc.wait(), 30) == 0
 
+
+
+async def test_a_refused_request_is_an_answer_not_an_error_in_the_log(tmp_path: Path) -> None:
+    """A rename where there is no name and a command asked with a wrong argument get their error answers; the
+    server's stderr (an editor's log of it) then holds no traceback and no error line, and no error goes to
+    the client's log (``window/logMessage``)."""
+    proc = await asyncio.create_subprocess_exec(*SERVER, stdin=asyncio.subprocess.PIPE,
+                                                stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE)
+    assert proc.stdin is not None and proc.stdout is not None and proc.stderr is not None
+    send = proc.stdin.write
+    logged: list[dict[str, Any]] = []
+    send(message({"jsonrpc": "2.0", "id": 1, "method": "initialize",
+                  "params": {"processId": None, "rootUri": tmp_path.as_uri(), "capabilities": {}}}))
+    await response(proc.stdout, 1, logged)
+    send(message({"jsonrpc": "2.0", "method": "initialized", "params": {}}))
+    uri = (tmp_path / "ok.iface").as_uri()
+    send(message({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": uri, "languageId": "iface", "version": 1, "text": "message M { u8 a }\n\n"}}}))
+    send(message({"jsonrpc": "2.0", "id": 2, "method": "textDocument/rename", "params": {
+        "textDocument": {"uri": uri}, "position": {"line": 1, "character": 0}, "newName": "N"}}))
+    send(message({"jsonrpc": "2.0", "id": 3, "method": "workspace/executeCommand", "params": {
+        "command": "iface.generate", "arguments": [uri, "no-such-target"]}}))
+    await proc.stdin.drain()
+    answers: dict[int, dict[str, Any]] = {}
+    while len(answers) < 2:  # in either order
+        msg = await asyncio.wait_for(read_message(proc.stdout), 30)
+        if msg.get("id") in (2, 3) and "method" not in msg:
+            answers[msg["id"]] = msg
+        else:
+            logged.append(msg)
+    renamed, generated = answers[2], answers[3]
+    assert "nothing to rename" in renamed["error"]["message"]
+    assert "unknown target 'no-such-target'" in generated["error"]["message"]
+    send(message({"jsonrpc": "2.0", "id": 4, "method": "shutdown"}))
+    await response(proc.stdout, 4, logged)
+    send(message({"jsonrpc": "2.0", "method": "exit"}))
+    await proc.stdin.drain()
+    assert await asyncio.wait_for(proc.wait(), 30) == 0
+    stderr = (await proc.stderr.read()).decode()
+    assert "Traceback" not in stderr and "ERROR" not in stderr, stderr
+    errors = [m["params"]["message"] for m in logged if m.get("method") == "window/logMessage"
+              and m["params"]["type"] == lsp.MessageType.Error]
+    assert errors == []
 
 
 async def test_requests_before_initialize_and_after_shutdown_get_errors_not_silence(tmp_path: Path) -> None:

@@ -33,6 +33,12 @@ FEATURES = (
 )
 
 
+class Refusal(Exception):
+    """Mixed into a JSON-RPC error that is the answer to a request, not a failure of the server (a rename where
+    there is no name, a command asked with a wrong argument): the client gets the error, the log one line at
+    info level; no traceback, no error in the client's log."""
+
+
 class IfaceProtocol(LanguageServerProtocol):
     """pygls' protocol, with UTF-32 positions when offered and a reply to requests it cannot read."""
 
@@ -95,6 +101,16 @@ class IfaceProtocol(LanguageServerProtocol):
                     f"'{method}' before 'initialize': send 'initialize' first").to_response_error())
             return
         super().handle_message(message)
+
+    def _send_handler_result(self, future: Any, *, msg_id: Any) -> None:
+        """Send a handler's result as pygls does; a ``Refusal`` is sent as the error it is, logged as an answer."""
+        refused = None if future.cancelled() else future.exception()
+        if not isinstance(refused, Refusal) or not isinstance(refused, JsonRpcException):
+            super()._send_handler_result(future, msg_id=msg_id)
+            return
+        self._request_futures.pop(msg_id, None)
+        log.info("refused: %s", refused)
+        self._send_response(msg_id, error=refused.to_response_error())
 
     def _execute_handler(self, msg_id: Any, *args: Any, **kwargs: Any) -> None:
         """Run a handler as pygls does, then forget its future once done.

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 from pygls.exceptions import JsonRpcInternalError, JsonRpcInvalidParams
 
-from ..server import IfaceServer  # noqa: E402  (resolved at run time: pygls reads the handlers' annotations)
+from ..server import IfaceServer, Refusal  # noqa: E402  (resolved at run time: pygls reads the handlers' annotations)
 from .. import convert
 from ..documents import path_to_uri
 from ..settings import DEFAULT_OUTPUT
@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from ..project import Project
 
 
-class CommandError(JsonRpcInvalidParams):
+class CommandError(Refusal, JsonRpcInvalidParams):
     """A command that cannot run as asked."""
 
 

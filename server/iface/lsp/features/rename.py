@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 from lsprotocol import types as lsp
 from pygls.exceptions import JsonRpcInvalidRequest
 
+from ..server import Refusal
 from .navigation import home_of, locate, referring_interfaces
 
 if TYPE_CHECKING:
@@ -18,7 +19,7 @@ if TYPE_CHECKING:
     from ..versions import DocumentView
 
 
-class RenameRefused(JsonRpcInvalidRequest):
+class RenameRefused(Refusal, JsonRpcInvalidRequest):
     """A rename the server refuses, with the reason as the message."""
 
 
