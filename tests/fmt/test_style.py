@@ -78,6 +78,19 @@ def test_comment_inside_a_member_forces_a_continuation_line() -> None:
     assert format_text(out) == out
 
 
+@pytest.mark.parametrize(("src", "want"), [
+    ("/** A */# c", "/** A */ # c\n"),
+    ("/* A */ /* B */ // c\nstruct S { 1: i32 a }\n", "/* A */ /* B */ // c\nstruct S {\n    1: i32 a\n}\n"),
+    ("struct S { 1: i32 a }\n/** A */# c\n", "struct S {\n    1: i32 a\n}\n/** A */ # c\n"),
+    ("struct S {\n  /* a */ // b\n  1: i32 x\n}\n", "struct S {\n    /* a */ // b\n    1: i32 x\n}\n"),
+])
+def test_comments_on_one_line_before_an_item_stay_on_it(src: str, want: str) -> None:
+    """A block comment and a comment after it on its line stay on one line, at the item's indent; the item
+    after them is not indented (it was, as a continuation line, and a second format moved it back)."""
+    assert format_text(src) == want
+    assert format_text(want) == want
+
+
 def test_comment_between_header_and_brace() -> None:
     src = "struct A\n// about the body\n{\n1: i32 a\n}\n"
     out = format_text(src)

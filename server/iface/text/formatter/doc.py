@@ -163,6 +163,8 @@ class _Printer:
         self.need_newline: int | None = None
         self.mark_line: int | None = None
         self.mark_pending = False
+        #: The line so far ends with a leading comment that did not end its line (``/* a */ // b``).
+        self.after_lead = False
 
     @property
     def column(self) -> int:
@@ -184,6 +186,7 @@ class _Printer:
             self.pending_space = True
 
     def write(self, text: str) -> None:
+        self.after_lead = False
         if self.need_newline is not None:
             self.newline(self.need_newline)
         if not self.has_content:
@@ -218,7 +221,7 @@ class _Printer:
     def lead_comment(self, d: LeadComment, indent: int) -> None:
         if self.need_newline is not None:
             self.newline(self.need_newline)
-        elif self.has_content:
+        elif self.has_content and not self.after_lead:
             self.newline(indent + self.unit)
         if d.blank:
             self.pending_blank = True
@@ -227,6 +230,7 @@ class _Printer:
             self.need_newline = self.cur_indent
         else:
             self.space()
+            self.after_lead = True
 
     def trail_comment(self, d: TrailComment, indent: int) -> None:
         self.space()
