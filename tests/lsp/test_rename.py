@@ -55,3 +55,18 @@ async def test_rename_refuses(client: Client, arm: str, name: str, reason: str) 
     with pytest.raises(JsonRpcException, match=reason):
         await client.text_document_rename_async(
             lsp.RenameParams(client.doc(arm), client.pos(arm, "message Pose", 9), name))
+
+
+async def test_prepare_rename_of_an_enum_value_named_in_a_value(client: Client) -> None:
+    """``Mode.RUN`` in a default and ``Mode.IDLE`` in a constant: the range is the value's own name (it
+    was an error: the span of the value, anchored in its chunk, could not be copied)."""
+    text = ("enum Mode {\n    IDLE = 0,\n    RUN = 1\n}\nstruct S {\n    1: Mode m = Mode.RUN\n}\n"
+            "const Mode START = Mode.IDLE\n")
+    uri = client.open("enum_values.iface", text)
+    await client.wait_diagnostics(uri, 1)
+    for needle, name in (("Mode.RUN", "RUN"), ("Mode.IDLE", "IDLE")):
+        at = client.pos(uri, needle, len("Mode.") + 1)
+        ok = await client.text_document_prepare_rename_async(lsp.PrepareRenameParams(client.doc(uri), at))
+        assert isinstance(ok, lsp.PrepareRenamePlaceholder) and ok.placeholder == name, ok
+        assert ok.range.start.character == at.character - 1 and ok.range.end.character == at.character - 1 + len(name)
+    client.close(uri)

@@ -33,6 +33,7 @@ def register(server: IfaceServer) -> None:
 
         def answer(view: DocumentView) -> lsp.PrepareRenamePlaceholder | None:
             from ...model import nodes as m
+            from ...model.source import Span
             from ...semantics.query import local_name_span, renameable
 
             hit = locate(view, pos.line, pos.character)
@@ -41,7 +42,7 @@ def register(server: IfaceServer) -> None:
             span = local_name_span(hit.node) if isinstance(hit.node, m.NamedType) else hit.span
             if hit.kind == "value":
                 name = getattr(hit.target, "name", "")
-                span = type(span)(span.end - len(name), span.end)
+                span = Span(span.end - len(name), span.end)
             rng = view.range(span)
             if rng is None:
                 return None
