@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+import re
+
 import pytest
 
 from iface.importers import get_importer, importers
@@ -104,6 +107,26 @@ def test_an_interface_file_with_a_nul_byte_is_reported_at_its_line_and_not_impor
     text = (out / "n_msgs.iface").read_text()
     assert "message Fine" in text and "Nul" not in text and "\0" not in text
     assert run_main("check", str(out / "n_msgs.iface")).returncode == 0
+
+
+def test_an_import_whose_written_file_does_not_check_says_so_and_exits_1(tmp_path):
+    """A JSON form edited by hand can name one definition twice: the file is written (it is what the form
+    says), and ``check``'s errors on it follow, with exit 1 instead of 0."""
+    source = tmp_path / "r.iface"
+    source.write_text('message Reading { u8 a }\nmessage Other { u8 b }\npublishes Reading on "/r"\n')
+    assert run_main("generate", str(source), "-t", "json", "-o", str(tmp_path / "json"), "-q").returncode == 0
+    form = json.loads((tmp_path / "json" / "r.json").read_text())
+    clean = run_main("import", "--from", "json", str(tmp_path / "json" / "r.json"), "--out", str(tmp_path / "a"))
+    assert clean.returncode == 0 and "does not pass" not in clean.stderr, clean.stderr
+    form["items"][1]["name"] = "Reading"
+    edited = tmp_path / "edited.json"
+    edited.write_text(json.dumps(form))
+    r = run_main("import", "--from", "json", str(edited), "--out", str(tmp_path / "b"))
+    assert r.returncode == 1
+    assert "iface-lsp import: what was written does not pass `check`:" in r.stderr
+    assert re.search(r"r\.iface:\d+:\d+: error\[duplicate-definition\]: 'Reading' is already defined", r.stderr), \
+        r.stderr
+    assert (tmp_path / "b" / "r.iface").is_file()
 
 
 def test_px4_a_message_that_uses_one_not_imported_is_not_imported_and_a_nul_byte_is_reported(tmp_path):

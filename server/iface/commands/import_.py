@@ -10,7 +10,8 @@ from pathlib import Path
 
 from ..importers import InputError, Problem, get_importer, importers
 from ..importers.output import write_imported
-from .common import print_link_notes
+from ..model.diagnostics import Diagnostic, Severity
+from .common import compile_readable, gather, print_diagnostics, print_link_notes
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -96,4 +97,15 @@ def run(args: argparse.Namespace) -> int:
             print(f"unchanged {Path(args.out) / path}")
     if report.errors:
         return 2
-    return 1 if result.has_errors or report.refused else 0
+    invalid = errors_of(args.out, [*report.written, *report.unchanged])
+    if invalid:
+        print("iface-lsp import: what was written does not pass `check`:", file=sys.stderr)
+        print_diagnostics(invalid, stream=sys.stderr)
+    return 1 if result.has_errors or report.refused or invalid else 0
+
+
+def errors_of(out: str, written: list[str]) -> list[Diagnostic]:
+    """The errors ``check`` finds in the ``.iface`` files just written to ``out``: an import never reports
+    success for a file ``check`` refuses (a JSON form edited by hand can hold a definition twice)."""
+    comps, _ = compile_readable([str(Path(out) / p) for p in written if p.endswith(".iface")])
+    return [d for d in gather(comps) if d.severity == Severity.ERROR]
