@@ -29,7 +29,7 @@ from .rosidl import (
     parse_primitive,
     parse_type,
 )
-from .rosmodel import BINARY_FILE, Spans, members, not_imported, nul_line, uses
+from .rosmodel import BINARY_FILE, Spans, members, not_imported, not_imported_type, nul_line, uses
 
 TOPICS = "# TOPICS "
 UORB_TYPES = frozenset({"bool", "char", "byte", "int8", "uint8", "int16", "uint16", "int32", "uint32",
@@ -162,8 +162,7 @@ def import_folder(folder: Path, result: ImportResult) -> None:
                 if t.name in names:
                     return t.name
                 if t.name in broken:
-                    raise RosSyntaxError(f"unknown type '{t.name}': {broken[t.name]} is not imported, as it has "
-                                         "errors (reported on it)")
+                    raise RosSyntaxError(not_imported_type(t.name, broken[t.name]))
                 if t.package is None:
                     raise RosSyntaxError(f"unknown type '{t.name}': there is no {t.name}.msg in {folder}")
             package = t.package or "px4_msgs"

@@ -31,7 +31,16 @@ from .rosidl import (
     is_package_name,
     parse_file,
 )
-from .rosmodel import BINARY_FILE, PRIMITIVES, Spans, members, not_imported, nul_line, uses
+from .rosmodel import (
+    BINARY_FILE,
+    PRIMITIVES,
+    Spans,
+    members,
+    not_imported,
+    not_imported_type,
+    nul_line,
+    uses,
+)
 
 KINDS: tuple[Kind, ...] = ("msg", "srv", "action")
 IDL_FOLDERS = ("msg", "srv", "action", "idl")
@@ -205,7 +214,7 @@ class _PackageImport:
         shown = name if pkg == self.pkg.name else f"{pkg}/{name}"
         path = self.broken.get((pkg, name))
         if path is not None:
-            return f"unknown type '{shown}': {path} is not imported, as it has errors (reported on it)"
+            return not_imported_type(shown, path)
         return f"unknown type '{shown}': the package '{pkg}' has no msg/{name}.msg"
 
     def definition(self, path: Path, rf: RosFile, local_prefix: str, uses: dict[str, str]) -> m.Definition | None:

@@ -40,6 +40,11 @@ def nul_line(text: str) -> int | None:
     return None if at < 0 else text.count("\n", 0, at) + 1
 
 
+def not_imported_type(shown: str, path: object) -> str:
+    """Why a message type named ``shown`` whose file ``path`` is not imported cannot be used."""
+    return f"unknown type '{shown}': {path} is not imported, as it has errors (reported on it)"
+
+
 def uses(parts: Iterable[Part]) -> tuple[list[RosType], bool]:
     """The message types the members of ``parts`` use, and whether a member has a problem of its own (a value
     its type cannot hold): then the definition is not imported whatever it uses."""

@@ -33,10 +33,10 @@ FEATURES = (
 )
 
 
-class Refusal(Exception):
-    """Mixed into a JSON-RPC error that is the answer to a request, not a failure of the server (a rename where
-    there is no name, a command asked with a wrong argument): the client gets the error, the log one line at
-    info level; no traceback, no error in the client's log."""
+class Refusal(JsonRpcException):
+    """A JSON-RPC error that is the answer to a request, not a failure of the server (a rename where there is
+    no name, a command asked with a wrong argument): the client gets the error, the log one line at info
+    level; no traceback, no error in the client's log. Mixed with the error class that gives its code."""
 
 
 class IfaceProtocol(LanguageServerProtocol):
@@ -105,7 +105,7 @@ class IfaceProtocol(LanguageServerProtocol):
     def _send_handler_result(self, future: Any, *, msg_id: Any) -> None:
         """Send a handler's result as pygls does; a ``Refusal`` is sent as the error it is, logged as an answer."""
         refused = None if future.cancelled() else future.exception()
-        if not isinstance(refused, Refusal) or not isinstance(refused, JsonRpcException):
+        if not isinstance(refused, Refusal):
             super()._send_handler_result(future, msg_id=msg_id)
             return
         self._request_futures.pop(msg_id, None)
